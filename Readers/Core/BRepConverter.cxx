@@ -1,0 +1,1277 @@
+#include "BRepConverter.h"
+
+#include "Bezier.h"
+#include "StepFile.h"
+
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepLib.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <Geom2dConvert_ApproxCurve.hxx>
+#include <Geom2dConvert_BSplineCurveToBezierCurve.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom2d_BezierCurve.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
+#include <GeomConvert_ApproxCurve.hxx>
+#include <GeomConvert_BSplineCurveToBezierCurve.hxx>
+#include <GeomConvert_BSplineSurfaceToBezierSurface.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <Geom_ConicalSurface.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Geom_Line.hxx>
+#include <Geom_OffsetSurface.hxx>
+#include <Geom_Plane.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
+#include <Geom_SurfaceOfLinearExtrusion.hxx>
+#include <Geom_SurfaceOfRevolution.hxx>
+#include <Geom_ToroidalSurface.hxx>
+#include <Geom_TrimmedCurve.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
+#include <ShapeFix_Shape.hxx>
+#include <Standard_Failure.hxx>
+#include <TColGeom2d_Array1OfBezierCurve.hxx>
+#include <TColGeom_Array1OfBezierCurve.hxx>
+#include <TColGeom_Array2OfBezierSurface.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Iterator.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
+#include <gp_Vec.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace brt
+{
+
+const char* SurfaceKindName(SurfaceKind kind)
+{
+  switch (kind)
+  {
+    case SurfaceKind::Plane: return "plane";
+    case SurfaceKind::Cylinder: return "cylinder";
+    case SurfaceKind::Cone: return "cone";
+    case SurfaceKind::Sphere: return "sphere";
+    case SurfaceKind::Torus: return "torus";
+    case SurfaceKind::BezierSurface: return "bezier";
+    case SurfaceKind::BSplineSurface: return "bspline";
+    case SurfaceKind::SurfaceOfRevolution: return "revolution";
+    case SurfaceKind::SurfaceOfExtrusion: return "extrusion";
+    case SurfaceKind::OffsetSurface: return "offset";
+    case SurfaceKind::Other: break;
+  }
+  return "other";
+}
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Surfaces
+// ---------------------------------------------------------------------------------------------
+Handle(Geom_Surface) Unwrap(Handle(Geom_Surface) s)
+{
+  while (auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(s))
+    s = t->BasisSurface();
+  return s;
+}
+
+void Classify(const Handle(Geom_Surface)& surface, Face& face)
+{
+  const Handle(Geom_Surface) s = Unwrap(surface);
+  if (s->IsKind(STANDARD_TYPE(Geom_Plane)))
+    face.Kind = SurfaceKind::Plane;
+  else if (s->IsKind(STANDARD_TYPE(Geom_CylindricalSurface)))
+    face.Kind = SurfaceKind::Cylinder;
+  else if (s->IsKind(STANDARD_TYPE(Geom_ConicalSurface)))
+    face.Kind = SurfaceKind::Cone;
+  else if (s->IsKind(STANDARD_TYPE(Geom_SphericalSurface)))
+    face.Kind = SurfaceKind::Sphere;
+  else if (s->IsKind(STANDARD_TYPE(Geom_ToroidalSurface)))
+    face.Kind = SurfaceKind::Torus;
+  else if (auto bz = Handle(Geom_BezierSurface)::DownCast(s))
+  {
+    face.Kind = SurfaceKind::BezierSurface;
+    face.Rational = bz->IsURational() || bz->IsVRational();
+    face.DegreeU = bz->UDegree();
+    face.DegreeV = bz->VDegree();
+  }
+  else if (auto bs = Handle(Geom_BSplineSurface)::DownCast(s))
+  {
+    face.Kind = SurfaceKind::BSplineSurface;
+    face.Rational = bs->IsURational() || bs->IsVRational();
+    face.DegreeU = bs->UDegree();
+    face.DegreeV = bs->VDegree();
+  }
+  else if (s->IsKind(STANDARD_TYPE(Geom_SurfaceOfRevolution)))
+    face.Kind = SurfaceKind::SurfaceOfRevolution;
+  else if (s->IsKind(STANDARD_TYPE(Geom_SurfaceOfLinearExtrusion)))
+    face.Kind = SurfaceKind::SurfaceOfExtrusion;
+  else if (s->IsKind(STANDARD_TYPE(Geom_OffsetSurface)))
+    face.Kind = SurfaceKind::OffsetSurface;
+  else
+    face.Kind = SurfaceKind::Other;
+}
+
+/// A face's patches before they are appended to the model: a nu x nv grid, u fastest.
+struct PatchGrid
+{
+  int NU = 0, NV = 0;
+  std::vector<BezierPatch> Patches;
+};
+
+BezierPatch FromBezier(Handle(Geom_BezierSurface) bz, double u0, double u1, double v0, double v1)
+{
+  if (bz->UDegree() < 3 || bz->VDegree() < 3)
+  {
+    bz = Handle(Geom_BezierSurface)::DownCast(bz->Copy());
+    bz->Increase(3, 3);
+  }
+  BezierPatch p;
+  p.Domain = { u0, u1, v0, v1 };
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      const gp_Pnt& q = bz->Pole(i + 1, j + 1);
+      double* c = &p.ControlPoints[(4 * i + j) * 3];
+      c[0] = q.X();
+      c[1] = q.Y();
+      c[2] = q.Z();
+    }
+  }
+  return p;
+}
+
+PatchGrid FromBSpline(const Handle(Geom_BSplineSurface)& bs)
+{
+  GeomConvert_BSplineSurfaceToBezierSurface conv(bs);
+  PatchGrid grid;
+  grid.NU = conv.NbUPatches();
+  grid.NV = conv.NbVPatches();
+  TColStd_Array1OfReal uk(1, grid.NU + 1), vk(1, grid.NV + 1);
+  conv.UKnots(uk);
+  conv.VKnots(vk);
+  for (int j = 1; j <= grid.NV; ++j)
+  {
+    for (int i = 1; i <= grid.NU; ++i)
+    {
+      grid.Patches.push_back(
+        FromBezier(conv.Patch(i, j), uk(i), uk(i + 1), vk(j), vk(j + 1)));
+    }
+  }
+  return grid;
+}
+
+/// An affine surface (plane) restricted to a rectangle is exactly the bicubic patch whose control
+/// points are its values at the thirds of the rectangle.
+PatchGrid PlanePatches(const Handle(Geom_Surface)& s, const std::array<double, 4>& d)
+{
+  PatchGrid grid;
+  grid.NU = grid.NV = 1;
+  BezierPatch p;
+  p.Domain = d;
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      const gp_Pnt q = s->Value(d[0] + (d[1] - d[0]) * i / 3.0, d[2] + (d[3] - d[2]) * j / 3.0);
+      double* c = &p.ControlPoints[(4 * i + j) * 3];
+      c[0] = q.X();
+      c[1] = q.Y();
+      c[2] = q.Z();
+    }
+  }
+  grid.Patches.push_back(p);
+  return grid;
+}
+
+/// Exact conversion of a polynomial B-spline or Bezier surface of degree <= 3; empty if the
+/// surface is not of that kind.
+PatchGrid ExactPatches(const Handle(Geom_Surface)& surface, const std::array<double, 4>& d)
+{
+  const Handle(Geom_Surface) s = Unwrap(surface);
+  Handle(Geom_BSplineSurface) bs = Handle(Geom_BSplineSurface)::DownCast(s);
+  if (bs.IsNull() || bs->IsURational() || bs->IsVRational() || bs->UDegree() > 3 ||
+    bs->VDegree() > 3)
+  {
+    return {};
+  }
+  bs = Handle(Geom_BSplineSurface)::DownCast(bs->Copy());
+  if (bs->IsUPeriodic())
+    bs->SetUNotPeriodic();
+  if (bs->IsVPeriodic())
+    bs->SetVNotPeriodic();
+  double U1, U2, V1, V2;
+  bs->Bounds(U1, U2, V1, V2);
+  // Faces on periodic B-splines may use a shifted parameter range: leave those to the
+  // approximation, which evaluates the surface wherever the face lies.
+  const double eps = 1e-9 * std::max(1.0, std::max(std::fabs(U2 - U1), std::fabs(V2 - V1)));
+  if (d[0] < U1 - eps || d[1] > U2 + eps || d[2] < V1 - eps || d[3] > V2 + eps)
+  {
+    return {};
+  }
+  const double u0 = std::max(d[0], U1), u1 = std::min(d[1], U2);
+  const double v0 = std::max(d[2], V1), v1 = std::min(d[3], V2);
+  if (u1 - u0 <= eps || v1 - v0 <= eps)
+  {
+    return {};
+  }
+  bs->Segment(u0, u1, v0, v1);
+  return FromBSpline(bs);
+}
+
+/// Bicubic Hermite patch on [u0,u1]x[v0,v1]: interpolates S, Su, Sv and Suv at the four
+/// corners, so neighbouring patches of a grid join with C1 continuity.
+BezierPatch HermitePatch(const Handle(Geom_Surface)& s, double u0, double u1, double v0, double v1)
+{
+  BezierPatch p;
+  p.Domain = { u0, u1, v0, v1 };
+  const double du = u1 - u0, dv = v1 - v0;
+  auto set = [&](int i, int j, const gp_XYZ& q) {
+    double* c = &p.ControlPoints[(4 * i + j) * 3];
+    c[0] = q.X();
+    c[1] = q.Y();
+    c[2] = q.Z();
+  };
+  for (int ci = 0; ci < 2; ++ci)
+  {
+    for (int cj = 0; cj < 2; ++cj)
+    {
+      gp_Pnt P;
+      gp_Vec Su, Sv, Suu, Svv, Suv;
+      s->D2(ci ? u1 : u0, cj ? v1 : v0, P, Su, Sv, Suu, Svv, Suv);
+      const double su = (ci ? -1.0 : 1.0) * du / 3.0, sv = (cj ? -1.0 : 1.0) * dv / 3.0;
+      const int i = ci ? 3 : 0, j = cj ? 3 : 0, in = ci ? 2 : 1, jn = cj ? 2 : 1;
+      set(i, j, P.XYZ());
+      set(in, j, P.XYZ() + su * Su.XYZ());
+      set(i, jn, P.XYZ() + sv * Sv.XYZ());
+      set(in, jn, P.XYZ() + su * Su.XYZ() + sv * Sv.XYZ() + su * sv * Suv.XYZ());
+    }
+  }
+  return p;
+}
+
+/// Max |patch - S| of one patch on an n x n grid of interior points, and along its u-edges
+/// (v fixed, where only the u-interpolation errs) and v-edges.
+struct PatchError
+{
+  double All = 0.0, AlongU = 0.0, AlongV = 0.0;
+};
+PatchError MeasureOne(const Handle(Geom_Surface)& s, const BezierPatch& p, int n)
+{
+  PatchError e;
+  const auto& d = p.Domain;
+  auto err = [&](double a, double b) {
+    const double u = d[0] + (d[1] - d[0]) * a, v = d[2] + (d[3] - d[2]) * b;
+    const PatchEval pe = EvaluatePatchLocal(p.ControlPoints, a, b);
+    const gp_Pnt q = s->Value(u, v);
+    return std::hypot(pe.P[0] - q.X(), pe.P[1] - q.Y(), pe.P[2] - q.Z());
+  };
+  for (int i = 1; i < n; ++i)
+  {
+    const double a = double(i) / n;
+    e.AlongU = std::max({ e.AlongU, err(a, 0.0), err(a, 1.0) });
+    e.AlongV = std::max({ e.AlongV, err(0.0, a), err(1.0, a) });
+    for (int j = 1; j < n; ++j)
+      e.All = std::max(e.All, err(a, double(j) / n));
+  }
+  e.All = std::max({ e.All, e.AlongU, e.AlongV });
+  return e;
+}
+
+/// Initial grid lines of one direction: the domain ends, the surface's interior knots (where it
+/// may be less smooth), and splits so that periodic (angular) directions span at most pi/4.
+std::vector<double> InitialBreaks(const Handle(Geom_Surface)& surface, bool uDir, double a,
+  double b)
+{
+  std::vector<double> breaks{ a, b };
+  const Handle(Geom_Surface) s = Unwrap(surface);
+  if (auto bs = Handle(Geom_BSplineSurface)::DownCast(s))
+  {
+    const int n = uDir ? bs->NbUKnots() : bs->NbVKnots();
+    for (int i = 1; i <= n; ++i)
+    {
+      const double k = uDir ? bs->UKnot(i) : bs->VKnot(i);
+      if (k > a && k < b)
+        breaks.push_back(k);
+    }
+  }
+  std::sort(breaks.begin(), breaks.end());
+  const bool periodic = uDir ? s->IsUPeriodic() : s->IsVPeriodic();
+  const double span = uDir ? (periodic ? s->UPeriod() : 0.0) : (periodic ? s->VPeriod() : 0.0);
+  // Angular directions of analytic surfaces (period 2 pi) get pieces of at most pi/4.
+  const bool angular = periodic && std::fabs(span - 2.0 * M_PI) < 1e-9;
+  const bool sphereLat = !uDir && s->IsKind(STANDARD_TYPE(Geom_SphericalSurface));
+  if (angular || sphereLat)
+  {
+    std::vector<double> fine;
+    for (size_t i = 0; i + 1 < breaks.size(); ++i)
+    {
+      const int pieces = std::max(1, int(std::ceil((breaks[i + 1] - breaks[i]) / (M_PI / 4) - 1e-9)));
+      for (int k = 0; k < pieces; ++k)
+        fine.push_back(breaks[i] + (breaks[i + 1] - breaks[i]) * k / pieces);
+    }
+    fine.push_back(breaks.back());
+    breaks.swap(fine);
+  }
+  breaks.erase(std::unique(breaks.begin(), breaks.end(),
+                 [](double x, double y) { return std::fabs(x - y) < 1e-12; }),
+    breaks.end());
+  return breaks;
+}
+
+/// Hermite patches on a tensor grid refined until every patch is within `tol` (or the patch
+/// budget runs out): an interval is halved when the error along its direction is too large.
+PatchGrid HermitePatches(const Handle(Geom_Surface)& s, const std::array<double, 4>& d, double tol,
+  int maxPatches)
+{
+  std::vector<double> us = InitialBreaks(s, true, d[0], d[1]);
+  std::vector<double> vs = InitialBreaks(s, false, d[2], d[3]);
+  PatchGrid grid;
+  for (int round = 0; round < 16; ++round)
+  {
+    grid.NU = static_cast<int>(us.size()) - 1;
+    grid.NV = static_cast<int>(vs.size()) - 1;
+    grid.Patches.clear();
+    std::vector<char> splitU(grid.NU, 0), splitV(grid.NV, 0);
+    bool any = false;
+    for (int j = 0; j < grid.NV; ++j)
+    {
+      for (int i = 0; i < grid.NU; ++i)
+      {
+        grid.Patches.push_back(HermitePatch(s, us[i], us[i + 1], vs[j], vs[j + 1]));
+        const PatchError e = MeasureOne(s, grid.Patches.back(), 6);
+        if (e.All <= tol)
+          continue;
+        any = true;
+        const bool u = e.AlongU > 0.25 * e.All, v = e.AlongV > 0.25 * e.All;
+        if (u || !v)
+          splitU[i] = 1;
+        if (v || !u)
+          splitV[j] = 1;
+      }
+    }
+    const size_t nu = us.size() - 1 + std::count(splitU.begin(), splitU.end(), 1);
+    const size_t nv = vs.size() - 1 + std::count(splitV.begin(), splitV.end(), 1);
+    if (!any || nu * nv > static_cast<size_t>(maxPatches))
+      break;
+    auto refine = [](const std::vector<double>& b, const std::vector<char>& split) {
+      std::vector<double> out{ b[0] };
+      for (size_t i = 0; i + 1 < b.size(); ++i)
+      {
+        if (split[i])
+          out.push_back(0.5 * (b[i] + b[i + 1]));
+        out.push_back(b[i + 1]);
+      }
+      return out;
+    };
+    us = refine(us, splitU);
+    vs = refine(vs, splitV);
+  }
+  return grid;
+}
+
+/// Max |patch(u,v) - S(u,v)| over n random (u,v) plus the patch corners.
+double MeasurePatches(const Handle(Geom_Surface)& s, const PatchGrid& grid,
+  const std::array<double, 4>& d, int n, unsigned seed)
+{
+  if (grid.Patches.empty())
+    return 0.0;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> U(d[0], d[1]), V(d[2], d[3]);
+  auto find = [&](double u, double v) -> const BezierPatch& {
+    int iu = 0, iv = 0;
+    for (int i = 0; i < grid.NU - 1; ++i)
+      if (u >= grid.Patches[i].Domain[1])
+        iu = i + 1;
+    for (int j = 0; j < grid.NV - 1; ++j)
+      if (v >= grid.Patches[j * grid.NU].Domain[3])
+        iv = j + 1;
+    return grid.Patches[iu + iv * grid.NU];
+  };
+  double worst = 0.0;
+  auto check = [&](double u, double v) {
+    const PatchEval e = EvaluatePatch(find(u, v), u, v);
+    const gp_Pnt q = s->Value(u, v);
+    worst = std::max(worst, std::hypot(e.P[0] - q.X(), e.P[1] - q.Y(), e.P[2] - q.Z()));
+  };
+  for (int k = 0; k < n; ++k)
+    check(U(rng), V(rng));
+  for (const auto& p : grid.Patches)
+  {
+    check(p.Domain[0], p.Domain[2]);
+    check(p.Domain[1], p.Domain[3]);
+  }
+  return worst;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Curves
+// ---------------------------------------------------------------------------------------------
+template <int N>
+struct CurveSegment
+{
+  std::array<double, 4 * N> ControlPoints{};
+  double T0 = 0.0, T1 = 0.0;
+};
+using Segment2 = CurveSegment<2>;
+using Segment3 = CurveSegment<3>;
+
+inline void Store(const gp_Pnt2d& p, double* c)
+{
+  c[0] = p.X();
+  c[1] = p.Y();
+}
+inline void Store(const gp_Pnt& p, double* c)
+{
+  c[0] = p.X();
+  c[1] = p.Y();
+  c[2] = p.Z();
+}
+
+/// Converts a curve over [f,l] into cubic Bezier segments that keep the curve's parameter.
+/// CurveT: Geom2d_Curve or Geom_Curve and their B-spline/Bezier/line/trimmed/approx types.
+template <int N, class CurveT, class BSplineT, class BezierT, class LineT, class TrimmedT,
+  class ToBezierT, class ApproxT, class ArrayT>
+std::vector<CurveSegment<N>> ConvertCurve(const Handle(CurveT)& curve, double f, double l,
+  double tol)
+{
+  std::vector<CurveSegment<N>> out;
+  Handle(CurveT) basis = curve;
+  while (auto t = Handle(TrimmedT)::DownCast(basis))
+    basis = t->BasisCurve();
+
+  auto fromBezier = [&](Handle(BezierT) bz, double t0, double t1) {
+    if (bz->Degree() < 3)
+    {
+      bz = Handle(BezierT)::DownCast(bz->Copy());
+      bz->Increase(3);
+    }
+    CurveSegment<N> seg;
+    seg.T0 = t0;
+    seg.T1 = t1;
+    for (int i = 0; i < 4; ++i)
+      Store(bz->Pole(i + 1), &seg.ControlPoints[i * N]);
+    out.push_back(seg);
+  };
+  auto fromBSpline = [&](const Handle(BSplineT)& bs) {
+    ToBezierT conv(bs);
+    TColStd_Array1OfReal knots(1, conv.NbArcs() + 1);
+    conv.Knots(knots);
+    for (int i = 1; i <= conv.NbArcs(); ++i)
+      fromBezier(conv.Arc(i), knots(i), knots(i + 1));
+  };
+
+  if (basis->IsKind(STANDARD_TYPE(LineT)))
+  {
+    CurveSegment<N> seg;
+    seg.T0 = f;
+    seg.T1 = l;
+    for (int i = 0; i < 4; ++i)
+      Store(basis->Value(f + (l - f) * i / 3.0), &seg.ControlPoints[i * N]);
+    out.push_back(seg);
+    return out;
+  }
+  if (auto bs = Handle(BSplineT)::DownCast(basis))
+  {
+    if (!bs->IsRational() && bs->Degree() <= 3 && !bs->IsPeriodic() &&
+      f >= bs->FirstParameter() - 1e-12 && l <= bs->LastParameter() + 1e-12)
+    {
+      Handle(BSplineT) copy = Handle(BSplineT)::DownCast(bs->Copy());
+      copy->Segment(std::max(f, bs->FirstParameter()), std::min(l, bs->LastParameter()));
+      fromBSpline(copy);
+      return out;
+    }
+  }
+  Handle(TrimmedT) trimmed = new TrimmedT(curve, f, l);
+  ApproxT approx(trimmed, tol, GeomAbs_C1, 2000, 3);
+  if (approx.HasResult())
+  {
+    fromBSpline(approx.Curve());
+  }
+  // A trimmed periodic curve may come back with its parameters moved by whole periods: put them
+  // back into [f, l] so that segments and pcurves share the edge's parameter.
+  if (!out.empty() && basis->IsPeriodic())
+  {
+    const double period = basis->Period();
+    const double shift = std::round((f - out.front().T0) / period) * period;
+    for (auto& seg : out)
+    {
+      seg.T0 += shift;
+      seg.T1 += shift;
+    }
+  }
+  return out;
+}
+
+std::vector<Segment2> ConvertCurve2d(const Handle(Geom2d_Curve)& c, double f, double l, double tol)
+{
+  return ConvertCurve<2, Geom2d_Curve, Geom2d_BSplineCurve, Geom2d_BezierCurve, Geom2d_Line,
+    Geom2d_TrimmedCurve, Geom2dConvert_BSplineCurveToBezierCurve, Geom2dConvert_ApproxCurve,
+    TColGeom2d_Array1OfBezierCurve>(c, f, l, tol);
+}
+
+std::vector<Segment3> ConvertCurve3d(const Handle(Geom_Curve)& c, double f, double l, double tol)
+{
+  return ConvertCurve<3, Geom_Curve, Geom_BSplineCurve, Geom_BezierCurve, Geom_Line,
+    Geom_TrimmedCurve, GeomConvert_BSplineCurveToBezierCurve, GeomConvert_ApproxCurve,
+    TColGeom_Array1OfBezierCurve>(c, f, l, tol);
+}
+
+[[maybe_unused]] double Distance(const gp_Pnt2d& p, const double* c)
+{
+  return std::hypot(p.X() - c[0], p.Y() - c[1]);
+}
+double Distance(const gp_Pnt& p, const double* c)
+{
+  return std::hypot(p.X() - c[0], p.Y() - c[1], p.Z() - c[2]);
+}
+
+/// Max distance between the segments and the curve at the same parameter (8 points a segment).
+template <int N, class CurveT>
+double MeasureCurve(const Handle(CurveT)& c, const std::vector<CurveSegment<N>>& segs)
+{
+  double worst = 0.0;
+  for (const auto& s : segs)
+  {
+    for (int k = 0; k <= 8; ++k)
+    {
+      const double r = k / 8.0;
+      const auto e = EvaluateCubic<N>(s.ControlPoints.data(), r);
+      worst = std::max(worst, Distance(c->Value(s.T0 + (s.T1 - s.T0) * r), e.P.data()));
+    }
+  }
+  return worst;
+}
+
+template <int N>
+void ReverseSegment(CurveSegment<N>& s)
+{
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < N; ++k)
+      std::swap(s.ControlPoints[i * N + k], s.ControlPoints[(3 - i) * N + k]);
+  std::swap(s.T0, s.T1);
+}
+
+/// Signed area of a closed loop of cubic 2D segments (polyline with 16 points a segment).
+double SignedArea(const std::vector<TrimSegment>& segs, size_t first, size_t count)
+{
+  double a = 0.0;
+  for (size_t s = first; s < first + count; ++s)
+  {
+    const double* cp = segs[s].ControlPoints.data();
+    auto prev = EvaluateCubic<2>(cp, 0.0).P;
+    for (int k = 1; k <= 16; ++k)
+    {
+      const auto p = EvaluateCubic<2>(cp, k / 16.0).P;
+      a += prev[0] * p[1] - p[0] * prev[1];
+      prev = p;
+    }
+  }
+  return 0.5 * a;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Display mesh
+// ---------------------------------------------------------------------------------------------
+struct BoundaryChord
+{
+  TopoDS_Edge Edge; ///< oriented as in the face
+  double P0 = 0.0, P1 = 0.0;
+};
+using ChordKey = std::pair<int, int>;
+ChordKey Key(int a, int b)
+{
+  return a < b ? ChordKey(a, b) : ChordKey(b, a);
+}
+
+/// One face's triangulation in UV, refined by conforming longest-edge bisection (Rivara's
+/// LEPP): a triangle is split across its longest edge together with the neighbour that shares
+/// that edge, after the neighbour's own longer edges have been split, so no T-junction appears.
+/// Midpoints of boundary chords are put on the edge's pcurve, so they stay on the trimming curves.
+class FaceRefiner
+{
+public:
+  FaceRefiner(const Handle(Geom_Surface)& s, const TopoDS_Face& face)
+    : Surface(s)
+    , TheFace(face)
+  {
+  }
+
+  int AddVertex(const gp_Pnt2d& uv)
+  {
+    UV.push_back(uv);
+    XYZ.push_back(Surface->Value(uv.X(), uv.Y()));
+    return static_cast<int>(UV.size()) - 1;
+  }
+  void AddTriangle(int a, int b, int c)
+  {
+    const int id = static_cast<int>(Tris.size());
+    Tris.push_back({ a, b, c });
+    Alive.push_back(1);
+    for (int k = 0; k < 3; ++k)
+      EdgeTris[Key(Tris[id][k], Tris[id][(k + 1) % 3])].push_back(id);
+  }
+  void AddChord(int a, int b, const TopoDS_Edge& e, double pa, double pb)
+  {
+    Chords[Key(a, b)] = { e, a < b ? pa : pb, a < b ? pb : pa };
+  }
+
+  /// Splits edges longest first until none is longer than maxEdge (or the vertex cap is hit).
+  void Refine(double maxEdge, size_t maxVertices)
+  {
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item> queue;
+    auto push = [&](int t) {
+      const double l = Length(LongestKey(t));
+      if (l > maxEdge)
+        queue.emplace(l, t);
+    };
+    for (size_t i = 0; i < Tris.size(); ++i)
+      push(static_cast<int>(i));
+    while (!queue.empty() && UV.size() < maxVertices)
+    {
+      const int t = queue.top().second;
+      queue.pop();
+      if (!Alive[t])
+        continue;
+      const size_t before = Tris.size();
+      Bisect(t, 0);
+      for (size_t i = before; i < Tris.size(); ++i)
+        push(static_cast<int>(i));
+      if (Alive[t])
+        push(t);
+    }
+  }
+
+  std::vector<gp_Pnt2d> UV;
+  std::vector<gp_Pnt> XYZ;
+  std::vector<std::array<int, 3>> Tris;
+  std::vector<char> Alive;
+
+private:
+  double Length(const ChordKey& k) const { return XYZ[k.first].Distance(XYZ[k.second]); }
+  /// The longest edge, ties broken by vertex ids so both triangles of an edge agree.
+  ChordKey LongestKey(int t) const
+  {
+    ChordKey best = Key(Tris[t][0], Tris[t][1]);
+    for (int k = 1; k < 3; ++k)
+    {
+      const ChordKey c = Key(Tris[t][k], Tris[t][(k + 1) % 3]);
+      const double lc = Length(c), lb = Length(best);
+      if (lc > lb || (lc == lb && c > best))
+        best = c;
+    }
+    return best;
+  }
+  void Remove(int t)
+  {
+    Alive[t] = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      auto& v = EdgeTris[Key(Tris[t][k], Tris[t][(k + 1) % 3])];
+      v.erase(std::remove(v.begin(), v.end(), t), v.end());
+    }
+  }
+  int Neighbour(int t, const ChordKey& k) const
+  {
+    auto it = EdgeTris.find(k);
+    if (it == EdgeTris.end())
+      return -1;
+    for (int n : it->second)
+      if (n != t)
+        return n;
+    return -1;
+  }
+  int Midpoint(int a, int b)
+  {
+    const ChordKey k = Key(a, b);
+    const gp_Pnt2d& pa = UV[a];
+    const gp_Pnt2d& pb = UV[b];
+    gp_Pnt2d m((pa.X() + pb.X()) / 2, (pa.Y() + pb.Y()) / 2);
+    auto ch = Chords.find(k);
+    if (ch == Chords.end())
+      return AddVertex(m);
+    const BoundaryChord c = ch->second;
+    Chords.erase(ch);
+    const double pm = 0.5 * (c.P0 + c.P1);
+    // A seam edge has two pcurves: take the one that passes through this chord's ends.
+    const double tolUV = 1e-6 * std::max(1.0, pa.Distance(pb));
+    for (const TopAbs_Orientation o : { c.Edge.Orientation(), TopAbs::Reverse(c.Edge.Orientation()) })
+    {
+      double f, l;
+      Handle(Geom2d_Curve) pc =
+        BRep_Tool::CurveOnSurface(TopoDS::Edge(c.Edge.Oriented(o)), TheFace, f, l);
+      if (!pc.IsNull() && pc->Value(c.P0).Distance(UV[k.first]) <= tolUV &&
+        pc->Value(c.P1).Distance(UV[k.second]) <= tolUV)
+      {
+        m = pc->Value(pm);
+        break;
+      }
+    }
+    const int id = AddVertex(m);
+    const int lo = k.first, hi = k.second;
+    AddChord(lo, id, c.Edge, c.P0, pm);
+    AddChord(id, hi, c.Edge, pm, c.P1);
+    return id;
+  }
+  void Bisect(int t, int depth)
+  {
+    for (int guard = 0; guard < 64 && Alive[t]; ++guard)
+    {
+      const ChordKey e = LongestKey(t);
+      const int n = Neighbour(t, e);
+      if (n >= 0 && LongestKey(n) != e && depth < 200)
+      {
+        Bisect(n, depth + 1); // split the neighbour's longer edge first
+        continue;
+      }
+      const auto split = [&](int tri, int m) {
+        const auto v = Tris[tri];
+        int k = 0;
+        while (Key(v[k], v[(k + 1) % 3]) != e)
+          ++k;
+        const int a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+        Remove(tri);
+        AddTriangle(a, m, c);
+        AddTriangle(m, b, c);
+      };
+      const int m = Midpoint(e.first, e.second);
+      split(t, m);
+      if (n >= 0)
+        split(n, m);
+      return;
+    }
+  }
+
+  Handle(Geom_Surface) Surface;
+  TopoDS_Face TheFace;
+  std::map<ChordKey, std::vector<int>> EdgeTris;
+  std::map<ChordKey, BoundaryChord> Chords;
+};
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+namespace
+{
+BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& options,
+  std::vector<TopoDS_Face>* faces)
+{
+  BRepModel model;
+  model.Tolerance = options.Tolerance;
+  ConversionStatistics& stats = model.Stats;
+  auto warn = [&](const std::string& w) { stats.Warnings.push_back(w); };
+  auto progress = [&](double f) {
+    if (options.Progress && !options.Progress(f))
+      throw std::runtime_error("conversion aborted");
+  };
+
+  // --- heal -------------------------------------------------------------------------------
+  auto t0 = Clock::now();
+  TopoDS_Shape shape = input;
+  if (options.Heal)
+  {
+    try
+    {
+      ShapeFix_Shape fixer(shape);
+      fixer.Perform();
+      shape = fixer.Shape();
+    }
+    catch (const Standard_Failure& e)
+    {
+      warn(std::string("healing failed, converting the shape as read: ") + e.GetMessageString());
+      shape = input;
+    }
+  }
+  BRepLib::BuildCurves3d(shape);
+  stats.HealSeconds = Since(t0);
+  progress(0.05);
+
+  // --- topology: solids, faces, edges -------------------------------------------------------
+  t0 = Clock::now();
+  TopTools_IndexedMapOfShape faceMap;
+  std::vector<int> faceSolid;
+  int solid = 0;
+  for (TopExp_Explorer sx(shape, TopAbs_SOLID); sx.More(); sx.Next(), ++solid)
+  {
+    for (TopExp_Explorer fx(sx.Current(), TopAbs_FACE); fx.More(); fx.Next())
+      if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
+        faceSolid.push_back(solid);
+  }
+  int looseShells = 0;
+  for (TopExp_Explorer hx(shape, TopAbs_SHELL, TopAbs_SOLID); hx.More(); hx.Next(), ++solid)
+  {
+    ++looseShells;
+    for (TopExp_Explorer fx(hx.Current(), TopAbs_FACE); fx.More(); fx.Next())
+      if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
+        faceSolid.push_back(solid);
+  }
+  int looseFaces = 0;
+  for (TopExp_Explorer fx(shape, TopAbs_FACE, TopAbs_SHELL); fx.More(); fx.Next())
+  {
+    if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
+    {
+      faceSolid.push_back(solid);
+      ++looseFaces;
+    }
+  }
+  if (looseFaces > 0)
+    ++solid;
+  if (looseShells > 0 || looseFaces > 0)
+  {
+    std::ostringstream w;
+    w << looseShells << " open shell(s) and " << looseFaces
+      << " loose face(s) belong to no solid: each keeps its own SolidId, but thickness is only "
+         "meaningful inside closed solids";
+    warn(w.str());
+  }
+  if (faceMap.Extent() == 0)
+    throw std::runtime_error("the shape holds no face");
+  stats.Solids = solid;
+
+  TopTools_IndexedMapOfShape edgeMap;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+    for (TopExp_Explorer ex(faceMap(i), TopAbs_EDGE); ex.More(); ex.Next())
+      if (!BRep_Tool::Degenerated(TopoDS::Edge(ex.Current())))
+        edgeMap.Add(ex.Current());
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndUniqueAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box);
+  const double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  const double tol = options.Tolerance;
+
+  // --- faces: patches and trimming loops ----------------------------------------------------
+  model.Faces.resize(faceMap.Extent());
+  for (int fi = 0; fi < faceMap.Extent(); ++fi)
+  {
+    const TopoDS_Face face = TopoDS::Face(faceMap(fi + 1));
+    const TopoDS_Face ff = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+    Face& F = model.Faces[fi];
+    F.Solid = faceSolid[fi];
+    F.Reversed = face.Orientation() == TopAbs_REVERSED;
+    Handle(Geom_Surface) surface = BRep_Tool::Surface(ff);
+    if (surface.IsNull())
+    {
+      warn("face " + std::to_string(fi) + ": has no surface, skipped");
+      continue;
+    }
+    Classify(surface, F);
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(ff, u0, u1, v0, v1);
+    F.Domain = { u0, u1, v0, v1 };
+    const std::string where = "face " + std::to_string(fi) + " (" + SurfaceKindName(F.Kind) + ")";
+
+    // Patches, refined until the measured deviation is within the tolerance.
+    PatchGrid grid;
+    double deviation = 0.0;
+    try
+    {
+      if (F.Kind == SurfaceKind::Plane)
+        grid = PlanePatches(surface, F.Domain);
+      else
+        grid = ExactPatches(surface, F.Domain);
+      if (!grid.Patches.empty())
+        deviation = MeasurePatches(surface, grid, F.Domain, options.DeviationSamples, fi + 1);
+      if (grid.Patches.empty() || deviation > tol)
+      {
+        grid = HermitePatches(surface, F.Domain, 0.5 * tol, options.MaxPatchesPerFace);
+        deviation = MeasurePatches(surface, grid, F.Domain, options.DeviationSamples, fi + 1);
+      }
+    }
+    catch (const Standard_Failure& e)
+    {
+      warn(where + ": surface conversion failed: " + e.GetMessageString());
+    }
+    if (grid.Patches.empty())
+      warn(where + ": no Bezier patches could be made; the face takes no part in the solve");
+    else if (deviation > tol)
+    {
+      std::ostringstream w;
+      w << where << ": patches deviate " << deviation << " > tolerance " << tol;
+      warn(w.str());
+    }
+    F.MaxDeviation = deviation;
+    F.FirstPatch = static_cast<int>(model.Patches.size());
+    F.PatchCount = static_cast<int>(grid.Patches.size());
+    F.PatchesU = grid.NU;
+    F.PatchesV = grid.NV;
+    for (auto& p : grid.Patches)
+    {
+      p.Face = fi;
+      model.Patches.push_back(p);
+    }
+    stats.MaxPatchDeviation = std::max(stats.MaxPatchDeviation, deviation);
+
+    // Trimming loops.
+    BRepAdaptor_Surface adaptor(ff, Standard_False);
+    const double uvExtent = std::max(u1 - u0, v1 - v0);
+    double tol2d = std::min(adaptor.UResolution(tol), adaptor.VResolution(tol));
+    tol2d = std::clamp(tol2d, 1e-10 * uvExtent, 1e-3 * uvExtent);
+    F.UVTolerance = tol2d;
+    F.FirstLoop = static_cast<int>(model.Loops.size());
+    const TopoDS_Wire outerWire = BRepTools::OuterWire(ff);
+    for (TopoDS_Iterator wi(ff); wi.More(); wi.Next())
+    {
+      if (wi.Value().ShapeType() != TopAbs_WIRE)
+        continue;
+      const TopoDS_Wire wire = TopoDS::Wire(wi.Value());
+      std::vector<TopoDS_Edge> edges;
+      for (BRepTools_WireExplorer we(wire, ff); we.More(); we.Next())
+        edges.push_back(we.Current());
+      int stored = 0;
+      for (TopoDS_Iterator ei(wire); ei.More(); ei.Next())
+        ++stored;
+      if (static_cast<int>(edges.size()) != stored)
+      {
+        warn(where + ": wire edges could not be ordered, using their stored order");
+        edges.clear();
+        for (TopoDS_Iterator ei(wire); ei.More(); ei.Next())
+          edges.push_back(TopoDS::Edge(ei.Value()));
+      }
+      TrimLoop loop;
+      loop.Face = fi;
+      loop.FirstSegment = static_cast<int>(model.TrimSegments.size());
+      loop.Outer = wire.IsSame(outerWire);
+      const int loopIndex = static_cast<int>(model.Loops.size());
+      std::vector<int> edgeStarts;
+      std::vector<TopoDS_Edge> edgeOf; // the edge behind each entry of edgeStarts
+      for (const TopoDS_Edge& e : edges)
+      {
+        double f, l;
+        Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, ff, f, l);
+        if (pc.IsNull())
+        {
+          warn(where + ": an edge has no curve on the face; its loop stays open");
+          continue;
+        }
+        std::vector<Segment2> segs;
+        try
+        {
+          segs = ConvertCurve2d(pc, f, l, tol2d);
+        }
+        catch (const Standard_Failure& ex)
+        {
+          warn(where + ": trimming curve conversion failed: " + ex.GetMessageString());
+        }
+        if (segs.empty())
+          continue;
+        const bool reversed = e.Orientation() == TopAbs_REVERSED;
+        if (reversed)
+        {
+          std::reverse(segs.begin(), segs.end());
+          for (auto& s : segs)
+            ReverseSegment(s);
+        }
+        const int edgeIndex = BRep_Tool::Degenerated(e) ? -1 : edgeMap.FindIndex(e) - 1;
+        edgeStarts.push_back(static_cast<int>(model.TrimSegments.size()));
+        edgeOf.push_back(e);
+        for (const auto& s : segs)
+        {
+          TrimSegment ts;
+          ts.ControlPoints = s.ControlPoints;
+          ts.Face = fi;
+          ts.Loop = loopIndex;
+          ts.Edge = edgeIndex;
+          ts.Reversed = reversed;
+          ts.T0 = s.T0;
+          ts.T1 = s.T1;
+          model.TrimSegments.push_back(ts);
+        }
+      }
+      loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
+      if (loop.SegmentCount == 0)
+        continue;
+      // Gaps between consecutive pcurves. They are welded (both ends moved to their middle)
+      // when the model itself says the two ends are one point: the 3D gap is within the shared
+      // vertex's tolerance (or the conversion tolerance).
+      for (size_t k = 0; k < edgeStarts.size(); ++k)
+      {
+        const int b = edgeStarts[k];
+        const size_t prev = k == 0 ? edgeStarts.size() - 1 : k - 1;
+        const int a = (k == 0 ? loop.FirstSegment + loop.SegmentCount : edgeStarts[k]) - 1;
+        auto& ca = model.TrimSegments[a].ControlPoints;
+        auto& cb = model.TrimSegments[b].ControlPoints;
+        const double gap = std::hypot(ca[6] - cb[0], ca[7] - cb[1]);
+        if (gap == 0.0)
+          continue;
+        const double gap3d = surface->Value(ca[6], ca[7]).Distance(surface->Value(cb[0], cb[1]));
+        const TopoDS_Vertex vtx = TopExp::LastVertex(edgeOf[prev], Standard_True);
+        const double vtxTol = vtx.IsNull() ? 0.0 : BRep_Tool::Tolerance(vtx);
+        loop.RawGap = std::max(loop.RawGap, gap);
+        loop.RawGap3D = std::max(loop.RawGap3D, gap3d);
+        if (gap3d <= std::max(2.0 * vtxTol, tol))
+        {
+          const double mu = 0.5 * (ca[6] + cb[0]), mv = 0.5 * (ca[7] + cb[1]);
+          ca[4] += mu - ca[6];
+          ca[5] += mv - ca[7];
+          cb[2] += mu - cb[0];
+          cb[3] += mv - cb[1];
+          ca[6] = cb[0] = mu;
+          ca[7] = cb[1] = mv;
+        }
+        else
+        {
+          std::ostringstream w;
+          w << where << ": trimming loop " << model.Loops.size() << " does not close: gap "
+            << gap << " in UV, " << gap3d << " in 3D, beyond the vertex tolerance " << vtxTol;
+          warn(w.str());
+          loop.Open = true;
+        }
+      }
+      loop.Area = SignedArea(model.TrimSegments, loop.FirstSegment, loop.SegmentCount);
+      if ((loop.Outer && loop.Area < 0.0) || (!loop.Outer && loop.Area > 0.0))
+      {
+        warn(where + ": trimming loop " + std::to_string(loopIndex) +
+          " had the wrong orientation for its role and was reversed");
+        std::reverse(model.TrimSegments.begin() + loop.FirstSegment,
+          model.TrimSegments.begin() + loop.FirstSegment + loop.SegmentCount);
+        for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+        {
+          TrimSegment& ts = model.TrimSegments[s];
+          for (int i = 0; i < 2; ++i)
+          {
+            std::swap(ts.ControlPoints[2 * i], ts.ControlPoints[2 * (3 - i)]);
+            std::swap(ts.ControlPoints[2 * i + 1], ts.ControlPoints[2 * (3 - i) + 1]);
+          }
+          std::swap(ts.T0, ts.T1);
+          ts.Reversed = !ts.Reversed;
+        }
+        loop.Area = -loop.Area;
+      }
+      stats.MaxLoopGap = std::max(stats.MaxLoopGap, loop.RawGap);
+      stats.MaxLoopGap3D = std::max(stats.MaxLoopGap3D, loop.RawGap3D);
+      stats.OpenLoops += loop.Open ? 1 : 0;
+      model.Loops.push_back(loop);
+    }
+    F.LoopCount = static_cast<int>(model.Loops.size()) - F.FirstLoop;
+    progress(0.05 + 0.6 * (fi + 1) / faceMap.Extent());
+  }
+
+  // --- edges --------------------------------------------------------------------------------
+  model.Edges.resize(edgeMap.Extent());
+  for (int ei = 0; ei < edgeMap.Extent(); ++ei)
+  {
+    const TopoDS_Edge edge = TopoDS::Edge(edgeMap(ei + 1));
+    Edge& E = model.Edges[ei];
+    if (edgeFaces.Contains(edge))
+    {
+      for (TopTools_ListOfShape::Iterator it(edgeFaces.FindFromKey(edge)); it.More(); it.Next())
+      {
+        const int f = faceMap.FindIndex(it.Value()) - 1;
+        if (f < 0)
+          continue;
+        if (E.FaceCount < 2)
+          E.Faces[E.FaceCount] = f;
+        ++E.FaceCount;
+        if (BRep_Tool::IsClosed(edge, TopoDS::Face(it.Value())))
+        {
+          E.Seam = true;
+          E.Faces = { f, f };
+        }
+      }
+    }
+    if (E.FaceCount > 2)
+      warn("edge " + std::to_string(ei) + " is shared by " + std::to_string(E.FaceCount) +
+        " faces (non-manifold); only the first two are recorded");
+    double f, l;
+    Handle(Geom_Curve) c = BRep_Tool::Curve(edge, f, l);
+    E.T0 = f;
+    E.T1 = l;
+    E.FirstSegment = static_cast<int>(model.EdgeSegments.size());
+    if (c.IsNull())
+    {
+      warn("edge " + std::to_string(ei) + " has no 3D curve");
+      continue;
+    }
+    std::vector<Segment3> segs;
+    try
+    {
+      segs = ConvertCurve3d(c, f, l, 0.5 * tol);
+      E.MaxDeviation = MeasureCurve<3>(c, segs);
+    }
+    catch (const Standard_Failure& ex)
+    {
+      warn("edge " + std::to_string(ei) + ": conversion failed: " + ex.GetMessageString());
+    }
+    for (const auto& s : segs)
+    {
+      EdgeSegment es;
+      es.ControlPoints = s.ControlPoints;
+      es.Edge = ei;
+      es.T0 = s.T0;
+      es.T1 = s.T1;
+      model.EdgeSegments.push_back(es);
+    }
+    E.SegmentCount = static_cast<int>(segs.size());
+    stats.MaxEdgeDeviation = std::max(stats.MaxEdgeDeviation, E.MaxDeviation);
+  }
+  stats.ConvertSeconds = Since(t0);
+  progress(0.75);
+
+  // --- display mesh -------------------------------------------------------------------------
+  t0 = Clock::now();
+  const double deflection =
+    options.LinearDeflection > 0.0 ? options.LinearDeflection : 1e-3 * diagonal;
+  const double maxEdge = options.MaxEdgeLength > 0.0 ? options.MaxEdgeLength : diagonal / 50.0;
+  BRepMesh_IncrementalMesh mesher(shape, deflection, Standard_False, options.AngularDeflection,
+    Standard_True);
+  DisplayMesh& M = model.Mesh;
+  for (int fi = 0; fi < faceMap.Extent(); ++fi)
+  {
+    const TopoDS_Face face = TopoDS::Face(faceMap(fi + 1));
+    const TopoDS_Face ff = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+    TopLoc_Location loc;
+    Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(ff, loc);
+    Handle(Geom_Surface) surface = BRep_Tool::Surface(ff);
+    if (tri.IsNull() || !tri->HasUVNodes() || surface.IsNull())
+    {
+      warn("face " + std::to_string(fi) + ": no display mesh could be made");
+      continue;
+    }
+    FaceRefiner fm(surface, ff);
+    for (int i = 1; i <= tri->NbNodes(); ++i)
+      fm.AddVertex(tri->UVNode(i));
+    for (int i = 1; i <= tri->NbTriangles(); ++i)
+    {
+      int n[3];
+      tri->Triangle(i).Get(n[0], n[1], n[2]);
+      fm.AddTriangle(n[0] - 1, n[1] - 1, n[2] - 1);
+    }
+    for (TopExp_Explorer ex(ff, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+      Handle(Poly_PolygonOnTriangulation) poly = BRep_Tool::PolygonOnTriangulation(e, tri, loc);
+      if (poly.IsNull() || !poly->HasParameters())
+        continue;
+      for (int k = 1; k < poly->NbNodes(); ++k)
+        fm.AddChord(poly->Node(k) - 1, poly->Node(k + 1) - 1, e, poly->Parameter(k),
+          poly->Parameter(k + 1));
+    }
+    fm.Refine(maxEdge, static_cast<size_t>(options.MaxVerticesPerFace));
+    const int base = static_cast<int>(M.FaceIds.size());
+    for (const gp_Pnt2d& uv : fm.UV)
+    {
+      gp_Pnt p;
+      gp_Vec du, dv;
+      surface->D1(uv.X(), uv.Y(), p, du, dv);
+      gp_Vec n = du.Crossed(dv);
+      if (n.Magnitude() < 1e-12 * std::max(1.0, du.Magnitude() * dv.Magnitude()))
+      {
+        // Singular point (pole, apex): take the normal a little way into the face.
+        const auto& d = model.Faces[fi].Domain;
+        const double cu = 0.5 * (d[0] + d[1]), cv = 0.5 * (d[2] + d[3]);
+        gp_Pnt q;
+        surface->D1(uv.X() + 1e-6 * (cu - uv.X()), uv.Y() + 1e-6 * (cv - uv.Y()), q, du, dv);
+        n = du.Crossed(dv);
+      }
+      if (n.Magnitude() > 0.0)
+        n.Normalize();
+      if (model.Faces[fi].Reversed)
+        n.Reverse();
+      M.Points.insert(M.Points.end(), { p.X(), p.Y(), p.Z() });
+      M.Normals.insert(M.Normals.end(), { n.X(), n.Y(), n.Z() });
+      M.UV.insert(M.UV.end(), { uv.X(), uv.Y() });
+      M.FaceIds.push_back(fi);
+    }
+    for (size_t ti = 0; ti < fm.Tris.size(); ++ti)
+    {
+      if (!fm.Alive[ti])
+        continue;
+      const auto& t = fm.Tris[ti];
+      if (model.Faces[fi].Reversed)
+        M.Triangles.insert(M.Triangles.end(), { base + t[0], base + t[2], base + t[1] });
+      else
+        M.Triangles.insert(M.Triangles.end(), { base + t[0], base + t[1], base + t[2] });
+      M.TriangleFace.push_back(fi);
+    }
+    progress(0.75 + 0.25 * (fi + 1) / faceMap.Extent());
+  }
+  stats.MeshSeconds = Since(t0);
+
+  if (faces)
+  {
+    faces->clear();
+    for (int i = 1; i <= faceMap.Extent(); ++i)
+      faces->push_back(TopoDS::Face(faceMap(i)));
+  }
+  stats.Faces = static_cast<int>(model.Faces.size());
+  stats.Patches = static_cast<int>(model.Patches.size());
+  stats.Loops = static_cast<int>(model.Loops.size());
+  stats.TrimSegments = static_cast<int>(model.TrimSegments.size());
+  stats.Edges = static_cast<int>(model.Edges.size());
+  stats.EdgeSegments = static_cast<int>(model.EdgeSegments.size());
+  return model;
+}
+
+} // namespace
+
+BRepModel ConvertShape(const TopoDS_Shape& input, const ConversionOptions& options,
+  std::vector<TopoDS_Face>* faces)
+{
+  try
+  {
+    return ConvertShapeImpl(input, options, faces);
+  }
+  catch (const Standard_Failure& e)
+  {
+    throw std::runtime_error(std::string("OpenCASCADE failed during conversion: ") +
+      e.GetMessageString());
+  }
+}
+
+BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& options,
+  std::vector<TopoDS_Face>* faces)
+{
+  StepReadResult info;
+  const TopoDS_Shape shape = ReadStepFile(path, &info);
+  BRepModel model;
+  try
+  {
+    model = ConvertShape(shape, options, faces);
+  }
+  catch (const std::runtime_error& e)
+  {
+    throw InputError("STEP file '" + path + "': " + e.what());
+  }
+  model.SourceFile = path;
+  model.LengthUnit = info.LengthUnit;
+  model.Stats.ReadSeconds = info.Seconds;
+  model.Schema = info.Schema;
+  return model;
+}
+
+} // namespace brt

@@ -1,0 +1,51 @@
+// BRepThickness: conversion of an OpenCASCADE shape into bicubic Bezier patches, cubic trimming
+// loops, cubic 3D edges and a display tessellation (docs/DataContract.md). Free of VTK.
+#pragma once
+
+#include "BRepModel.h"
+
+#include <functional>
+#include <vector>
+
+class TopoDS_Shape;
+class TopoDS_Face;
+
+namespace brt
+{
+
+struct ConversionOptions
+{
+  /// Max distance between a Bezier patch or edge segment and the exact geometry (model units).
+  double Tolerance = 1e-4;
+  /// Run ShapeFix on the shape before converting.
+  bool Heal = true;
+  /// Display mesh: max chordal deviation; <= 0 picks 1e-3 of the bounding-box diagonal.
+  double LinearDeflection = 0.0;
+  /// Display mesh: max angle between adjacent normals (radians).
+  double AngularDeflection = 0.35;
+  /// Display mesh: triangles are split until no edge is longer; <= 0 picks 1/50 of the
+  /// bounding-box diagonal. This sets the density of the thickness samples s0.
+  double MaxEdgeLength = 0.0;
+  /// Cap on the Bezier patches of one face (bounds the refinement of the fit).
+  int MaxPatchesPerFace = 16384;
+  /// Cap on the vertices of one face's display mesh (bounds the refinement).
+  int MaxVerticesPerFace = 200000;
+  /// Random (u,v) per face at which the patches are checked against the exact surface.
+  int DeviationSamples = 1000;
+  /// Called with a fraction in [0,1]; return false to abort (throws std::runtime_error).
+  std::function<bool(double)> Progress;
+};
+
+/// Converts `shape` (healed first if requested). Throws std::runtime_error if the shape holds no
+/// face or the conversion is aborted. Per-face problems do not throw: they land in
+/// model.Stats.Warnings and the per-face figures.
+/// If `faces` is given it receives the healed faces, model.Faces[i] being (*faces)[i].
+BRepModel ConvertShape(const TopoDS_Shape& shape, const ConversionOptions& options,
+  std::vector<TopoDS_Face>* faces = nullptr);
+
+/// Reads a STEP file and converts it; the source file name is kept in the model. Throws
+/// InputError (StepFile.h) for bad input.
+BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& options,
+  std::vector<TopoDS_Face>* faces = nullptr);
+
+} // namespace brt

@@ -1,0 +1,151 @@
+// BRepThickness: the converted B-Rep, as the thickness solver consumes it.
+//
+// This header is free of VTK and OpenCASCADE. It is the C++ side of the reader output
+// contract documented in docs/DataContract.md; vtkSTEPReader maps it 1:1 onto field arrays.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace brt
+{
+
+/// Kind of the original (pre-conversion) surface of a face, for statistics and tests.
+enum class SurfaceKind : int
+{
+  Plane = 0,
+  Cylinder,
+  Cone,
+  Sphere,
+  Torus,
+  BezierSurface,
+  BSplineSurface,
+  SurfaceOfRevolution,
+  SurfaceOfExtrusion,
+  OffsetSurface,
+  Other
+};
+const char* SurfaceKindName(SurfaceKind kind);
+
+/// One face of the healed shape.
+struct Face
+{
+  int Solid = -1;         ///< index of the solid (or free shell) the face belongs to
+  bool Reversed = false;  ///< true: outward normal = -(Su x Sv); false: +(Su x Sv)
+  SurfaceKind Kind = SurfaceKind::Other;
+  bool Rational = false;        ///< original surface is rational (NURBS)
+  int DegreeU = 0, DegreeV = 0; ///< original degrees (B-spline/Bezier only, else 0)
+  std::array<double, 4> Domain{}; ///< u0, u1, v0, v1 : the face's UV bounds
+  int FirstPatch = 0, PatchCount = 0;
+  int PatchesU = 0, PatchesV = 0; ///< patches form a PatchesU x PatchesV grid, u fastest
+  int FirstLoop = 0, LoopCount = 0;
+  double MaxDeviation = 0.0; ///< measured max |Bezier(u,v) - S(u,v)| on this face
+  double UVTolerance = 0.0;  ///< parametric tolerance used for the trimming curves
+};
+
+/// Bicubic Bezier patch covering [Domain[0],Domain[1]] x [Domain[2],Domain[3]] of its face's
+/// parameters. Local parameters s=(u-u0)/(u1-u0), r=(v-v0)/(v1-v0).
+/// Control point P_ij (i along u, j along v) is at ControlPoints[(4*i + j)*3 + k], k = x,y,z.
+struct BezierPatch
+{
+  std::array<double, 48> ControlPoints{};
+  int Face = -1;
+  std::array<double, 4> Domain{};
+};
+
+/// Cubic 2D Bezier segment of a trimming loop, in the face's (u,v).
+/// Loops are oriented so that the face material lies on the left: outer loops counter-clockwise,
+/// holes clockwise, whatever the face orientation (Face::Reversed carries that separately).
+struct TrimSegment
+{
+  std::array<double, 8> ControlPoints{}; ///< (u,v) of 4 control points
+  int Face = -1;
+  int Loop = -1;        ///< index into BRepModel::Loops
+  int Edge = -1;        ///< index into BRepModel::Edges, -1 for a degenerated edge (pole)
+  bool Reversed = false; ///< the loop runs along the edge against the edge's parameter
+  /// Edge parameters at the segment's start (local 0) and end (local 1); T0 > T1 when Reversed.
+  double T0 = 0.0, T1 = 0.0;
+};
+
+struct TrimLoop
+{
+  int Face = -1;
+  int FirstSegment = 0, SegmentCount = 0;
+  bool Outer = false;
+  double RawGap = 0.0;   ///< largest UV gap between consecutive pcurves before welding
+  double RawGap3D = 0.0; ///< the same gap measured in 3D on the surface (model units)
+  bool Open = false;     ///< a gap exceeded the model's vertex tolerance and was not welded
+  double Area = 0.0;     ///< signed UV area after orientation (>0 outer, <0 holes)
+};
+
+/// A 3D edge of the shape, shared by up to two faces.
+struct Edge
+{
+  std::array<int, 2> Faces{ -1, -1 }; ///< faces that share it; equal for a seam; -1 free
+  int FaceCount = 0;                  ///< number of faces sharing it (>2: non-manifold)
+  double T0 = 0.0, T1 = 0.0;          ///< parameter range of the edge
+  int FirstSegment = 0, SegmentCount = 0;
+  bool Seam = false;
+  double MaxDeviation = 0.0; ///< measured max |Bezier(t) - C(t)|
+};
+
+/// Cubic 3D Bezier segment of an edge, covering edge parameters [T0, T1] (T0 < T1).
+struct EdgeSegment
+{
+  std::array<double, 12> ControlPoints{};
+  int Edge = -1;
+  double T0 = 0.0, T1 = 0.0;
+};
+
+/// Display tessellation. Every vertex lies on the exact surface of its face.
+struct DisplayMesh
+{
+  std::vector<double> Points;    ///< xyz per vertex
+  std::vector<double> Normals;   ///< outward unit normal per vertex
+  std::vector<double> UV;        ///< (u,v) on the vertex's face
+  std::vector<int> FaceIds;      ///< per vertex
+  std::vector<int> Triangles;    ///< 3 vertex ids per triangle, counter-clockwise seen from outside
+  std::vector<int> TriangleFace; ///< per triangle
+  std::size_t NumberOfPoints() const { return FaceIds.size(); }
+};
+
+struct ConversionStatistics
+{
+  int Solids = 0;
+  int Faces = 0;
+  int Patches = 0;
+  int TrimSegments = 0;
+  int Loops = 0;
+  int Edges = 0;
+  int EdgeSegments = 0;
+  double MaxPatchDeviation = 0.0; ///< max over faces of Face::MaxDeviation
+  double MaxEdgeDeviation = 0.0;
+  double MaxLoopGap = 0.0;        ///< max over loops of TrimLoop::RawGap (UV units)
+  double MaxLoopGap3D = 0.0;      ///< max over loops of TrimLoop::RawGap3D (model units)
+  int OpenLoops = 0;              ///< loops left open (gap beyond the vertex tolerance)
+  double ReadSeconds = 0.0;
+  double HealSeconds = 0.0;
+  double ConvertSeconds = 0.0;
+  double MeshSeconds = 0.0;
+  std::vector<std::string> Warnings;
+};
+
+struct BRepModel
+{
+  std::string SourceFile;
+  std::string Schema;   ///< the STEP file's FILE_SCHEMA (e.g. AUTOMOTIVE_DESIGN for AP214)
+  std::string LengthUnit = "mm";
+  double Tolerance = 1e-4;
+  std::vector<Face> Faces;
+  std::vector<BezierPatch> Patches;
+  std::vector<TrimLoop> Loops;
+  std::vector<TrimSegment> TrimSegments;
+  std::vector<Edge> Edges;
+  std::vector<EdgeSegment> EdgeSegments;
+  DisplayMesh Mesh;
+  ConversionStatistics Stats;
+};
+
+} // namespace brt

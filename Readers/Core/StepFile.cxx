@@ -1,0 +1,180 @@
+#include "StepFile.h"
+
+#include <APIHeaderSection_MakeHeader.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <StepData_StepModel.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Shape.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <sys/stat.h>
+#include <vector>
+
+namespace brt
+{
+namespace
+{
+[[noreturn]] void Fail(const std::string& path, const std::string& reason)
+{
+  throw InputError("STEP file '" + path + "': " + reason);
+}
+
+std::string Upper(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
+  return s;
+}
+
+/// Silences OpenCASCADE's default console printers while alive (the STEP parser prints every
+/// syntax error it meets; we report one clear message instead).
+class QuietMessenger
+{
+public:
+  QuietMessenger()
+  {
+    const Handle(Message_Messenger)& m = Message::DefaultMessenger();
+    for (Message_SequenceOfPrinters::Iterator it(m->Printers()); it.More(); it.Next())
+      this->Saved.push_back(it.Value());
+    m->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  }
+  ~QuietMessenger()
+  {
+    const Handle(Message_Messenger)& m = Message::DefaultMessenger();
+    for (const auto& p : this->Saved)
+    {
+      if (p->IsKind(STANDARD_TYPE(Message_PrinterOStream)))
+        m->AddPrinter(p);
+    }
+  }
+  QuietMessenger(const QuietMessenger&) = delete;
+  QuietMessenger& operator=(const QuietMessenger&) = delete;
+
+private:
+  std::vector<Handle(Message_Printer)> Saved;
+};
+} // namespace
+
+void CheckStepFile(const std::string& path)
+{
+  if (path.empty())
+  {
+    throw InputError("STEP reader: no file name given");
+  }
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0)
+  {
+    Fail(path, errno == ENOENT ? "file does not exist" : std::string(std::strerror(errno)));
+  }
+  if (S_ISDIR(st.st_mode))
+  {
+    Fail(path, "is a directory, not a file");
+  }
+  if (!S_ISREG(st.st_mode))
+  {
+    Fail(path, "is not a regular file");
+  }
+  if (st.st_size == 0)
+  {
+    Fail(path, "file is empty");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+  {
+    Fail(path, std::string("cannot be opened: ") + std::strerror(errno));
+  }
+  constexpr std::streamoff window = 4096;
+  std::string head(static_cast<size_t>(std::min<std::streamoff>(window, st.st_size)), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  if (head.find('\0') != std::string::npos)
+  {
+    Fail(path, "is not a STEP file: it holds binary data (NUL bytes) where the ISO-10303-21 "
+               "header should be");
+  }
+  // Skip a UTF-8 byte-order mark and leading white space.
+  size_t start = head.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (start < head.size() && std::isspace(static_cast<unsigned char>(head[start])))
+    ++start;
+  if (Upper(head.substr(start, 12)) != "ISO-10303-21")
+  {
+    Fail(path, "is not a STEP file: it does not start with the ISO-10303-21 header");
+  }
+  const std::streamoff tailSize = std::min<std::streamoff>(window, st.st_size);
+  std::string tail(static_cast<size_t>(tailSize), '\0');
+  in.seekg(st.st_size - tailSize);
+  in.read(tail.data(), tailSize);
+  if (Upper(tail).find("END-ISO-10303-21") == std::string::npos)
+  {
+    Fail(path, "is truncated or damaged: the END-ISO-10303-21 terminator is missing at its end");
+  }
+}
+
+TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckStepFile(path);
+  QuietMessenger quiet;
+  STEPControl_Reader reader;
+  TopoDS_Shape shape;
+  StepReadResult result;
+  try
+  {
+    const IFSelect_ReturnStatus status = reader.ReadFile(path.c_str());
+    if (status != IFSelect_RetDone)
+    {
+      Fail(path, "the STEP parser rejected it (syntax or schema error)");
+    }
+    Handle(StepData_StepModel) model = reader.StepModel();
+    if (!model.IsNull())
+    {
+      APIHeaderSection_MakeHeader header(model);
+      if (header.IsDone() && header.NbSchemaIdentifiers() > 0)
+      {
+        result.Schema = header.SchemaIdentifiersValue(1)->ToCString();
+      }
+    }
+    result.Roots = reader.NbRootsForTransfer();
+    if (result.Roots == 0)
+    {
+      Fail(path, "holds no shape that can be transferred (no product, solid, shell or face)");
+    }
+    reader.TransferRoots();
+    if (reader.NbShapes() == 0)
+    {
+      Fail(path, "holds no geometry that OpenCASCADE could transfer");
+    }
+    shape = reader.OneShape();
+  }
+  catch (const InputError&)
+  {
+    throw;
+  }
+  catch (const Standard_Failure& e)
+  {
+    Fail(path, std::string("OpenCASCADE failed while reading it: ") + e.GetMessageString());
+  }
+  if (shape.IsNull() || !TopExp_Explorer(shape, TopAbs_FACE).More())
+  {
+    Fail(path, "holds no solid, shell or face (only curves, points or nothing): there is no "
+               "wall to measure");
+  }
+  result.Seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (info)
+  {
+    *info = result;
+  }
+  return shape;
+}
+
+} // namespace brt

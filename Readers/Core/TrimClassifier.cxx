@@ -1,0 +1,224 @@
+#include "TrimClassifier.h"
+
+#include "Bezier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace brt
+{
+
+namespace
+{
+inline double Cross(double ax, double ay, double bx, double by)
+{
+  return ax * by - ay * bx;
+}
+
+inline double Length2(const std::array<double, 8>& cp)
+{
+  double l = 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    const double du = cp[2 * i + 2] - cp[2 * i], dv = cp[2 * i + 3] - cp[2 * i + 1];
+    l += std::sqrt(du * du + dv * dv);
+  }
+  return l;
+}
+
+/// Tangent direction at local t, robust to vanishing derivatives at the ends.
+std::array<double, 2> Tangent(const std::array<double, 8>& cp, double t)
+{
+  const auto e = EvaluateCubic<2>(cp.data(), t);
+  const double scale = Length2(cp);
+  if (std::hypot(e.D1[0], e.D1[1]) > 1e-12 * scale)
+  {
+    return { e.D1[0], e.D1[1] };
+  }
+  // Coincident control points: use the first non-zero chord from (or to) that end.
+  if (t < 0.5)
+  {
+    for (int i = 1; i < 4; ++i)
+    {
+      const double du = cp[2 * i] - cp[0], dv = cp[2 * i + 1] - cp[1];
+      if (std::hypot(du, dv) > 1e-12 * scale)
+        return { du, dv };
+    }
+  }
+  else
+  {
+    for (int i = 2; i >= 0; --i)
+    {
+      const double du = cp[6] - cp[2 * i], dv = cp[7] - cp[2 * i + 1];
+      if (std::hypot(du, dv) > 1e-12 * scale)
+        return { du, dv };
+    }
+  }
+  return { cp[6] - cp[0], cp[7] - cp[1] };
+}
+} // namespace
+
+double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, double* distance)
+{
+  // Start: projection on the polyline c(0), c(1/3), c(2/3), c(1).
+  std::array<std::array<double, 2>, 4> poly;
+  for (int i = 0; i < 4; ++i)
+  {
+    const auto e = EvaluateCubic<2>(cp.data(), i / 3.0);
+    poly[i] = { e.P[0], e.P[1] };
+  }
+  double bestT = 0.0, bestD2 = std::numeric_limits<double>::max();
+  for (int i = 0; i < 3; ++i)
+  {
+    const double ax = poly[i + 1][0] - poly[i][0], ay = poly[i + 1][1] - poly[i][1];
+    const double len2 = ax * ax + ay * ay;
+    double tau = len2 > 0.0 ? ((u - poly[i][0]) * ax + (v - poly[i][1]) * ay) / len2 : 0.0;
+    tau = std::clamp(tau, 0.0, 1.0);
+    const double px = poly[i][0] + tau * ax - u, py = poly[i][1] + tau * ay - v;
+    const double d2 = px * px + py * py;
+    if (d2 < bestD2)
+    {
+      bestD2 = d2;
+      bestT = (i + tau) / 3.0;
+    }
+  }
+  // Newton on f(t) = (c(t) - P) . c'(t) = 0 (eq. 6), clamped to the segment.
+  double t = bestT;
+  for (int it = 0; it < 12; ++it)
+  {
+    const auto e = EvaluateCubic<2>(cp.data(), t);
+    const double rx = e.P[0] - u, ry = e.P[1] - v;
+    const double f = rx * e.D1[0] + ry * e.D1[1];
+    const double df = e.D1[0] * e.D1[0] + e.D1[1] * e.D1[1] + rx * e.D2[0] + ry * e.D2[1];
+    if (df <= 0.0)
+    {
+      break; // not a minimum locally: keep the best so far
+    }
+    const double next = std::clamp(t - f / df, 0.0, 1.0);
+    const double step = std::fabs(next - t);
+    t = next;
+    if (step < 1e-15)
+    {
+      break;
+    }
+  }
+  // Keep the best of the Newton result and both ends.
+  double best = std::numeric_limits<double>::max();
+  double bestParam = t;
+  for (double cand : { t, 0.0, 1.0 })
+  {
+    const auto e = EvaluateCubic<2>(cp.data(), cand);
+    const double d = std::hypot(e.P[0] - u, e.P[1] - v);
+    if (d < best)
+    {
+      best = d;
+      bestParam = cand;
+    }
+  }
+  if (distance)
+  {
+    *distance = best;
+  }
+  return bestParam;
+}
+
+TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v)
+{
+  TrimProjection res;
+  res.Distance = std::numeric_limits<double>::max();
+  const Face& f = model.Faces[face];
+  int bestLoop = -1;
+  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      const auto& cp = model.TrimSegments[s].ControlPoints;
+      if (Length2(cp) <= 0.0)
+      {
+        continue;
+      }
+      double d = 0.0;
+      const double t = ProjectOnSegment(cp, u, v, &d);
+      if (d < res.Distance)
+      {
+        res.Distance = d;
+        res.Segment = s;
+        res.Parameter = t;
+        bestLoop = l;
+      }
+    }
+  }
+  if (res.Segment < 0)
+  {
+    return res; // no trimming curve: nothing is inside
+  }
+  const TrimLoop& loop = model.Loops[bestLoop];
+  const auto& cp = model.TrimSegments[res.Segment].ControlPoints;
+  const auto e = EvaluateCubic<2>(cp.data(), res.Parameter);
+  const double px = u - e.P[0], py = v - e.P[1];
+
+  // Neighbour of a segment along its loop, skipping zero-length segments.
+  auto neighbour = [&](int s, int dir) {
+    int idx = s - loop.FirstSegment;
+    for (int k = 0; k < loop.SegmentCount; ++k)
+    {
+      idx = (idx + dir + loop.SegmentCount) % loop.SegmentCount;
+      if (Length2(model.TrimSegments[loop.FirstSegment + idx].ControlPoints) > 0.0)
+        return loop.FirstSegment + idx;
+    }
+    return s;
+  };
+
+  const double endEps = 1e-9;
+  if (res.Parameter > endEps && res.Parameter < 1.0 - endEps)
+  {
+    const auto tg = Tangent(cp, res.Parameter);
+    res.Inside = Cross(tg[0], tg[1], px, py) > 0.0;
+    return res;
+  }
+  // At a junction: incoming segment a (ending there) and outgoing segment b (starting there).
+  std::array<double, 2> ta, tb;
+  if (res.Parameter <= endEps)
+  {
+    ta = Tangent(model.TrimSegments[neighbour(res.Segment, -1)].ControlPoints, 1.0);
+    tb = Tangent(cp, 0.0);
+  }
+  else
+  {
+    ta = Tangent(cp, 1.0);
+    tb = Tangent(model.TrimSegments[neighbour(res.Segment, +1)].ControlPoints, 0.0);
+  }
+  const double sa = Cross(ta[0], ta[1], px, py);
+  const double sb = Cross(tb[0], tb[1], px, py);
+  if ((sa > 0.0) == (sb > 0.0))
+  {
+    res.Inside = sa > 0.0;
+    return res;
+  }
+  // Corner rule: a left turn (convex corner) keeps the region near the vertex outside,
+  // a right turn (concave corner) inside.
+  res.Corner = true;
+  res.Inside = Cross(ta[0], ta[1], tb[0], tb[1]) < 0.0;
+  return res;
+}
+
+int FindPatch(const BRepModel& model, int face, double u, double v)
+{
+  const Face& f = model.Faces[face];
+  int iu = 0, iv = 0;
+  for (int i = 0; i < f.PatchesU - 1; ++i)
+  {
+    if (u >= model.Patches[f.FirstPatch + i].Domain[1])
+      iu = i + 1;
+  }
+  for (int j = 0; j < f.PatchesV - 1; ++j)
+  {
+    if (v >= model.Patches[f.FirstPatch + j * f.PatchesU].Domain[3])
+      iv = j + 1;
+  }
+  return f.FirstPatch + iu + iv * f.PatchesU;
+}
+
+} // namespace brt

@@ -1,0 +1,29 @@
+// BRepThickness: point-in-face test on the cubic trimming segments alone (paper eq. 6 and the
+// corner rule). Free of VTK and OpenCASCADE; the OpenCL kernels implement the same steps.
+#pragma once
+
+#include "BRepModel.h"
+
+namespace brt
+{
+
+struct TrimProjection
+{
+  bool Inside = false;
+  double Distance = 0.0; ///< UV distance from the query point to the nearest trimming point
+  int Segment = -1;      ///< index into BRepModel::TrimSegments of the nearest segment
+  double Parameter = 0.0; ///< local parameter on that segment, in [0,1]
+  bool Corner = false;   ///< the nearest point is a C0 junction decided by the corner rule
+};
+
+/// Nearest point on one cubic 2D segment: Newton on eq. 6 started from the projection on the
+/// polyline through c(0), c(1/3), c(2/3), c(1). Returns the local parameter in [0,1].
+double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, double* distance);
+
+/// Classifies (u,v) against all loops of `face`. Inside iff the cross product
+/// (c'(t_p) x (P - c(t_p)))_w > 0 with loops oriented material-on-the-left; when the nearest
+/// point is the junction of two segments that are not tangent-continuous, the corner rule
+/// applies (a left turn is convex: outside; a right turn is concave: inside).
+TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v);
+
+} // namespace brt

@@ -1,0 +1,132 @@
+// Conversion of every model in Data/: patch deviation, loop closure, and the point-in-face test
+// built on the cubic trimming segments against OpenCASCADE's BRepClass_FaceClassifier.
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <TopoDS_Face.hxx>
+
+#include <BRep_Tool.hxx>
+#include <Geom_Surface.hxx>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+namespace
+{
+using namespace brt;
+
+class DataModel : public ::testing::TestWithParam<std::string>
+{
+};
+
+TEST_P(DataModel, PatchesTrimsAndTopology)
+{
+  ConversionOptions options;
+  std::vector<TopoDS_Face> faces;
+  const BRepModel m = ConvertStepFile(test::DataFile(GetParam()), options, &faces);
+  const auto& s = m.Stats;
+  ASSERT_EQ(faces.size(), m.Faces.size());
+  ASSERT_GT(s.Faces, 0);
+  std::printf("[model] %s: schema %s, %d solids, %d faces, %d patches, %d loops, %d trim "
+              "segments, %d edges, %d edge segments, %zu mesh points\n",
+    GetParam().c_str(), m.Schema.c_str(), s.Solids, s.Faces, s.Patches, s.Loops, s.TrimSegments,
+    s.Edges, s.EdgeSegments, m.Mesh.NumberOfPoints());
+  std::printf("[time] %s: read %.3f s, heal %.3f s, convert %.3f s, mesh %.3f s\n",
+    GetParam().c_str(), s.ReadSeconds, s.HealSeconds, s.ConvertSeconds, s.MeshSeconds);
+  for (const auto& w : s.Warnings)
+    std::printf("[warning] %s: %s\n", GetParam().c_str(), w.c_str());
+
+  // Patches: >= 1000 random parameter points per face, all within the tolerance.
+  const test::PatchCheck pc = test::CheckPatches(m, faces, 1000);
+  std::printf("[patches] %s: max |Bezier - surface| = %.3e over %ld samples (tolerance %.1e)\n",
+    GetParam().c_str(), pc.MaxDeviation, pc.Samples, m.Tolerance);
+  EXPECT_LE(pc.MaxDeviation, m.Tolerance) << "worst face " << pc.WorstFace;
+  EXPECT_GE(pc.Samples, 1000L * s.Faces);
+  EXPECT_LE(s.MaxEdgeDeviation, m.Tolerance);
+
+  // Trims: every loop closes; classification agrees with OpenCASCADE.
+  const test::TrimCheck tc = test::CheckTrims(m, faces, 10000);
+  std::printf("[trims] %s: raw gap before welding %.3e UV (%.3e in 3D), gap after welding "
+              "%.3e UV, open loops %d\n",
+    GetParam().c_str(), s.MaxLoopGap, s.MaxLoopGap3D, tc.MaxClosureGap, s.OpenLoops);
+  std::printf("[classify] %s: %ld points compared, %ld ON skipped, %ld disagreements within "
+              "the UV tolerance band, %zu beyond it\n",
+    GetParam().c_str(), tc.Compared, tc.OnBoundary, tc.NearBoundary, tc.Disagreements.size());
+  for (const auto& d : tc.Disagreements)
+    std::printf("[disagreement] %s: %s\n", GetParam().c_str(), d.c_str());
+  EXPECT_EQ(s.OpenLoops, 0);
+  EXPECT_LE(tc.MaxClosureGap, 1e-9);
+  EXPECT_GE(tc.Compared + tc.OnBoundary, 9900);
+  EXPECT_TRUE(tc.Disagreements.empty());
+  EXPECT_LE(tc.NearBoundary, tc.Compared / 1000 + 1);
+
+  // Loops: outer counter-clockwise, holes clockwise (material on the left).
+  for (const TrimLoop& l : m.Loops)
+    EXPECT_EQ(l.Outer, l.Area > 0.0) << "loop of face " << l.Face;
+
+  // Edges: every edge knows its faces; segments keep the edge's parameter range.
+  for (size_t e = 0; e < m.Edges.size(); ++e)
+  {
+    const Edge& E = m.Edges[e];
+    EXPECT_GE(E.FaceCount, 1) << "edge " << e;
+    ASSERT_GT(E.SegmentCount, 0) << "edge " << e;
+    EXPECT_NEAR(m.EdgeSegments[E.FirstSegment].T0, E.T0, 1e-9 * (1 + std::abs(E.T0)));
+    EXPECT_NEAR(m.EdgeSegments[E.FirstSegment + E.SegmentCount - 1].T1, E.T1,
+      1e-9 * (1 + std::abs(E.T1)));
+  }
+
+  // Display mesh: vertices on the exact surface at their (u,v), unit normals.
+  const auto& M = m.Mesh;
+  ASSERT_GT(M.NumberOfPoints(), 0u);
+  double worst = 0.0, worstNormal = 0.0;
+  for (size_t i = 0; i < M.NumberOfPoints(); i += 7)
+  {
+    Handle(Geom_Surface) surf = BRep_Tool::Surface(faces[M.FaceIds[i]]);
+    const gp_Pnt q = surf->Value(M.UV[2 * i], M.UV[2 * i + 1]);
+    worst = std::max(worst,
+      std::hypot(q.X() - M.Points[3 * i], q.Y() - M.Points[3 * i + 1], q.Z() - M.Points[3 * i + 2]));
+    worstNormal = std::max(worstNormal,
+      std::abs(std::hypot(M.Normals[3 * i], M.Normals[3 * i + 1], M.Normals[3 * i + 2]) - 1.0));
+  }
+  EXPECT_LE(worst, 1e-9);
+  EXPECT_LE(worstNormal, 1e-9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Data, DataModel, ::testing::ValuesIn(test::DataModels()),
+  [](const ::testing::TestParamInfo<std::string>& p) {
+    std::string n = p.param;
+    for (char& c : n)
+      if (!std::isalnum(static_cast<unsigned char>(c)))
+        c = '_';
+    return n;
+  });
+
+// The models cover faces with holes, seams and both orientations.
+TEST(DataCoverage, HolesSeamsOrientations)
+{
+  int holes = 0, seams = 0, reversed = 0, forward = 0, solidsMax = 0;
+  for (const auto& name : test::DataModels())
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    for (const Face& f : m.Faces)
+    {
+      holes += f.LoopCount > 1;
+      reversed += f.Reversed;
+      forward += !f.Reversed;
+    }
+    for (const Edge& e : m.Edges)
+      seams += e.Seam;
+    solidsMax = std::max(solidsMax, m.Stats.Solids);
+  }
+  std::printf("[coverage] faces with holes %d, seam edges %d, reversed faces %d, forward "
+              "faces %d, most solids in one file %d\n",
+    holes, seams, reversed, forward, solidsMax);
+  EXPECT_GT(holes, 0);
+  EXPECT_GT(seams, 0);
+  EXPECT_GT(reversed, 0);
+  EXPECT_GT(forward, 0);
+  EXPECT_GT(solidsMax, 1);
+}
+} // namespace

@@ -1,0 +1,107 @@
+// The trim test (eq. 6 and the corner rule) on hand-made loops whose inside is known exactly.
+#include "TrimClassifier.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+using namespace brt;
+
+/// Adds a closed polygon loop (straight cubic segments) to face 0 of `m`.
+void AddPolygon(BRepModel& m, const std::vector<std::array<double, 2>>& pts, bool outer)
+{
+  TrimLoop loop;
+  loop.Face = 0;
+  loop.Outer = outer;
+  loop.FirstSegment = static_cast<int>(m.TrimSegments.size());
+  for (size_t i = 0; i < pts.size(); ++i)
+  {
+    const auto& a = pts[i];
+    const auto& b = pts[(i + 1) % pts.size()];
+    TrimSegment s;
+    s.Face = 0;
+    s.Loop = static_cast<int>(m.Loops.size());
+    for (int k = 0; k < 4; ++k)
+    {
+      s.ControlPoints[2 * k] = a[0] + (b[0] - a[0]) * k / 3.0;
+      s.ControlPoints[2 * k + 1] = a[1] + (b[1] - a[1]) * k / 3.0;
+    }
+    m.TrimSegments.push_back(s);
+  }
+  loop.SegmentCount = static_cast<int>(pts.size());
+  m.Loops.push_back(loop);
+  m.Faces[0].LoopCount = static_cast<int>(m.Loops.size());
+}
+
+bool InPolygon(const std::vector<std::array<double, 2>>& p, double x, double y)
+{
+  bool in = false;
+  for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
+    if ((p[i][1] > y) != (p[j][1] > y) &&
+      x < (p[j][0] - p[i][0]) * (y - p[i][1]) / (p[j][1] - p[i][1]) + p[i][0])
+      in = !in;
+  return in;
+}
+
+TEST(TrimClassifier, LShapeWithSquareHoleMatchesExactPolygonTest)
+{
+  // L-shaped outer loop (counter-clockwise, one concave corner) and a clockwise square hole.
+  const std::vector<std::array<double, 2>> outer{ { 0, 0 }, { 4, 0 }, { 4, 1 }, { 1, 1 },
+    { 1, 4 }, { 0, 4 } };
+  const std::vector<std::array<double, 2>> hole{ { 0.3, 2 }, { 0.3, 3 }, { 0.7, 3 }, { 0.7, 2 } };
+  BRepModel m;
+  m.Faces.resize(1);
+  AddPolygon(m, outer, true);
+  AddPolygon(m, hole, false);
+  int corners = 0;
+  const int n = 200;
+  for (int i = 0; i <= n; ++i)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      // A grid offset from every vertex so no point sits exactly on the boundary.
+      const double x = -0.5 + 5.0 * (i + 0.37) / n, y = -0.5 + 5.0 * (j + 0.61) / n;
+      const bool expected = InPolygon(outer, x, y) && !InPolygon(hole, x, y);
+      const TrimProjection r = ClassifyPoint(m, 0, x, y);
+      corners += r.Corner;
+      ASSERT_EQ(r.Inside, expected) << "(" << x << ", " << y << ") distance " << r.Distance;
+    }
+  }
+  std::printf("[trim] %d of %d points decided by the corner rule\n", corners, (n + 1) * (n + 1));
+}
+
+TEST(TrimClassifier, CornerRuleConcaveInsideConvexOutside)
+{
+  BRepModel m;
+  m.Faces.resize(1);
+  AddPolygon(m, { { 0, 0 }, { 4, 0 }, { 4, 1 }, { 1, 1 }, { 1, 4 }, { 0, 4 } }, true);
+  // Beyond the convex corner (4,0): nearest point is the vertex, outside.
+  TrimProjection r = ClassifyPoint(m, 0, 4.2, -0.3);
+  EXPECT_FALSE(r.Inside);
+  EXPECT_NEAR(r.Distance, std::hypot(0.2, 0.3), 1e-12);
+  // In the wedge of the concave corner (1,1): nearest point is the vertex, inside.
+  r = ClassifyPoint(m, 0, 0.8, 0.8);
+  EXPECT_TRUE(r.Inside);
+  // Exactly on the bisector near the concave corner the two tangents disagree: corner rule.
+  r = ClassifyPoint(m, 0, 1.0 + 1e-3, 1.0 + 1e-3);
+  EXPECT_FALSE(r.Inside);
+}
+
+TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
+{
+  // Quarter circle of radius 1 as a cubic (standard kappa); projection of points on rays.
+  const double k = 0.5522847498;
+  const std::array<double, 8> cp{ 1, 0, 1, k, k, 1, 0, 1 };
+  for (double a : { 0.1, 0.4, 0.785, 1.2, 1.5 })
+  {
+    for (double rad : { 0.5, 1.3, 3.0 })
+    {
+      double d = 0.0;
+      ProjectOnSegment(cp, rad * std::cos(a), rad * std::sin(a), &d);
+      EXPECT_NEAR(d, std::fabs(rad - 1.0), 3e-4) << a << " " << rad; // cubic arc error 2.7e-4
+    }
+  }
+}
+} // namespace
