@@ -1,0 +1,90 @@
+"""vtkSTEPReader on every model of Data/: the output follows docs/DataContract.md.
+
+Usage: pvpython test_reader_models.py PLUGIN_FILE DATA_DIR
+"""
+import math
+import os
+import sys
+
+from paraview.simple import *  # noqa: F401,F403
+from paraview import servermanager as sm
+
+LoadPlugin(sys.argv[1], ns=globals())
+data_dir = sys.argv[2]
+models = sorted(f for f in os.listdir(data_dir) if f.lower().endswith((".step", ".stp")))
+assert len(models) >= 9, models
+failures = []
+
+
+def check(name, cond, what):
+    if not cond:
+        failures.append("%s: %s" % (name, what))
+
+
+for name in models:
+    reader = STEPReader(FileName=os.path.join(data_dir, name))
+    reader.UpdatePipeline()
+    d = sm.Fetch(reader)
+    fd, pd = d.GetFieldData(), d.GetPointData()
+
+    def scalar(key):
+        return fd.GetArray(key).GetValue(0)
+
+    n = d.GetNumberOfPoints()
+    check(name, n > 0 and d.GetNumberOfCells() > 0, "empty output")
+    for arr in ("FaceId", "SolidId", "FaceUV", "Normals"):
+        check(name, pd.GetArray(arr) is not None, "point array %s missing" % arr)
+    faces, patches = int(scalar("NumberOfFaces")), int(scalar("NumberOfPatches"))
+    sizes = {
+        "BezierPatches": (patches, 48), "PatchFace": (patches, 1), "PatchDomain": (patches, 4),
+        "FaceInfo": (faces, 9), "FaceDomain": (faces, 4),
+        "TrimSegments": (int(scalar("NumberOfTrimSegments")), 8),
+        "TrimSegmentInfo": (int(scalar("NumberOfTrimSegments")), 4),
+        "TrimLoops": (int(scalar("NumberOfLoops")), 4),
+        "EdgeSegments": (int(scalar("NumberOfEdgeSegments")), 12),
+        "EdgeFaces": (int(scalar("NumberOfEdges")), 2),
+    }
+    for arr, (tuples, comps) in sizes.items():
+        a = fd.GetArray(arr)
+        check(name, a is not None and a.GetNumberOfTuples() == tuples
+              and a.GetNumberOfComponents() == comps, "field array %s shape" % arr)
+    check(name, scalar("MaxPatchDeviation") <= scalar("Tolerance"), "patch deviation")
+    check(name, int(scalar("OpenLoops")) == 0, "open trimming loops")
+    face_ids = pd.GetArray("FaceId")
+    lo, hi = face_ids.GetRange()
+    check(name, lo >= 0 and hi < faces, "FaceId out of range")
+    solids = set(int(pd.GetArray("SolidId").GetValue(i)) for i in range(0, n, 13))
+    check(name, len(solids) == int(scalar("NumberOfSolids")) or len(solids) <= int(scalar("NumberOfSolids")),
+          "SolidId count")
+    normals = pd.GetArray("Normals")
+    worst = max(abs(math.sqrt(sum(normals.GetComponent(i, k) ** 2 for k in range(3))) - 1.0)
+                for i in range(0, n, 11))
+    check(name, worst < 1e-9, "normals not unit (%g)" % worst)
+    print("[reader] %-34s %2d solids %4d faces %5d patches %6d points, max deviation %.2e, "
+          "read %.3f s, convert %.3f s, mesh %.3f s" % (
+              name, int(scalar("NumberOfSolids")), faces, patches, n,
+              scalar("MaxPatchDeviation"), scalar("ReadSeconds"), scalar("ConvertSeconds"),
+              scalar("MeshSeconds")))
+    Delete(reader)
+
+# Several solids in one file keep their SolidId.
+reader = STEPReader(FileName=os.path.join(data_dir, "fw13_hinge_l_assy.stp"))
+reader.UpdatePipeline()
+d = sm.Fetch(reader)
+ids = set(int(d.GetPointData().GetArray("SolidId").GetValue(i)) for i in range(d.GetNumberOfPoints()))
+check("fw13_hinge_l_assy.stp", len(ids) == 7, "expected 7 solids, got %s" % sorted(ids))
+
+# Properties reach the reader: a tighter tolerance gives more patches, a shorter edge more points.
+r1 = STEPReader(FileName=os.path.join(data_dir, "toroidal_shell.step"), Tolerance=1e-3)
+r2 = STEPReader(FileName=os.path.join(data_dir, "toroidal_shell.step"), Tolerance=1e-5,
+                MaxEdgeLength=1.0)
+d1, d2 = sm.Fetch(r1), sm.Fetch(r2)
+p1 = d1.GetFieldData().GetArray("NumberOfPatches").GetValue(0)
+p2 = d2.GetFieldData().GetArray("NumberOfPatches").GetValue(0)
+check("toroidal_shell.step", p2 > p1, "tolerance property has no effect (%d vs %d)" % (p1, p2))
+check("toroidal_shell.step", d2.GetNumberOfPoints() > d1.GetNumberOfPoints(),
+      "MaxEdgeLength property has no effect")
+
+for f in failures:
+    print("FAIL", f)
+sys.exit(1 if failures else 0)
