@@ -1,0 +1,579 @@
+#include "Solver.h"
+
+#include "Bezier.h"
+#include "TrimClassifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+namespace brt
+{
+
+const char* ContactTypeName(ContactType type)
+{
+  switch (type)
+  {
+    case ContactType::SurfaceSurface: return "surface/surface";
+    case ContactType::SurfaceEdge: return "surface/edge";
+    case ContactType::SurfaceVertex: return "surface/vertex";
+    case ContactType::Failed: break;
+  }
+  return "failed";
+}
+
+const char* FailReasonName(FailReason reason)
+{
+  switch (reason)
+  {
+    case FailReason::None: return "none";
+    case FailReason::NoOppositePoint: return "no opposite point";
+    case FailReason::NotConverged: return "surface/surface Newton did not converge";
+    case FailReason::EdgeNotConverged: return "surface/edge Newton did not converge";
+    case FailReason::NoEdge: return "foot point left the face across a degenerated edge";
+    case FailReason::Singular: return "singular Jacobian";
+    case FailReason::LeftModel: return "sphere radius not positive";
+  }
+  return "unknown";
+}
+
+namespace
+{
+using Vec3 = std::array<double, 3>;
+inline Vec3 Sub(const Vec3& a, const Vec3& b)
+{
+  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+}
+inline double Dot(const Vec3& a, const Vec3& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline Vec3 Axpy(const Vec3& o, double t, const Vec3& d)
+{
+  return { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+}
+
+// --- BVH -------------------------------------------------------------------------------------
+int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count)
+{
+  const int id = static_cast<int>(nodes.size());
+  nodes.emplace_back();
+  BVHNode node;
+  node.Min = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  node.Max = { -node.Min[0], -node.Min[1], -node.Min[2] };
+  for (int i = first; i < first + count; ++i)
+    for (int k = 0; k < 3; ++k)
+    {
+      node.Min[k] = std::min(node.Min[k], pts[i].Point[k]);
+      node.Max[k] = std::max(node.Max[k], pts[i].Point[k]);
+    }
+  if (count <= 4)
+  {
+    node.First = first;
+    node.Count = count;
+    nodes[id] = node;
+    return id;
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (node.Max[k] - node.Min[k] > node.Max[axis] - node.Min[axis])
+      axis = k;
+  const int half = count / 2;
+  std::nth_element(pts.begin() + first, pts.begin() + first + half, pts.begin() + first + count,
+    [axis](const S1Point& a, const S1Point& b) { return a.Point[axis] < b.Point[axis]; });
+  Build(pts, nodes, first, half);
+  node.Right = Build(pts, nodes, first + half, count - half);
+  nodes[id] = node;
+  return id;
+}
+
+double BoxDistance2(const BVHNode& n, const Vec3& p)
+{
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double e = std::max({ n.Min[k] - p[k], 0.0, p[k] - n.Max[k] });
+    d2 += e * e;
+  }
+  return d2;
+}
+
+/// Eq. 1 with the BVH: the s1 point P minimising t = |P-O|^2 / (2 d.(P-O)) over d.(P-O) > 0.
+/// A point gives a smaller t exactly when it lies strictly inside the current sphere (centre
+/// M = O + t d, radius t), so nodes farther than t from M are pruned (the paper's bound 2t is
+/// looser).
+int Initialise(const SolverData& data, const Sample& s, double& bestT)
+{
+  bestT = std::numeric_limits<double>::infinity();
+  int best = -1;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  while (top > 0)
+  {
+    const BVHNode& n = data.Nodes[stack[--top]];
+    if (std::isfinite(bestT))
+    {
+      const Vec3 M = Axpy(O, bestT, d);
+      if (BoxDistance2(n, M) >= bestT * bestT)
+        continue;
+    }
+    if (n.Count > 0)
+    {
+      for (int i = n.First; i < n.First + n.Count; ++i)
+      {
+        const Vec3 w = Sub(data.S1[i].Point, O);
+        const double dn = Dot(d, w), l2 = Dot(w, w);
+        // Points in O's tangent plane (its own face, flat around it) give no sphere.
+        if (dn <= 1e-6 * std::sqrt(l2) || l2 <= 0.0)
+          continue;
+        const double t = 0.5 * l2 / dn;
+        if (t < bestT)
+        {
+          bestT = t;
+          best = i;
+        }
+      }
+      continue;
+    }
+    const int left = static_cast<int>(&n - data.Nodes.data()) + 1, right = n.Right;
+    const Vec3 ref = std::isfinite(bestT) ? Axpy(O, bestT, d) : O;
+    const bool leftFirst = BoxDistance2(data.Nodes[left], ref) <= BoxDistance2(data.Nodes[right], ref);
+    if (top + 2 > 64)
+      continue; // cannot happen for a balanced tree of < 2^60 points
+    stack[top++] = leftFirst ? right : left;
+    stack[top++] = leftFirst ? left : right;
+  }
+  return best;
+}
+
+/// Least-squares step with a little damping, for a singular Jacobian (e.g. at a pole of the
+/// opposite patch, where Su = 0): (J^T J + lambda I) x = J^T r.
+bool Solve3(const double J[3][3], const double r[3], double x[3]);
+bool Damped3(const double J[3][3], const double r[3], double x[3])
+{
+  double A[3][3], b[3];
+  double trace = 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    b[i] = 0.0;
+    for (int j = 0; j < 3; ++j)
+    {
+      A[i][j] = 0.0;
+      for (int k = 0; k < 3; ++k)
+        A[i][j] += J[k][i] * J[k][j];
+    }
+    for (int k = 0; k < 3; ++k)
+      b[i] += J[k][i] * r[k];
+    trace += A[i][i];
+  }
+  if (!(trace > 0.0))
+    return false;
+  for (int i = 0; i < 3; ++i)
+    A[i][i] += 1e-9 * trace;
+  return Solve3(A, b, x);
+}
+
+bool Solve3(const double J[3][3], const double r[3], double x[3])
+{
+  const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+    J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+    J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      scale = std::max(scale, std::fabs(J[i][j]));
+  if (!(std::fabs(det) > 1e-300) || std::fabs(det) < 1e-14 * scale * scale * scale)
+    return false;
+  for (int c = 0; c < 3; ++c)
+  {
+    double A[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        A[i][j] = j == c ? r[i] : J[i][j];
+    x[c] = (A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+             A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+             A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0])) /
+      det;
+  }
+  return true;
+}
+
+/// Point and first derivative of an edge at edge parameter T (clamped to the edge).
+struct EdgeEval
+{
+  Vec3 C, Ct;
+};
+EdgeEval EvaluateEdge(const BRepModel& m, int edge, double T)
+{
+  const Edge& E = m.Edges[edge];
+  int s = E.FirstSegment;
+  while (s < E.FirstSegment + E.SegmentCount - 1 && T > m.EdgeSegments[s].T1)
+    ++s;
+  const EdgeSegment& seg = m.EdgeSegments[s];
+  const double span = seg.T1 - seg.T0;
+  const auto e = EvaluateCubic<3>(seg.ControlPoints.data(), (T - seg.T0) / span);
+  return { e.P, { e.D1[0] / span, e.D1[1] / span, e.D1[2] / span } };
+}
+} // namespace
+
+int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v)
+{
+  const Face& f = model.Faces[face];
+  const double* bu = &data.Breaks[data.FaceBreaks[face]];
+  const double* bv = bu + f.PatchesU + 1;
+  const int iu = std::clamp(
+    static_cast<int>(std::upper_bound(bu + 1, bu + f.PatchesU, u) - (bu + 1)), 0, f.PatchesU - 1);
+  const int iv = std::clamp(
+    static_cast<int>(std::upper_bound(bv + 1, bv + f.PatchesV, v) - (bv + 1)), 0, f.PatchesV - 1);
+  return f.FirstPatch + iu + iv * f.PatchesU;
+}
+
+SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
+{
+  SolverData data;
+  Vec3 lo{ std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  Vec3 hi{ -lo[0], -lo[1], -lo[2] };
+  for (const auto& p : model.Patches)
+    for (int i = 0; i < 16; ++i)
+      for (int k = 0; k < 3; ++k)
+      {
+        lo[k] = std::min(lo[k], p.ControlPoints[3 * i + k]);
+        hi[k] = std::max(hi[k], p.ControlPoints[3 * i + k]);
+      }
+  data.Scale = model.Patches.empty() ? 1.0 : std::sqrt(Dot(Sub(hi, lo), Sub(hi, lo)));
+  for (int k = 0; k < 3; ++k)
+    data.Centre[k] = 0.5 * (lo[k] + hi[k]);
+  const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 100.0;
+
+  // Patch grid breakpoints per face.
+  for (size_t f = 0; f < model.Faces.size(); ++f)
+  {
+    const Face& F = model.Faces[f];
+    data.FaceBreaks.push_back(static_cast<int>(data.Breaks.size()));
+    for (int i = 0; i < F.PatchesU; ++i)
+      data.Breaks.push_back(model.Patches[F.FirstPatch + i].Domain[0]);
+    data.Breaks.push_back(F.PatchesU ? model.Patches[F.FirstPatch + F.PatchesU - 1].Domain[1] : 0);
+    for (int j = 0; j < F.PatchesV; ++j)
+      data.Breaks.push_back(model.Patches[F.FirstPatch + j * F.PatchesU].Domain[2]);
+    data.Breaks.push_back(
+      F.PatchesV ? model.Patches[F.FirstPatch + (F.PatchesV - 1) * F.PatchesU].Domain[3] : 0);
+  }
+
+  // s1: a grid on every patch, sized from the patch's control net, kept where inside the trim.
+  for (const BezierPatch& p : model.Patches)
+  {
+    auto cp = [&](int i, int j) -> Vec3 {
+      const double* c = &p.ControlPoints[(4 * i + j) * 3];
+      return { c[0], c[1], c[2] };
+    };
+    double lu = 0.0, lv = 0.0;
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i)
+      {
+        const Vec3 a = Sub(cp(i + 1, j), cp(i, j));
+        lu = std::max(lu, std::sqrt(Dot(a, a)));
+      }
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 3; ++j)
+      {
+        const Vec3 a = Sub(cp(i, j + 1), cp(i, j));
+        lv = std::max(lv, std::sqrt(Dot(a, a)));
+      }
+    const int nu = std::clamp(static_cast<int>(std::ceil(3.0 * lu / spacing)), 2, options.S1MaxPerPatch);
+    const int nv = std::clamp(static_cast<int>(std::ceil(3.0 * lv / spacing)), 2, options.S1MaxPerPatch);
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j)
+      {
+        const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
+        const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
+        if (!ClassifyPoint(model, p.Face, u, v).Inside)
+          continue;
+        const PatchEval e = EvaluatePatch(p, u, v);
+        data.S1.push_back({ e.P, p.Face, u, v });
+      }
+  }
+  if (!data.S1.empty())
+    Build(data.S1, data.Nodes, 0, static_cast<int>(data.S1.size()));
+  return data;
+}
+
+std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data)
+{
+  const DisplayMesh& M = model.Mesh;
+  std::vector<Sample> out(M.NumberOfPoints());
+  for (size_t i = 0; i < out.size(); ++i)
+  {
+    out[i].Face = M.FaceIds[i];
+    out[i].U = M.UV[2 * i];
+    out[i].V = M.UV[2 * i + 1];
+    out[i].Point = { M.Points[3 * i], M.Points[3 * i + 1], M.Points[3 * i + 2] };
+    out[i].Direction = { -M.Normals[3 * i], -M.Normals[3 * i + 1], -M.Normals[3 * i + 2] };
+  }
+  // Vertices on a face's boundary: at a convex edge the sphere tangent there has radius 0 and
+  // Newton would chase t -> 0. Move them 1e-3 of the way to an adjacent triangle's centroid
+  // (in UV, on the patches), where the sphere is small but well defined.
+  std::unordered_map<std::uint64_t, int> uses;
+  const size_t nt = M.TriangleFace.size();
+  auto key = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      ++uses[key(M.Triangles[3 * t + k], M.Triangles[3 * t + (k + 1) % 3])];
+  std::vector<int> adjacent(out.size(), -1);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = M.Triangles[3 * t + k], b = M.Triangles[3 * t + (k + 1) % 3];
+      if (uses[key(a, b)] == 1)
+        adjacent[a] = adjacent[b] = static_cast<int>(t);
+    }
+  for (size_t i = 0; i < out.size(); ++i)
+  {
+    const int t = adjacent[i];
+    Sample& s = out[i];
+    const Face& F = model.Faces[s.Face];
+    if (t < 0 || F.PatchCount == 0)
+      continue;
+    double cu = 0.0, cv = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      cu += M.UV[2 * M.Triangles[3 * t + k]] / 3.0;
+      cv += M.UV[2 * M.Triangles[3 * t + k] + 1] / 3.0;
+    }
+    s.U += 1e-3 * (cu - s.U);
+    s.V += 1e-3 * (cv - s.V);
+    const PatchEval e = EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
+    Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
+      e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
+    const double len = std::sqrt(Dot(n, n));
+    if (!(len > 0.0))
+      continue; // singular point of the patch: keep the exact sample
+    const double sign = F.Reversed ? 1.0 : -1.0; // inward = -outward
+    s.Point = e.P;
+    s.Direction = { sign * n[0] / len, sign * n[1] / len, sign * n[2] / len };
+  }
+  return out;
+}
+
+namespace
+{
+void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r)
+{
+  r = SampleResult();
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  double t = 0.0;
+  const int p1 = Initialise(data, s, t);
+  if (p1 < 0)
+  {
+    r.Reason = FailReason::NoOppositePoint;
+    return;
+  }
+  // --- surface/surface Newton (eq. 4), in the opposite face's (u,v) --------------------------
+  const int face = data.S1[p1].Face;
+  const Face& F = m.Faces[face];
+  double u = data.S1[p1].U, v = data.S1[p1].V;
+  double res = std::numeric_limits<double>::infinity();
+  const double stepTol = 1e-13 * data.Scale;
+  Vec3 S{};
+  int patch = -1;
+  bool clamped = false;
+  for (int it = 0; it < opt.MaxIterations; ++it)
+  {
+    patch = FindPatchFast(m, data, face, u, v);
+    const PatchEval e = EvaluatePatch(m.Patches[patch], u, v);
+    S = e.P;
+    const Vec3 M = Axpy(O, t, d);
+    const Vec3 w = Sub(S, M);
+    const double L = std::sqrt(Dot(w, w));
+    const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), t - L };
+    res = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
+    ++r.Iterations;
+    if (L <= 0.0)
+      break;
+    const double J[3][3] = { { Dot(e.Du, e.Du), Dot(e.Du, e.Dv), -Dot(e.Du, d) },
+      { Dot(e.Dv, e.Du), Dot(e.Dv, e.Dv), -Dot(e.Dv, d) },
+      { -Dot(w, e.Du) / L, -Dot(w, e.Dv) / L, 1.0 + Dot(w, d) / L } };
+    const double mr[3] = { -R[0], -R[1], -R[2] };
+    double x[3];
+    if (!Solve3(J, mr, x) && !Damped3(J, mr, x))
+    {
+      r.Reason = FailReason::Singular;
+      break;
+    }
+    // Trust region: a step moves the foot point by at most t (and at least a little).
+    const double move = std::sqrt(Dot(Axpy(Axpy({ 0, 0, 0 }, x[0], e.Du), x[1], e.Dv),
+      Axpy(Axpy({ 0, 0, 0 }, x[0], e.Du), x[1], e.Dv)));
+    const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
+    double f = 1.0;
+    if (move > limit)
+      f = limit / move;
+    if (std::fabs(x[2]) * f > limit)
+      f = limit / std::fabs(x[2]);
+    u += f * x[0];
+    v += f * x[1];
+    t += f * x[2];
+    const double uc = std::clamp(u, F.Domain[0], F.Domain[1]);
+    const double vc = std::clamp(v, F.Domain[2], F.Domain[3]);
+    clamped = uc != u || vc != v;
+    u = uc;
+    v = vc;
+    if (f * (move + std::fabs(x[2])) < stepTol && !clamped)
+    {
+      // One more evaluation for the final residual.
+      patch = FindPatchFast(m, data, face, u, v);
+      const PatchEval e2 = EvaluatePatch(m.Patches[patch], u, v);
+      S = e2.P;
+      const Vec3 w2 = Sub(S, Axpy(O, t, d));
+      const double R2[3] = { Dot(e2.Du, w2), Dot(e2.Dv, w2), t - std::sqrt(Dot(w2, w2)) };
+      res = std::sqrt(R2[0] * R2[0] + R2[1] * R2[1] + R2[2] * R2[2]);
+      break;
+    }
+  }
+  r.OppositeFace = face;
+  r.Residual = res;
+  if (r.Reason == FailReason::Singular)
+    return;
+  if (!(t > 0.0) || !std::isfinite(t))
+  {
+    r.Reason = FailReason::LeftModel;
+    return;
+  }
+  // --- trim test (eq. 6 and the corner rule) -------------------------------------------------
+  const TrimProjection proj = ClassifyPoint(m, face, u, v);
+  if (proj.Inside && !clamped)
+  {
+    if (res > opt.NewtonTolerance)
+    {
+      r.Reason = FailReason::NotConverged;
+      return;
+    }
+    r.Type = ContactType::SurfaceSurface;
+    r.OppositePatch = patch;
+    r.Radius = t;
+    r.Thickness = 2.0 * t;
+    r.Center = Axpy(O, t, d);
+    r.Foot = S;
+    return;
+  }
+  // --- surface/edge Newton (eq. 7), started from the projection on the trimming curve ---------
+  if (proj.Segment < 0)
+  {
+    r.Reason = FailReason::NoEdge;
+    return;
+  }
+  const TrimSegment& seg = m.TrimSegments[proj.Segment];
+  if (seg.Edge < 0 || m.Edges[seg.Edge].SegmentCount == 0)
+  {
+    r.Reason = FailReason::NoEdge;
+    return;
+  }
+  const int edge = seg.Edge;
+  const Edge& E = m.Edges[edge];
+  double T = seg.T0 + proj.Parameter * (seg.T1 - seg.T0);
+  const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
+  bool atEnd = false;
+  Vec3 C{};
+  for (int it = 0; it < opt.MaxEdgeIterations; ++it)
+  {
+    const EdgeEval e = EvaluateEdge(m, edge, T);
+    C = e.C;
+    const Vec3 w = Sub(C, Axpy(O, t, d));
+    const double L = std::sqrt(Dot(w, w));
+    const double R[2] = { Dot(e.Ct, w), t - L };
+    res = std::hypot(R[0], R[1]);
+    ++r.Iterations;
+    if (L <= 0.0)
+      break;
+    const double J00 = Dot(e.Ct, e.Ct), J01 = -Dot(e.Ct, d);
+    const double J10 = -Dot(w, e.Ct) / L, J11 = 1.0 + Dot(w, d) / L;
+    const double det = J00 * J11 - J01 * J10;
+    if (std::fabs(det) < 1e-300)
+    {
+      r.Reason = FailReason::Singular;
+      return;
+    }
+    double dT = (-R[0] * J11 + R[1] * J01) / det;
+    double dt = (-R[1] * J00 + R[0] * J10) / det;
+    const double speed = std::sqrt(J00);
+    const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
+    double f = 1.0;
+    if (std::fabs(dT) * speed > limit)
+      f = limit / (std::fabs(dT) * speed);
+    if (std::fabs(dt) * f > limit)
+      f = limit / std::fabs(dt);
+    T += f * dT;
+    t += f * dt;
+    const double Tc = std::clamp(T, Tlo, Thi);
+    if (Tc != T)
+    {
+      // Ran into an end of the edge: the sphere touches that vertex (eq. 1 is exact for it).
+      T = Tc;
+      C = EvaluateEdge(m, edge, T).C;
+      const Vec3 wv = Sub(C, O);
+      const double dn = Dot(d, wv);
+      if (dn <= 0.0)
+      {
+        r.Reason = FailReason::LeftModel;
+        return;
+      }
+      t = 0.5 * Dot(wv, wv) / dn;
+      const Vec3 w2 = Sub(C, Axpy(O, t, d));
+      res = std::fabs(t - std::sqrt(Dot(w2, w2)));
+      atEnd = true;
+      break;
+    }
+    if (f * (std::fabs(dT) * speed + std::fabs(dt)) < stepTol)
+    {
+      const EdgeEval e2 = EvaluateEdge(m, edge, T);
+      C = e2.C;
+      const Vec3 w2 = Sub(C, Axpy(O, t, d));
+      res = std::hypot(Dot(e2.Ct, w2), t - std::sqrt(Dot(w2, w2)));
+      break;
+    }
+  }
+  r.OppositeEdge = edge;
+  r.Residual = res;
+  if (!(t > 0.0) || !std::isfinite(t))
+  {
+    r.Reason = FailReason::LeftModel;
+    return;
+  }
+  if (res > opt.NewtonTolerance)
+  {
+    r.Reason = FailReason::EdgeNotConverged;
+    return;
+  }
+  r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
+  r.Radius = t;
+  r.Thickness = 2.0 * t;
+  r.Center = Axpy(O, t, d);
+  r.Foot = C;
+}
+} // namespace
+
+void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+  const std::vector<Sample>& samples, std::vector<SampleResult>& results)
+{
+  results.resize(samples.size());
+  if (data.Nodes.empty())
+  {
+    for (auto& r : results)
+    {
+      r = SampleResult();
+      r.Reason = FailReason::NoOppositePoint;
+    }
+    return;
+  }
+  for (size_t i = 0; i < samples.size(); ++i)
+    SolveOne(model, data, options, samples[i], results[i]);
+}
+
+} // namespace brt

@@ -1,0 +1,115 @@
+// BRepThickness: the maximal-sphere solver (Lemasson et al. 2014, sections 2.1-2.3).
+// VTK-free and OpenCL-free: this is the double-precision CPU reference; the OpenCL kernels in
+// Kernels/ implement the same steps on the same prepared data (SolverData).
+#pragma once
+
+#include "BRepModel.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace brt
+{
+
+/// One thickness sample O (set s0): a point on a face with the inward unit normal d.
+struct Sample
+{
+  int Face = -1;
+  double U = 0.0, V = 0.0;
+  std::array<double, 3> Point{};
+  std::array<double, 3> Direction{}; ///< inward unit normal (into the material)
+};
+
+enum class ContactType : int
+{
+  Failed = 0,
+  SurfaceSurface = 1, ///< tangent to O's face and to an opposite face inside its trim
+  SurfaceEdge = 2,    ///< tangent to O's face and touching an edge (eq. 7)
+  SurfaceVertex = 3   ///< the edge Newton ran into an end of the edge: touches that vertex
+};
+const char* ContactTypeName(ContactType type);
+
+enum class FailReason : int
+{
+  None = 0,
+  NoOppositePoint = 1,  ///< no s1 point lies in front of O (open shell, or sampling too coarse)
+  NotConverged = 2,     ///< surface/surface Newton did not reach the tolerance
+  EdgeNotConverged = 3, ///< surface/edge Newton did not reach the tolerance
+  NoEdge = 4,           ///< the foot point left the face across a degenerated edge (pole)
+  Singular = 5,         ///< singular Jacobian
+  LeftModel = 6         ///< the sphere radius became negative or unbounded
+};
+const char* FailReasonName(FailReason reason);
+
+struct SampleResult
+{
+  double Thickness = 0.0; ///< 2t
+  double Radius = 0.0;    ///< t
+  std::array<double, 3> Center{}; ///< M = O + t d, a medial-axis sample
+  std::array<double, 3> Foot{};   ///< the contact point P on the opposite face or edge
+  int OppositeFace = -1;
+  int OppositePatch = -1; ///< surface/surface contacts
+  int OppositeEdge = -1;  ///< surface/edge and surface/vertex contacts
+  ContactType Type = ContactType::Failed;
+  FailReason Reason = FailReason::None;
+  double Residual = 0.0; ///< |R| of the last Newton system (eq. 4 or eq. 7)
+  int Iterations = 0;    ///< Newton iterations, surface and edge together
+};
+
+struct SolverOptions
+{
+  /// Spacing of the coarse sample set s1 on every patch (model units); <= 0 picks 1/100 of the
+  /// bounding-box diagonal. Each patch gets between 2x2 and S1MaxPerPatch^2 candidates.
+  double S1Spacing = 0.0;
+  int S1MaxPerPatch = 64;
+  /// A Newton result is accepted when |R| is at most this (model units).
+  double NewtonTolerance = 1e-4;
+  int MaxIterations = 30;     ///< surface/surface Newton (eq. 4)
+  int MaxEdgeIterations = 30; ///< surface/edge Newton (eq. 7)
+};
+
+/// s1 point: a point of a trimmed face with its patch and face parameters.
+struct S1Point
+{
+  std::array<double, 3> Point{};
+  int Face = -1;
+  double U = 0.0, V = 0.0;
+};
+
+/// Node of the AABB BVH over s1, flattened depth first: an inner node's left child follows it,
+/// its right child is at Right. A leaf holds the s1 points [First, First + Count).
+struct BVHNode
+{
+  std::array<double, 3> Min{}, Max{};
+  int First = 0, Count = 0; ///< Count > 0: leaf
+  int Right = -1;
+};
+
+/// Everything the solver needs besides the model, built once on the host.
+struct SolverData
+{
+  std::vector<S1Point> S1;
+  std::vector<BVHNode> Nodes;
+  double Scale = 1.0; ///< bounding-box diagonal of the model
+  std::array<double, 3> Centre{};
+  /// Per face: the patch grid breakpoints (NU+1 u values then NV+1 v values), at FaceBreaks[f].
+  std::vector<double> Breaks;
+  std::vector<int> FaceBreaks;
+};
+
+SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options);
+
+/// s0 = the display mesh vertices, with the inward normal (minus the outward normal). Vertices on
+/// a face's boundary are moved a tiny step into the face (see the implementation).
+std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data);
+
+/// Double-precision reference of steps 3-7 for samples [first, first + count).
+void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+  const std::vector<Sample>& samples, std::vector<SampleResult>& results);
+
+/// Patch of `face` containing (u,v), by binary search on the face's grid breakpoints.
+int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v);
+
+} // namespace brt

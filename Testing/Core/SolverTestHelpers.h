@@ -1,0 +1,30 @@
+// Helpers of the solver tests: convert a shape, solve, and summarise the results.
+#pragma once
+
+#include "BRepConverter.h"
+#include "Solver.h"
+
+#include <TopoDS_Shape.hxx>
+
+#include <string>
+#include <vector>
+
+namespace brt::test
+{
+struct Solved
+{
+  BRepModel Model;
+  SolverData Data;
+  std::vector<Sample> Samples;
+  std::vector<SampleResult> Results;
+};
+
+/// Converts `shape` with the given conversion tolerance and solves it with the reference.
+Solved SolveShape(const TopoDS_Shape& shape, double tolerance, const SolverOptions& options = {});
+
+/// Distance from each sample to the nearest rim: an edge that is neither a seam nor degenerated.
+std::vector<double> RimDistances(const BRepModel& model, const std::vector<Sample>& samples);
+
+/// Prints failed share and residual percentiles (median, 99th, max) per contact type.
+void PrintResidualSummary(const std::string& name, const std::vector<SampleResult>& results);
+} // namespace brt::test

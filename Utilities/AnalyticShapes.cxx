@@ -1,0 +1,85 @@
+#include "AnalyticShapes.h"
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRep_Tool.hxx>
+#include <Geom_Curve.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Pnt.hxx>
+
+#include <cmath>
+
+namespace brt::analytic
+{
+TopoDS_Shape Plate(double lx, double ly, double h)
+{
+  return BRepPrimAPI_MakeBox(lx, ly, h).Shape();
+}
+
+TopoDS_Shape Tube(double R, double r, double length)
+{
+  const gp_Ax2 axis(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1));
+  return BRepAlgoAPI_Cut(BRepPrimAPI_MakeCylinder(axis, R, length).Shape(),
+    BRepPrimAPI_MakeCylinder(axis, r, length).Shape())
+    .Shape();
+}
+
+TopoDS_Shape SphericalShell(double R, double r)
+{
+  return BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(R).Shape(), BRepPrimAPI_MakeSphere(r).Shape())
+    .Shape();
+}
+
+TopoDS_Shape ToroidalShell(double major, double R, double r)
+{
+  return BRepAlgoAPI_Cut(
+    BRepPrimAPI_MakeTorus(major, R).Shape(), BRepPrimAPI_MakeTorus(major, r).Shape())
+    .Shape();
+}
+
+TopoDS_Shape HolePlate(double side, double h, double holeRadius)
+{
+  const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(
+    gp_Ax2(gp_Pnt(side / 2, side / 2, -1), gp_Dir(0, 0, 1)), holeRadius, h + 2)
+                              .Shape();
+  return BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(side, side, h).Shape(), hole).Shape();
+}
+
+TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)
+{
+  BRepBuilderAPI_MakePolygon poly;
+  poly.Add(gp_Pnt(0, 0, 0));
+  poly.Add(gp_Pnt(leg, 0, 0));
+  poly.Add(gp_Pnt(leg, h, 0));
+  poly.Add(gp_Pnt(h, h, 0));
+  poly.Add(gp_Pnt(h, leg, 0));
+  poly.Add(gp_Pnt(0, leg, 0));
+  poly.Close();
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(poly.Wire());
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, 0, width));
+  BRepFilletAPI_MakeFillet fillet(prism);
+  for (TopExp_Explorer ex(prism, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+    double f, l;
+    Handle(Geom_Curve) c = BRep_Tool::Curve(e, f, l);
+    const gp_Pnt a = c->Value(f), b = c->Value(l);
+    // The inner corner edge runs along z through (h, h).
+    if (std::fabs(a.X() - h) < 1e-9 && std::fabs(a.Y() - h) < 1e-9 &&
+      std::fabs(b.X() - h) < 1e-9 && std::fabs(b.Y() - h) < 1e-9)
+      fillet.Add(filletRadius, e);
+  }
+  return fillet.Shape();
+}
+} // namespace brt::analytic

@@ -1,0 +1,16 @@
+// Solids whose wall thickness is known in closed form (Data/README.md), for the generator and
+// the tests.
+#pragma once
+
+#include <TopoDS_Shape.hxx>
+
+namespace brt::analytic
+{
+TopoDS_Shape Plate(double lx, double ly, double h);              ///< thickness h
+TopoDS_Shape Tube(double R, double r, double length);            ///< thickness R - r
+TopoDS_Shape SphericalShell(double R, double r);                 ///< thickness R - r
+TopoDS_Shape ToroidalShell(double major, double R, double r);    ///< thickness R - r
+TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
+/// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
+TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
+} // namespace brt::analytic
