@@ -207,7 +207,7 @@ bool Solve3(const double J[3][3], const double r[3], double x[3])
 /// Point and first derivative of an edge at edge parameter T (clamped to the edge).
 struct EdgeEval
 {
-  Vec3 C, Ct;
+  Vec3 C, Ct, Ctt;
 };
 EdgeEval EvaluateEdge(const BRepModel& m, int edge, double T)
 {
@@ -218,7 +218,9 @@ EdgeEval EvaluateEdge(const BRepModel& m, int edge, double T)
   const EdgeSegment& seg = m.EdgeSegments[s];
   const double span = seg.T1 - seg.T0;
   const auto e = EvaluateCubic<3>(seg.ControlPoints.data(), (T - seg.T0) / span);
-  return { e.P, { e.D1[0] / span, e.D1[1] / span, e.D1[2] / span } };
+  const double s2 = span * span;
+  return { e.P, { e.D1[0] / span, e.D1[1] / span, e.D1[2] / span },
+    { e.D2[0] / s2, e.D2[1] / s2, e.D2[2] / s2 } };
 }
 } // namespace
 
@@ -363,6 +365,20 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
 
 namespace
 {
+/// |R| in model units: the tangential equations divided by the tangent lengths, so that each
+/// component is a distance (the raw S_u.(S-M) scales with the face's parametrisation).
+double Residual3(const PatchEval& e, const double R[3])
+{
+  const double lu = std::sqrt(Dot(e.Du, e.Du)), lv = std::sqrt(Dot(e.Dv, e.Dv));
+  const double a = lu > 0.0 ? R[0] / lu : 0.0, b = lv > 0.0 ? R[1] / lv : 0.0;
+  return std::sqrt(a * a + b * b + R[2] * R[2]);
+}
+double Residual2(const Vec3& Ct, const double R[2])
+{
+  const double l = std::sqrt(Dot(Ct, Ct));
+  return std::hypot(l > 0.0 ? R[0] / l : 0.0, R[1]);
+}
+
 void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, SampleResult& r)
 {
@@ -380,26 +396,33 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   const int face = data.S1[p1].Face;
   const Face& F = m.Faces[face];
   double u = data.S1[p1].U, v = data.S1[p1].V;
-  double res = std::numeric_limits<double>::infinity();
   const double stepTol = 1e-13 * data.Scale;
-  Vec3 S{};
   int patch = -1;
   bool clamped = false;
+  // State at (u, v, t): patch evaluation, w = S - M, residual.
+  PatchEval e;
+  Vec3 w{};
+  double R[3] = { 0, 0, 0 }, res = 0.0;
+  auto evaluate = [&](double uu, double vv, double tt) {
+    patch = FindPatchFast(m, data, face, uu, vv);
+    e = EvaluatePatch(m.Patches[patch], uu, vv);
+    w = Sub(e.P, Axpy(O, tt, d));
+    R[0] = Dot(e.Du, w);
+    R[1] = Dot(e.Dv, w);
+    R[2] = tt - std::sqrt(Dot(w, w));
+    res = Residual3(e, R);
+  };
+  evaluate(u, v, t);
   for (int it = 0; it < opt.MaxIterations; ++it)
   {
-    patch = FindPatchFast(m, data, face, u, v);
-    const PatchEval e = EvaluatePatch(m.Patches[patch], u, v);
-    S = e.P;
-    const Vec3 M = Axpy(O, t, d);
-    const Vec3 w = Sub(S, M);
-    const double L = std::sqrt(Dot(w, w));
-    const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), t - L };
-    res = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
     ++r.Iterations;
-    if (L <= 0.0)
+    const double L = std::sqrt(Dot(w, w));
+    if (L <= 0.0 || res < stepTol)
       break;
-    const double J[3][3] = { { Dot(e.Du, e.Du), Dot(e.Du, e.Dv), -Dot(e.Du, d) },
-      { Dot(e.Dv, e.Du), Dot(e.Dv, e.Dv), -Dot(e.Dv, d) },
+    // Exact Jacobian of eq. 4 (the paper drops the second-derivative terms; with them Newton
+    // converges quadratically on fillets and thick curved walls, see docs/Design.md).
+    const double J[3][3] = { { Dot(e.Du, e.Du) + Dot(e.Duu, w), Dot(e.Du, e.Dv) + Dot(e.Duv, w), -Dot(e.Du, d) },
+      { Dot(e.Dv, e.Du) + Dot(e.Duv, w), Dot(e.Dv, e.Dv) + Dot(e.Dvv, w), -Dot(e.Dv, d) },
       { -Dot(w, e.Du) / L, -Dot(w, e.Dv) / L, 1.0 + Dot(w, d) / L } };
     const double mr[3] = { -R[0], -R[1], -R[2] };
     double x[3];
@@ -408,35 +431,34 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       r.Reason = FailReason::Singular;
       break;
     }
-    // Trust region: a step moves the foot point by at most t (and at least a little).
-    const double move = std::sqrt(Dot(Axpy(Axpy({ 0, 0, 0 }, x[0], e.Du), x[1], e.Dv),
-      Axpy(Axpy({ 0, 0, 0 }, x[0], e.Du), x[1], e.Dv)));
+    // Trust region: a step moves the foot point by at most t (and at least a little) ...
+    const Vec3 du = { x[0] * e.Du[0] + x[1] * e.Dv[0], x[0] * e.Du[1] + x[1] * e.Dv[1],
+      x[0] * e.Du[2] + x[1] * e.Dv[2] };
+    const double move = std::sqrt(Dot(du, du));
     const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
     double f = 1.0;
     if (move > limit)
       f = limit / move;
     if (std::fabs(x[2]) * f > limit)
       f = limit / std::fabs(x[2]);
-    u += f * x[0];
-    v += f * x[1];
-    t += f * x[2];
-    const double uc = std::clamp(u, F.Domain[0], F.Domain[1]);
-    const double vc = std::clamp(v, F.Domain[2], F.Domain[3]);
-    clamped = uc != u || vc != v;
-    u = uc;
-    v = vc;
-    if (f * (move + std::fabs(x[2])) < stepTol && !clamped)
+    // ... and is halved while it does not reduce |R| (at most 6 times).
+    const double u0 = u, v0 = v, t0 = t, res0 = res;
+    for (int k = 0; k <= 6; ++k, f *= 0.5)
     {
-      // One more evaluation for the final residual.
-      patch = FindPatchFast(m, data, face, u, v);
-      const PatchEval e2 = EvaluatePatch(m.Patches[patch], u, v);
-      S = e2.P;
-      const Vec3 w2 = Sub(S, Axpy(O, t, d));
-      const double R2[3] = { Dot(e2.Du, w2), Dot(e2.Dv, w2), t - std::sqrt(Dot(w2, w2)) };
-      res = std::sqrt(R2[0] * R2[0] + R2[1] * R2[1] + R2[2] * R2[2]);
-      break;
+      const double uc = std::clamp(u0 + f * x[0], F.Domain[0], F.Domain[1]);
+      const double vc = std::clamp(v0 + f * x[1], F.Domain[2], F.Domain[3]);
+      clamped = uc != u0 + f * x[0] || vc != v0 + f * x[1];
+      u = uc;
+      v = vc;
+      t = t0 + f * x[2];
+      evaluate(u, v, t);
+      if (res < res0)
+        break;
     }
+    if (f * (move + std::fabs(x[2])) < stepTol && !clamped)
+      break;
   }
+  const Vec3 S = e.P;
   r.OppositeFace = face;
   r.Residual = res;
   if (r.Reason == FailReason::Singular)
@@ -483,26 +505,26 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   Vec3 C{};
   for (int it = 0; it < opt.MaxEdgeIterations; ++it)
   {
-    const EdgeEval e = EvaluateEdge(m, edge, T);
-    C = e.C;
-    const Vec3 w = Sub(C, Axpy(O, t, d));
-    const double L = std::sqrt(Dot(w, w));
-    const double R[2] = { Dot(e.Ct, w), t - L };
-    res = std::hypot(R[0], R[1]);
+    const EdgeEval ee = EvaluateEdge(m, edge, T);
+    C = ee.C;
+    const Vec3 we = Sub(C, Axpy(O, t, d));
+    const double L = std::sqrt(Dot(we, we));
+    const double Re[2] = { Dot(ee.Ct, we), t - L };
+    res = Residual2(ee.Ct, Re);
     ++r.Iterations;
     if (L <= 0.0)
       break;
-    const double J00 = Dot(e.Ct, e.Ct), J01 = -Dot(e.Ct, d);
-    const double J10 = -Dot(w, e.Ct) / L, J11 = 1.0 + Dot(w, d) / L;
+    const double J00 = Dot(ee.Ct, ee.Ct) + Dot(ee.Ctt, we), J01 = -Dot(ee.Ct, d);
+    const double J10 = -Dot(we, ee.Ct) / L, J11 = 1.0 + Dot(we, d) / L;
     const double det = J00 * J11 - J01 * J10;
     if (std::fabs(det) < 1e-300)
     {
       r.Reason = FailReason::Singular;
       return;
     }
-    double dT = (-R[0] * J11 + R[1] * J01) / det;
-    double dt = (-R[1] * J00 + R[0] * J10) / det;
-    const double speed = std::sqrt(J00);
+    const double dT = (-Re[0] * J11 + Re[1] * J01) / det;
+    const double dt = (-Re[1] * J00 + Re[0] * J10) / det;
+    const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
     const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
     double f = 1.0;
     if (std::fabs(dT) * speed > limit)
@@ -535,7 +557,8 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       const EdgeEval e2 = EvaluateEdge(m, edge, T);
       C = e2.C;
       const Vec3 w2 = Sub(C, Axpy(O, t, d));
-      res = std::hypot(Dot(e2.Ct, w2), t - std::sqrt(Dot(w2, w2)));
+      const double R2[2] = { Dot(e2.Ct, w2), t - std::sqrt(Dot(w2, w2)) };
+      res = Residual2(e2.Ct, R2);
       break;
     }
   }

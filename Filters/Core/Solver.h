@@ -54,7 +54,9 @@ struct SampleResult
   int OppositeEdge = -1;  ///< surface/edge and surface/vertex contacts
   ContactType Type = ContactType::Failed;
   FailReason Reason = FailReason::None;
-  double Residual = 0.0; ///< |R| of the last Newton system (eq. 4 or eq. 7)
+  /// |R| of the last Newton system (eq. 4 or eq. 7) in model units: the tangential equations
+  /// are divided by the tangent lengths, S_u.(S-M)/|S_u|, so every component is a distance.
+  double Residual = 0.0;
   int Iterations = 0;    ///< Newton iterations, surface and edge together
 };
 
@@ -64,7 +66,7 @@ struct SolverOptions
   /// bounding-box diagonal. Each patch gets between 2x2 and S1MaxPerPatch^2 candidates.
   double S1Spacing = 0.0;
   int S1MaxPerPatch = 64;
-  /// A Newton result is accepted when |R| is at most this (model units).
+  /// A Newton result is accepted when |R| (SampleResult::Residual) is at most this (model units).
   double NewtonTolerance = 1e-4;
   int MaxIterations = 30;     ///< surface/surface Newton (eq. 4)
   int MaxEdgeIterations = 30; ///< surface/edge Newton (eq. 7)

@@ -50,9 +50,11 @@ inline CurveEval<N> EvaluateCubic(const double* cp, double t)
 struct PatchEval
 {
   std::array<double, 3> P{}, Du{}, Dv{};
+  std::array<double, 3> Duu{}, Duv{}, Dvv{};
 };
 
-/// Evaluates a bicubic patch at local (s, r) in [0,1]^2; derivatives are w.r.t. s and r.
+/// Evaluates a bicubic patch at local (s, r) in [0,1]^2: point, first and second derivatives
+/// w.r.t. s and r.
 inline PatchEval EvaluatePatchLocal(const std::array<double, 48>& cp, double s, double r)
 {
   const Bernstein3 bu(s), bv(r);
@@ -65,11 +67,17 @@ inline PatchEval EvaluatePatchLocal(const std::array<double, 48>& cp, double s, 
       const double w = bu.B[i] * bv.B[j];
       const double wu = bu.D[i] * bv.B[j];
       const double wv = bu.B[i] * bv.D[j];
+      const double wuu = bu.DD[i] * bv.B[j];
+      const double wuv = bu.D[i] * bv.D[j];
+      const double wvv = bu.B[i] * bv.DD[j];
       for (int k = 0; k < 3; ++k)
       {
         e.P[k] += w * c[k];
         e.Du[k] += wu * c[k];
         e.Dv[k] += wv * c[k];
+        e.Duu[k] += wuu * c[k];
+        e.Duv[k] += wuv * c[k];
+        e.Dvv[k] += wvv * c[k];
       }
     }
   }
@@ -86,6 +94,9 @@ inline PatchEval EvaluatePatch(const BezierPatch& patch, double u, double v)
   {
     e.Du[k] /= du;
     e.Dv[k] /= dv;
+    e.Duu[k] /= du * du;
+    e.Duv[k] /= du * dv;
+    e.Dvv[k] /= dv * dv;
   }
   return e;
 }

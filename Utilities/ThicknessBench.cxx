@@ -1,0 +1,156 @@
+// Benchmark of the maximal-sphere solver (a program that prints figures, not a test).
+//   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--counts N1,N2,...] FILE.step...
+// For each model and sample count: samples/s of the CPU reference and of the OpenCL kernels,
+// failed share, peak host memory and the kernels' device memory, as a table.
+#include "BRepConverter.h"
+#include "Solver.h"
+#ifdef BRT_HAVE_OPENCL
+#include "OpenCLSolver.h"
+#endif
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+double PeakRSSMiB()
+{
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0)
+      return std::atof(line.c_str() + 6) / 1024.0;
+  return 0.0;
+}
+
+/// n samples drawn cyclically from the mesh samples (a sample count above the mesh's repeats
+/// the vertices: the solver's cost does not depend on which vertex it is).
+std::vector<brt::Sample> Take(const std::vector<brt::Sample>& all, size_t n)
+{
+  std::vector<brt::Sample> out(n);
+  const size_t stride = all.size() > n ? all.size() / n : 1;
+  for (size_t i = 0; i < n; ++i)
+    out[i] = all[(i * stride) % all.size()];
+  return out;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+  std::vector<size_t> counts{ 1000, 10000, 100000 };
+  std::vector<std::string> files;
+  std::string device = "any";
+  [[maybe_unused]] bool useDouble = false;
+  bool reference = true;
+  for (int i = 1; i < argc; ++i)
+  {
+    if (!std::strcmp(argv[i], "--device") && i + 1 < argc)
+      device = argv[++i];
+    else if (!std::strcmp(argv[i], "--double"))
+      useDouble = true;
+    else if (!std::strcmp(argv[i], "--no-reference"))
+      reference = false;
+    else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
+    {
+      counts.clear();
+      std::stringstream ss(argv[++i]);
+      std::string c;
+      while (std::getline(ss, c, ','))
+        counts.push_back(std::stoul(c));
+    }
+    else
+      files.push_back(argv[i]);
+  }
+  if (files.empty())
+  {
+    std::fprintf(stderr,
+      "usage: %s [--device NAME|cpu|gpu|none] [--double] [--no-reference] [--counts N,...] "
+      "FILE.step...\n",
+      argv[0]);
+    return 2;
+  }
+#ifdef BRT_HAVE_OPENCL
+  std::unique_ptr<brt::OpenCLSolver> cl;
+  if (device != "none")
+  {
+    try
+    {
+      cl = std::make_unique<brt::OpenCLSolver>(device, useDouble);
+      std::printf("OpenCL device: %s (%s)\n", cl->DeviceName().c_str(), useDouble ? "double" : "float");
+    }
+    catch (const std::exception& e)
+    {
+      std::printf("OpenCL unavailable: %s\n", e.what());
+    }
+  }
+#endif
+  std::printf("%-32s %8s %8s %8s %12s %8s %12s %8s %9s %9s\n", "model", "samples", "s1",
+    "patches", "ref_samp/s", "ref_fail", "cl_samp/s", "cl_fail", "host_MiB", "dev_MiB");
+  for (const auto& file : files)
+  {
+    brt::BRepModel model;
+    try
+    {
+      model = brt::ConvertStepFile(file, brt::ConversionOptions());
+    }
+    catch (const std::exception& e)
+    {
+      std::fprintf(stderr, "%s\n", e.what());
+      continue;
+    }
+    brt::SolverOptions options;
+    const brt::SolverData data = brt::PrepareSolver(model, options);
+    const std::vector<brt::Sample> all = brt::SamplesFromMesh(model, data);
+    const char* name = std::strrchr(file.c_str(), '/') ? std::strrchr(file.c_str(), '/') + 1 : file.c_str();
+    for (size_t n : counts)
+    {
+      const std::vector<brt::Sample> samples = Take(all, n);
+      std::vector<brt::SampleResult> results;
+      double refRate = 0.0, refFail = 0.0, clRate = 0.0, clFail = 0.0, devMiB = 0.0;
+      if (reference)
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        brt::SolveReference(model, data, options, samples, results);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        refRate = n / s;
+        int reasons[8] = { 0 };
+        for (const auto& r : results)
+        {
+          refFail += r.Type == brt::ContactType::Failed;
+          ++reasons[static_cast<int>(r.Reason) & 7];
+        }
+        refFail = 100.0 * refFail / n;
+        if (refFail > 0.0 && std::getenv("BRT_BENCH_REASONS"))
+          for (int k = 1; k < 8; ++k)
+            if (reasons[k])
+              std::printf("  %s: %d\n", brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
+      }
+#ifdef BRT_HAVE_OPENCL
+      if (cl)
+      {
+        cl->Upload(model, data);
+        std::vector<brt::SampleResult> clResults;
+        cl->Solve(model, data, options, samples, clResults); // warm-up (kernel build, transfers)
+        const auto t0 = std::chrono::steady_clock::now();
+        cl->Solve(model, data, options, samples, clResults);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        clRate = n / s;
+        for (const auto& r : clResults)
+          clFail += r.Type == brt::ContactType::Failed;
+        clFail = 100.0 * clFail / n;
+        devMiB = cl->DeviceBytes() / (1024.0 * 1024.0);
+      }
+#endif
+      std::printf("%-32s %8zu %8zu %8d %12.0f %7.3f%% %12.0f %7.3f%% %9.1f %9.1f\n", name, n,
+        data.S1.size(), model.Stats.Patches, refRate, refFail, clRate, clFail, PeakRSSMiB(), devMiB);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
