@@ -123,6 +123,8 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out)
   });
   AddArray<vtkDoubleArray>(fd, "FaceDomain", 4, m.Faces,
     [](const brt::Face& f, double* o) { std::copy(f.Domain.begin(), f.Domain.end(), o); });
+  AddArray<vtkDoubleArray>(fd, "FacePeriod", 2, m.Faces,
+    [](const brt::Face& f, double* o) { o[0] = f.Period[0]; o[1] = f.Period[1]; });
   AddArray<vtkDoubleArray>(fd, "FaceMaxDeviation", 1, m.Faces,
     [](const brt::Face& f, double* o) { o[0] = f.MaxDeviation; });
   AddArray<vtkDoubleArray>(fd, "FaceUVTolerance", 1, m.Faces,

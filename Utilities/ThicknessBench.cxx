@@ -141,9 +141,17 @@ int main(int argc, char** argv)
         cl->Solve(model, data, options, samples, clResults);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         clRate = n / s;
+        int reasons[8] = { 0 };
         for (const auto& r : clResults)
+        {
           clFail += r.Type == brt::ContactType::Failed;
+          ++reasons[static_cast<int>(r.Reason) & 7];
+        }
         clFail = 100.0 * clFail / n;
+        if (clFail > 0.0 && std::getenv("BRT_BENCH_REASONS"))
+          for (int k = 1; k < 8; ++k)
+            if (reasons[k])
+              std::printf("  OpenCL %s: %d\n", brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
         devMiB = cl->DeviceBytes() / (1024.0 * 1024.0);
       }
 #endif

@@ -34,7 +34,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::EdgeNotConverged: return "surface/edge Newton did not converge";
     case FailReason::NoEdge: return "foot point left the face across a degenerated edge";
     case FailReason::Singular: return "singular Jacobian";
-    case FailReason::LeftModel: return "sphere radius not positive";
+    case FailReason::LeftModel: return "sphere radius not positive or larger than the model";
   }
   return "unknown";
 }
@@ -107,6 +107,7 @@ double BoxDistance2(const BVHNode& n, const Vec3& p)
 /// looser).
 int Initialise(const SolverData& data, const Sample& s, double& bestT)
 {
+  const double minDist2 = (1e-9 * data.Scale) * (1e-9 * data.Scale);
   bestT = std::numeric_limits<double>::infinity();
   int best = -1;
   int stack[64];
@@ -129,8 +130,9 @@ int Initialise(const SolverData& data, const Sample& s, double& bestT)
       {
         const Vec3 w = Sub(data.S1[i].Point, O);
         const double dn = Dot(d, w), l2 = Dot(w, w);
-        // Points in O's tangent plane (its own face, flat around it) give no sphere.
-        if (dn <= 1e-6 * std::sqrt(l2) || l2 <= 0.0)
+        // Points in O's tangent plane (its own face, flat around it) give no sphere, nor do
+        // points on top of O (an s1 point may coincide with a sample).
+        if (dn <= 1e-6 * std::sqrt(l2) || l2 <= minDist2)
           continue;
         const double t = 0.5 * l2 / dn;
         if (t < bestT)
@@ -184,11 +186,12 @@ bool Solve3(const double J[3][3], const double r[3], double x[3])
   const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
     J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
     J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-  double scale = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      scale = std::max(scale, std::fabs(J[i][j]));
-  if (!(std::fabs(det) > 1e-300) || std::fabs(det) < 1e-14 * scale * scale * scale)
+  // Singular relative to the product of the column norms (Hadamard's bound on |det|), which is
+  // blind to the columns' different units.
+  double bound = 1.0;
+  for (int j = 0; j < 3; ++j)
+    bound *= std::sqrt(J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j]);
+  if (!(std::fabs(det) > 1e-14 * bound) || !(bound > 0.0))
     return false;
   for (int c = 0; c < 3; ++c)
   {
@@ -319,8 +322,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     out[i].Direction = { -M.Normals[3 * i], -M.Normals[3 * i + 1], -M.Normals[3 * i + 2] };
   }
   // Vertices on a face's boundary: at a convex edge the sphere tangent there has radius 0 and
-  // Newton would chase t -> 0. Move them 1e-3 of the way to an adjacent triangle's centroid
-  // (in UV, on the patches), where the sphere is small but well defined.
+  // Newton would chase t -> 0. Move them 1e-2 of the way to an adjacent triangle's centroid
+  // (in UV, on the patches), where the sphere is small but well defined, also in float.
   std::unordered_map<std::uint64_t, int> uses;
   const size_t nt = M.TriangleFace.size();
   auto key = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
@@ -348,8 +351,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
       cu += M.UV[2 * M.Triangles[3 * t + k]] / 3.0;
       cv += M.UV[2 * M.Triangles[3 * t + k] + 1] / 3.0;
     }
-    s.U += 1e-3 * (cu - s.U);
-    s.V += 1e-3 * (cv - s.V);
+    s.U += 1e-2 * (cu - s.U);
+    s.V += 1e-2 * (cv - s.V);
     const PatchEval e = EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
     Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
       e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
@@ -365,6 +368,12 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
 
 namespace
 {
+/// x moved by whole periods into [lo, lo + period) when period > 0.
+double Wrap(double x, double lo, double period)
+{
+  return period > 0.0 ? lo + (x - lo) - period * std::floor((x - lo) / period) : x;
+}
+
 /// |R| in model units: the tangential equations divided by the tangent lengths, so that each
 /// component is a distance (the raw S_u.(S-M) scales with the face's parametrisation).
 double Residual3(const PatchEval& e, const double R[3])
@@ -413,12 +422,16 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     res = Residual3(e, R);
   };
   evaluate(u, v, t);
+  bool capped = true; // the loop ran out of iterations instead of stopping on its own
   for (int it = 0; it < opt.MaxIterations; ++it)
   {
     ++r.Iterations;
     const double L = std::sqrt(Dot(w, w));
-    if (L <= 0.0 || res < stepTol)
+    if (L <= 0.0 || res < 1e-2 * stepTol)
+    {
+      capped = false;
       break;
+    }
     // Exact Jacobian of eq. 4 (the paper drops the second-derivative terms; with them Newton
     // converges quadratically on fillets and thick curved walls, see docs/Design.md).
     const double J[3][3] = { { Dot(e.Du, e.Du) + Dot(e.Duu, w), Dot(e.Du, e.Dv) + Dot(e.Duv, w), -Dot(e.Du, d) },
@@ -429,13 +442,14 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     if (!Solve3(J, mr, x) && !Damped3(J, mr, x))
     {
       r.Reason = FailReason::Singular;
+      capped = false;
       break;
     }
     // Trust region: a step moves the foot point by at most t (and at least a little) ...
     const Vec3 du = { x[0] * e.Du[0] + x[1] * e.Dv[0], x[0] * e.Du[1] + x[1] * e.Dv[1],
       x[0] * e.Du[2] + x[1] * e.Dv[2] };
     const double move = std::sqrt(Dot(du, du));
-    const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
+    const double limit = std::max(2.0 * std::fabs(t), 1e-2 * data.Scale);
     double f = 1.0;
     if (move > limit)
       f = limit / move;
@@ -445,34 +459,45 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     const double u0 = u, v0 = v, t0 = t, res0 = res;
     for (int k = 0; k <= 6; ++k, f *= 0.5)
     {
-      const double uc = std::clamp(u0 + f * x[0], F.Domain[0], F.Domain[1]);
-      const double vc = std::clamp(v0 + f * x[1], F.Domain[2], F.Domain[3]);
-      clamped = uc != u0 + f * x[0] || vc != v0 + f * x[1];
-      u = uc;
-      v = vc;
+      // Across a seam of a closed face the parameter wraps; elsewhere it stops at the domain.
+      const double un = Wrap(u0 + f * x[0], F.Domain[0], F.Period[0]);
+      const double vn = Wrap(v0 + f * x[1], F.Domain[2], F.Period[1]);
+      u = std::clamp(un, F.Domain[0], F.Domain[1]);
+      v = std::clamp(vn, F.Domain[2], F.Domain[3]);
+      clamped = u != un || v != vn;
       t = t0 + f * x[2];
       evaluate(u, v, t);
       if (res < res0)
         break;
     }
-    if (f * (move + std::fabs(x[2])) < stepTol && !clamped)
+    if (move + std::fabs(x[2]) < stepTol && !clamped && res <= opt.NewtonTolerance)
+    {
+      capped = false; // the full Newton step is negligible: converged
       break;
+    }
   }
   const Vec3 S = e.P;
   r.OppositeFace = face;
   r.Residual = res;
   if (r.Reason == FailReason::Singular)
     return;
-  if (!(t > 0.0) || !std::isfinite(t))
+  // No inscribed sphere is larger than the model. (Radii near 0 are right at convex edges.)
+  if (!(t > 0.0) || !(t < data.Scale))
   {
     r.Reason = FailReason::LeftModel;
     return;
   }
   // --- trim test (eq. 6 and the corner rule) -------------------------------------------------
+  // A foot point within the face's UV tolerance of its trimming curves (a seam, say) is on the
+  // face within the conversion tolerance.
   const TrimProjection proj = ClassifyPoint(m, face, u, v);
-  if (proj.Inside && !clamped)
+  // Converged: |R| within the tolerance; a run that hit the iteration cap with |R| just under
+  // the tolerance (still crawling) is not trusted unless |R| is far below it.
+  const bool converged =
+    res <= opt.NewtonTolerance && (!capped || res <= 1e-2 * opt.NewtonTolerance);
+  if ((proj.Inside || proj.Distance <= F.UVTolerance) && (!clamped || converged))
   {
-    if (res > opt.NewtonTolerance)
+    if (!converged)
     {
       r.Reason = FailReason::NotConverged;
       return;
@@ -525,7 +550,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     const double dT = (-Re[0] * J11 + Re[1] * J01) / det;
     const double dt = (-Re[1] * J00 + Re[0] * J10) / det;
     const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
-    const double limit = std::max(std::fabs(t), 1e-3 * data.Scale);
+    const double limit = std::max(2.0 * std::fabs(t), 1e-2 * data.Scale);
     double f = 1.0;
     if (std::fabs(dT) * speed > limit)
       f = limit / (std::fabs(dT) * speed);
@@ -552,7 +577,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       atEnd = true;
       break;
     }
-    if (f * (std::fabs(dT) * speed + std::fabs(dt)) < stepTol)
+    if (std::fabs(dT) * speed + std::fabs(dt) < stepTol && res <= opt.NewtonTolerance)
     {
       const EdgeEval e2 = EvaluateEdge(m, edge, T);
       C = e2.C;
@@ -564,7 +589,8 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   }
   r.OppositeEdge = edge;
   r.Residual = res;
-  if (!(t > 0.0) || !std::isfinite(t))
+  // No inscribed sphere is larger than the model. (Radii near 0 are right at convex edges.)
+  if (!(t > 0.0) || !(t < data.Scale))
   {
     r.Reason = FailReason::LeftModel;
     return;

@@ -39,7 +39,7 @@ enum class FailReason : int
   EdgeNotConverged = 3, ///< surface/edge Newton did not reach the tolerance
   NoEdge = 4,           ///< the foot point left the face across a degenerated edge (pole)
   Singular = 5,         ///< singular Jacobian
-  LeftModel = 6         ///< the sphere radius became negative or unbounded
+  LeftModel = 6         ///< the radius became negative or larger than the model
 };
 const char* FailReasonName(FailReason reason);
 
@@ -68,8 +68,8 @@ struct SolverOptions
   int S1MaxPerPatch = 64;
   /// A Newton result is accepted when |R| (SampleResult::Residual) is at most this (model units).
   double NewtonTolerance = 1e-4;
-  int MaxIterations = 30;     ///< surface/surface Newton (eq. 4)
-  int MaxEdgeIterations = 30; ///< surface/edge Newton (eq. 7)
+  int MaxIterations = 50;     ///< surface/surface Newton (eq. 4)
+  int MaxEdgeIterations = 50; ///< surface/edge Newton (eq. 7)
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.

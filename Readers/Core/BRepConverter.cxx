@@ -61,6 +61,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <queue>
 #include <random>
 #include <sstream>
@@ -400,6 +401,116 @@ PatchGrid HermitePatches(const Handle(Geom_Surface)& s, const std::array<double,
     vs = refine(vs, splitV);
   }
   return grid;
+}
+
+/// Splits a cubic (4 control points of `dim` doubles, stride `stride`) at tau by de Casteljau;
+/// the first half goes to a, the second to b.
+void SplitCubic(const double* c, int stride, int dim, double tau, double* a, double* b)
+{
+  for (int k = 0; k < dim; ++k)
+  {
+    const double p0 = c[k], p1 = c[stride + k], p2 = c[2 * stride + k], p3 = c[3 * stride + k];
+    const double p01 = p0 + tau * (p1 - p0), p12 = p1 + tau * (p2 - p1), p23 = p2 + tau * (p3 - p2);
+    const double p012 = p01 + tau * (p12 - p01), p123 = p12 + tau * (p23 - p12);
+    const double m = p012 + tau * (p123 - p012);
+    a[k] = p0;
+    a[stride + k] = p01;
+    a[2 * stride + k] = p012;
+    a[3 * stride + k] = m;
+    b[k] = m;
+    b[stride + k] = p123;
+    b[2 * stride + k] = p23;
+    b[3 * stride + k] = p3;
+  }
+}
+
+/// Splits a patch along u (dir 0) or v (dir 1) into `pieces` equal parameter parts, exactly.
+std::vector<BezierPatch> SplitPatch(const BezierPatch& p, int dir, int pieces)
+{
+  std::vector<BezierPatch> out;
+  BezierPatch rest = p;
+  for (int k = 0; k < pieces - 1; ++k)
+  {
+    const double tau = 1.0 / (pieces - k);
+    BezierPatch a = rest, b = rest;
+    for (int line = 0; line < 4; ++line)
+    {
+      // dir 0: the cubic along u for fixed j = line (stride 12); dir 1: along v, fixed i.
+      const int offset = dir == 0 ? 3 * line : 12 * line;
+      const int stride = dir == 0 ? 12 : 3;
+      SplitCubic(&rest.ControlPoints[offset], stride, 3, tau, &a.ControlPoints[offset],
+        &b.ControlPoints[offset]);
+    }
+    const int lo = dir == 0 ? 0 : 2;
+    const double mid = rest.Domain[lo] + tau * (rest.Domain[lo + 1] - rest.Domain[lo]);
+    a.Domain[lo + 1] = mid;
+    b.Domain[lo] = mid;
+    out.push_back(a);
+    rest = b;
+  }
+  out.push_back(rest);
+  return out;
+}
+
+/// Length of the control polygon of a patch along u (dir 0) or v (dir 1), max over its lines.
+double NetLength(const BezierPatch& p, int dir)
+{
+  double worst = 0.0;
+  for (int line = 0; line < 4; ++line)
+  {
+    double l = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = dir == 0 ? (4 * k + line) : (4 * line + k);
+      const int b = dir == 0 ? (4 * (k + 1) + line) : (4 * line + k + 1);
+      l += std::hypot(p.ControlPoints[3 * b] - p.ControlPoints[3 * a],
+        p.ControlPoints[3 * b + 1] - p.ControlPoints[3 * a + 1],
+        p.ControlPoints[3 * b + 2] - p.ControlPoints[3 * a + 2]);
+    }
+    worst = std::max(worst, l);
+  }
+  return worst;
+}
+
+/// Splits grid columns (and rows) whose patches are longer than maxSize, exactly (de Casteljau),
+/// so that no patch is much larger than maxSize: small patches keep float evaluation accurate.
+PatchGrid LimitPatchSize(const PatchGrid& g, double maxSize, int maxPatches)
+{
+  if (g.Patches.empty() || maxSize <= 0.0)
+    return g;
+  std::vector<int> cu(g.NU, 1), cv(g.NV, 1);
+  for (int j = 0; j < g.NV; ++j)
+    for (int i = 0; i < g.NU; ++i)
+    {
+      const BezierPatch& p = g.Patches[i + j * g.NU];
+      cu[i] = std::max(cu[i], static_cast<int>(std::ceil(NetLength(p, 0) / maxSize)));
+      cv[j] = std::max(cv[j], static_cast<int>(std::ceil(NetLength(p, 1) / maxSize)));
+    }
+  const long nu = std::accumulate(cu.begin(), cu.end(), 0L), nv = std::accumulate(cv.begin(), cv.end(), 0L);
+  if ((nu == g.NU && nv == g.NV) || nu * nv > maxPatches)
+    return g;
+  PatchGrid out;
+  out.NU = static_cast<int>(nu);
+  out.NV = static_cast<int>(nv);
+  out.Patches.resize(static_cast<size_t>(nu * nv));
+  int row = 0;
+  for (int j = 0; j < g.NV; ++j)
+  {
+    int col = 0;
+    for (int i = 0; i < g.NU; ++i)
+    {
+      const std::vector<BezierPatch> strips = SplitPatch(g.Patches[i + j * g.NU], 0, cu[i]);
+      for (int a = 0; a < cu[i]; ++a)
+      {
+        const std::vector<BezierPatch> cells = SplitPatch(strips[a], 1, cv[j]);
+        for (int b = 0; b < cv[j]; ++b)
+          out.Patches[(col + a) + (row + b) * nu] = cells[b];
+      }
+      col += cu[i];
+    }
+    row += cv[j];
+  }
+  return out;
 }
 
 /// Max |patch(u,v) - S(u,v)| over n random (u,v) plus the patch corners.
@@ -873,6 +984,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   BRepBndLib::Add(shape, box);
   const double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
   const double tol = options.Tolerance;
+  const double maxPatchSize =
+    options.MaxPatchSize > 0.0 ? options.MaxPatchSize : diagonal / 8.0;
 
   // --- faces: patches and trimming loops ----------------------------------------------------
   model.Faces.resize(faceMap.Extent());
@@ -893,6 +1006,10 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     double u0, u1, v0, v1;
     BRepTools::UVBounds(ff, u0, u1, v0, v1);
     F.Domain = { u0, u1, v0, v1 };
+    if (surface->IsUPeriodic() && std::fabs((u1 - u0) - surface->UPeriod()) < 1e-9 * surface->UPeriod())
+      F.Period[0] = surface->UPeriod();
+    if (surface->IsVPeriodic() && std::fabs((v1 - v0) - surface->VPeriod()) < 1e-9 * surface->VPeriod())
+      F.Period[1] = surface->VPeriod();
     const std::string where = "face " + std::to_string(fi) + " (" + SurfaceKindName(F.Kind) + ")";
 
     // Patches, refined until the measured deviation is within the tolerance.
@@ -916,6 +1033,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     {
       warn(where + ": surface conversion failed: " + e.GetMessageString());
     }
+    grid = LimitPatchSize(grid, maxPatchSize, options.MaxPatchesPerFace);
     if (grid.Patches.empty())
       warn(where + ": no Bezier patches could be made; the face takes no part in the solve");
     else if (deviation > tol)

@@ -26,6 +26,10 @@ struct ConversionOptions
   /// Display mesh: triangles are split until no edge is longer; <= 0 picks 1/50 of the
   /// bounding-box diagonal. This sets the density of the thickness samples s0.
   double MaxEdgeLength = 0.0;
+  /// Patches longer than this (control-net length, model units) are split exactly, so that
+  /// single-precision evaluation stays accurate (the paper's "relatively flat patches");
+  /// <= 0 picks 1/8 of the bounding-box diagonal.
+  double MaxPatchSize = 0.0;
   /// Cap on the Bezier patches of one face (bounds the refinement of the fit).
   int MaxPatchesPerFace = 16384;
   /// Cap on the vertices of one face's display mesh (bounds the refinement).

@@ -43,6 +43,9 @@ struct Face
   int FirstLoop = 0, LoopCount = 0;
   double MaxDeviation = 0.0; ///< measured max |Bezier(u,v) - S(u,v)| on this face
   double UVTolerance = 0.0;  ///< parametric tolerance used for the trimming curves
+  /// Period of the surface in u and v when the face closes on itself across a seam in that
+  /// direction (its domain spans the whole period), else 0. The solver wraps across seams.
+  std::array<double, 2> Period{ 0.0, 0.0 };
 };
 
 /// Bicubic Bezier patch covering [Domain[0],Domain[1]] x [Domain[2],Domain[3]] of its face's

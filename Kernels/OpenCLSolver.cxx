@@ -1,0 +1,490 @@
+#include "OpenCLSolver.h"
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace brt
+{
+extern const char* const ThicknessKernelSource; // generated from thickness.cl at build time
+
+namespace
+{
+std::string Lower(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+void Check(cl_int err, const char* what)
+{
+  if (err != CL_SUCCESS)
+    throw OpenCLError(std::string("OpenCL: ") + what + " failed (error " + std::to_string(err) + ")");
+}
+
+std::string Info(cl_platform_id p, cl_platform_info what)
+{
+  size_t n = 0;
+  clGetPlatformInfo(p, what, 0, nullptr, &n);
+  std::string s(n, '\0');
+  clGetPlatformInfo(p, what, n, s.data(), nullptr);
+  return s.c_str();
+}
+
+std::string Info(cl_device_id d, cl_device_info what)
+{
+  size_t n = 0;
+  clGetDeviceInfo(d, what, 0, nullptr, &n);
+  std::string s(n, '\0');
+  clGetDeviceInfo(d, what, n, s.data(), nullptr);
+  return s.c_str();
+}
+
+struct DeviceEntry
+{
+  cl_platform_id Platform;
+  cl_device_id Device;
+  cl_device_type Type;
+  std::string Label; ///< "platform: device (type)"
+};
+
+std::vector<DeviceEntry> Devices()
+{
+  std::vector<DeviceEntry> out;
+  cl_uint np = 0;
+  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0)
+    return out;
+  std::vector<cl_platform_id> platforms(np);
+  clGetPlatformIDs(np, platforms.data(), nullptr);
+  for (cl_platform_id p : platforms)
+  {
+    cl_uint nd = 0;
+    if (clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS || nd == 0)
+      continue;
+    std::vector<cl_device_id> devices(nd);
+    clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, nd, devices.data(), nullptr);
+    for (cl_device_id d : devices)
+    {
+      cl_device_type type = 0;
+      clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof(type), &type, nullptr);
+      const char* kind = (type & CL_DEVICE_TYPE_GPU) ? "GPU" : (type & CL_DEVICE_TYPE_CPU) ? "CPU" : "other";
+      out.push_back({ p, d, type,
+        Info(p, CL_PLATFORM_NAME) + ": " + Info(d, CL_DEVICE_NAME) + " (" + kind + ")" });
+    }
+  }
+  return out;
+}
+
+/// Context, queue and built program of one device and precision; built once, kept for the
+/// process (the kernel source is compiled once per context).
+struct Runtime
+{
+  cl_context Context = nullptr;
+  cl_command_queue Queue = nullptr;
+  cl_program Program = nullptr;
+  cl_kernel Kernel = nullptr;
+  std::string Name;
+  bool Double = false;
+  std::mutex Lock; ///< one launch sequence at a time on the shared kernel object
+  ~Runtime()
+  {
+    if (Kernel)
+      clReleaseKernel(Kernel);
+    if (Program)
+      clReleaseProgram(Program);
+    if (Queue)
+      clReleaseCommandQueue(Queue);
+    if (Context)
+      clReleaseContext(Context);
+  }
+};
+
+std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
+{
+  static std::mutex mutex;
+  static std::map<std::pair<cl_device_id, bool>, std::shared_ptr<Runtime>> cache;
+  std::lock_guard<std::mutex> guard(mutex);
+  auto it = cache.find({ dev.Device, useDouble });
+  if (it != cache.end())
+    return it->second;
+  auto rt = std::make_shared<Runtime>();
+  rt->Name = dev.Label;
+  rt->Double = useDouble;
+  cl_int err = CL_SUCCESS;
+  rt->Context = clCreateContext(nullptr, 1, &dev.Device, nullptr, nullptr, &err);
+  Check(err, "clCreateContext");
+  rt->Queue = clCreateCommandQueue(rt->Context, dev.Device, 0, &err);
+  Check(err, "clCreateCommandQueue");
+  const char* src = ThicknessKernelSource;
+  rt->Program = clCreateProgramWithSource(rt->Context, 1, &src, nullptr, &err);
+  Check(err, "clCreateProgramWithSource");
+  const char* options = useDouble ? "-DBRT_DOUBLE" : "";
+  if (clBuildProgram(rt->Program, 1, &dev.Device, options, nullptr, nullptr) != CL_SUCCESS)
+  {
+    size_t n = 0;
+    clGetProgramBuildInfo(rt->Program, dev.Device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+    std::string log(n, '\0');
+    clGetProgramBuildInfo(rt->Program, dev.Device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+    throw OpenCLError("OpenCL: the thickness kernel does not build on " + dev.Label + ":\n" + log);
+  }
+  rt->Kernel = clCreateKernel(rt->Program, "brt_solve", &err);
+  Check(err, "clCreateKernel");
+  cache[{ dev.Device, useDouble }] = rt;
+  return rt;
+}
+
+/// Anchor of a control net (its first control point, relative to the model centre c).
+std::array<double, 3> Anchor(const double* cp, int n, const std::array<double, 3>& c)
+{
+  (void)n;
+  return { cp[0] - c[0], cp[1] - c[1], cp[2] - c[2] };
+}
+
+/// Appends a as hi (3) and lo (3) parts of the kernel's precision T.
+template <class T>
+void PushSplit(std::vector<T>& out, const std::array<double, 3>& a)
+{
+  for (int k = 0; k < 3; ++k)
+    out.push_back(static_cast<T>(a[k]));
+  for (int k = 0; k < 3; ++k)
+    out.push_back(static_cast<T>(a[k] - static_cast<double>(static_cast<T>(a[k]))));
+}
+
+struct Buffer
+{
+  cl_mem Mem = nullptr;
+  size_t Bytes = 0;
+  Buffer() = default;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  ~Buffer() { Reset(); }
+  void Reset()
+  {
+    if (Mem)
+      clReleaseMemObject(Mem);
+    Mem = nullptr;
+    Bytes = 0;
+  }
+  template <class T>
+  void Write(cl_context ctx, cl_command_queue q, const std::vector<T>& v)
+  {
+    const size_t bytes = std::max<size_t>(1, v.size()) * sizeof(T);
+    if (bytes != Bytes)
+    {
+      Reset();
+      cl_int err = CL_SUCCESS;
+      Mem = clCreateBuffer(ctx, CL_MEM_READ_ONLY, bytes, nullptr, &err);
+      Check(err, "clCreateBuffer");
+      Bytes = bytes;
+    }
+    if (!v.empty())
+      Check(clEnqueueWriteBuffer(q, Mem, CL_FALSE, 0, v.size() * sizeof(T), v.data(), 0, nullptr, nullptr),
+        "clEnqueueWriteBuffer");
+  }
+  void Allocate(cl_context ctx, size_t bytes, cl_mem_flags flags)
+  {
+    if (bytes == Bytes && Mem)
+      return;
+    Reset();
+    cl_int err = CL_SUCCESS;
+    Mem = clCreateBuffer(ctx, flags, std::max<size_t>(1, bytes), nullptr, &err);
+    Check(err, "clCreateBuffer");
+    Bytes = bytes;
+  }
+};
+} // namespace
+
+struct OpenCLSolver::Impl
+{
+  std::shared_ptr<Runtime> RT;
+  // Model buffers, in the kernel's argument order (0..19), then the chunk buffers.
+  static constexpr int ModelBuffers = 20;
+  Buffer Model[ModelBuffers];
+  Buffer Samples, OutReal, OutInt;
+
+  template <class T>
+  void UploadAs(const BRepModel& m, const SolverData& data);
+  template <class T>
+  void SolveAs(const BRepModel& m, const SolverData& data, const SolverOptions& options,
+    const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk);
+};
+
+OpenCLSolver::OpenCLSolver(const std::string& device, bool useDouble)
+  : P(std::make_unique<Impl>())
+{
+  const std::vector<DeviceEntry> devices = Devices();
+  if (devices.empty())
+    throw OpenCLError("OpenCL: no platform or device found (the ICD loader found no driver; "
+                      "install pocl-opencl-icd for the CPU or the GPU vendor's OpenCL driver)");
+  const std::string want = Lower(device);
+  const DeviceEntry* pick = nullptr;
+  if (want == "any" || want.empty())
+  {
+    for (const auto& d : devices)
+      if (d.Type & CL_DEVICE_TYPE_GPU)
+      {
+        pick = &d;
+        break;
+      }
+    if (!pick)
+      pick = &devices.front();
+  }
+  else
+  {
+    for (const auto& d : devices)
+    {
+      if ((want == "gpu" && (d.Type & CL_DEVICE_TYPE_GPU)) ||
+        (want == "cpu" && (d.Type & CL_DEVICE_TYPE_CPU)) ||
+        (want != "gpu" && want != "cpu" && Lower(d.Label).find(want) != std::string::npos))
+      {
+        pick = &d;
+        break;
+      }
+    }
+  }
+  if (!pick)
+  {
+    std::ostringstream msg;
+    msg << "OpenCL: no device matches '" << device << "'; devices found:";
+    for (const auto& d : devices)
+      msg << "\n  " << d.Label;
+    throw OpenCLError(msg.str());
+  }
+  if (useDouble && Info(pick->Device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") == std::string::npos)
+    throw OpenCLError("OpenCL: " + pick->Label + " has no double precision (cl_khr_fp64)");
+  P->RT = GetRuntime(*pick, useDouble);
+}
+
+OpenCLSolver::~OpenCLSolver() = default;
+
+std::vector<std::string> OpenCLSolver::ListDevices()
+{
+  std::vector<std::string> out;
+  for (const auto& d : Devices())
+    out.push_back(d.Label);
+  return out;
+}
+
+const std::string& OpenCLSolver::DeviceName() const
+{
+  return P->RT->Name;
+}
+
+bool OpenCLSolver::DoublePrecision() const
+{
+  return P->RT->Double;
+}
+
+size_t OpenCLSolver::DeviceBytes() const
+{
+  size_t n = P->Samples.Bytes + P->OutReal.Bytes + P->OutInt.Bytes;
+  for (const auto& b : P->Model)
+    n += b.Bytes;
+  return n;
+}
+
+template <class T>
+void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
+{
+  const auto& c = data.Centre;
+  std::vector<T> patches, patchAnchor, patchDomain, faceDomain,
+    breaks(data.Breaks.begin(), data.Breaks.end()), edgeAnchor;
+  std::vector<T> trim, trimRange, edgeRange, edgeSeg, edgeSegRange, s1Point, s1UV, nodeBox;
+  std::vector<int> faceInfo, loops, trimEdge, edgeInfo, s1Face, nodeInfo;
+  for (const auto& p : m.Patches)
+  {
+    const auto a = Anchor(p.ControlPoints.data(), 16, c);
+    PushSplit(patchAnchor, a);
+    for (int i = 0; i < 48; ++i)
+      patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
+    patchDomain.insert(patchDomain.end(), p.Domain.begin(), p.Domain.end());
+  }
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const Face& F = m.Faces[f];
+    faceInfo.insert(faceInfo.end(),
+      { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount });
+    faceDomain.insert(faceDomain.end(), F.Domain.begin(), F.Domain.end());
+    faceDomain.insert(faceDomain.end(), { static_cast<T>(F.Period[0]), static_cast<T>(F.Period[1]),
+      static_cast<T>(F.UVTolerance) });
+  }
+  for (const auto& l : m.Loops)
+    loops.insert(loops.end(), { l.FirstSegment, l.SegmentCount });
+  for (const auto& s : m.TrimSegments)
+  {
+    trim.insert(trim.end(), s.ControlPoints.begin(), s.ControlPoints.end());
+    trimEdge.push_back(s.Edge);
+    trimRange.insert(trimRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
+  }
+  for (const auto& e : m.Edges)
+  {
+    edgeInfo.insert(edgeInfo.end(), { e.FirstSegment, e.SegmentCount });
+    edgeRange.insert(edgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1) });
+  }
+  for (const auto& s : m.EdgeSegments)
+  {
+    const auto a = Anchor(s.ControlPoints.data(), 4, c);
+    PushSplit(edgeAnchor, a);
+    for (int i = 0; i < 12; ++i)
+      edgeSeg.push_back(static_cast<T>(s.ControlPoints[i] - c[i % 3] - a[i % 3]));
+    edgeSegRange.insert(edgeSegRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
+  }
+  for (const auto& p : data.S1)
+  {
+    for (int k = 0; k < 3; ++k)
+      s1Point.push_back(static_cast<T>(p.Point[k] - c[k]));
+    s1Face.push_back(p.Face);
+    s1UV.insert(s1UV.end(), { static_cast<T>(p.U), static_cast<T>(p.V) });
+  }
+  for (const auto& n : data.Nodes)
+  {
+    for (int k = 0; k < 3; ++k)
+      nodeBox.push_back(static_cast<T>(n.Min[k] - c[k]));
+    for (int k = 0; k < 3; ++k)
+      nodeBox.push_back(static_cast<T>(n.Max[k] - c[k]));
+    nodeInfo.insert(nodeInfo.end(), { n.First, n.Count, n.Right });
+  }
+  cl_context ctx = RT->Context;
+  cl_command_queue q = RT->Queue;
+  Model[0].Write(ctx, q, patches);
+  Model[1].Write(ctx, q, patchAnchor);
+  Model[2].Write(ctx, q, patchDomain);
+  Model[3].Write(ctx, q, faceInfo);
+  Model[4].Write(ctx, q, faceDomain);
+  Model[5].Write(ctx, q, breaks);
+  Model[6].Write(ctx, q, loops);
+  Model[7].Write(ctx, q, trim);
+  Model[8].Write(ctx, q, trimEdge);
+  Model[9].Write(ctx, q, trimRange);
+  Model[10].Write(ctx, q, edgeInfo);
+  Model[11].Write(ctx, q, edgeRange);
+  Model[12].Write(ctx, q, edgeSeg);
+  Model[13].Write(ctx, q, edgeAnchor);
+  Model[14].Write(ctx, q, edgeSegRange);
+  Model[15].Write(ctx, q, s1Point);
+  Model[16].Write(ctx, q, s1Face);
+  Model[17].Write(ctx, q, s1UV);
+  Model[18].Write(ctx, q, nodeBox);
+  Model[19].Write(ctx, q, nodeInfo);
+  Check(clFinish(q), "clFinish");
+}
+
+template <class T>
+void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, size_t chunk)
+{
+  results.assign(samples.size(), SampleResult());
+  if (samples.empty())
+    return;
+  if (data.Nodes.empty())
+  {
+    for (auto& r : results)
+      r.Reason = FailReason::NoOppositePoint;
+    return;
+  }
+  const size_t perSample = 14 * sizeof(T) + 6 * sizeof(int);
+  if (chunk == 0)
+    chunk = std::max<size_t>(1024, (64u << 20) / perSample);
+  chunk = std::min(chunk, samples.size());
+  cl_context ctx = RT->Context;
+  cl_command_queue q = RT->Queue;
+  cl_kernel k = RT->Kernel;
+  Samples.Allocate(ctx, chunk * 9 * sizeof(T), CL_MEM_READ_ONLY);
+  OutReal.Allocate(ctx, chunk * 5 * sizeof(T), CL_MEM_WRITE_ONLY);
+  OutInt.Allocate(ctx, chunk * 6 * sizeof(int), CL_MEM_WRITE_ONLY);
+  const auto& c = data.Centre;
+  const T scale = static_cast<T>(data.Scale);
+  const T stepTol = static_cast<T>((sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale);
+  const T newtonTol = static_cast<T>(options.NewtonTolerance);
+  const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
+  std::vector<T> in(chunk * 9), outR(chunk * 5);
+  std::vector<int> outI(chunk * 6);
+
+  std::lock_guard<std::mutex> guard(RT->Lock);
+  for (cl_uint a = 0; a < ModelBuffers; ++a)
+    Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
+  for (size_t first = 0; first < samples.size(); first += chunk)
+  {
+    const size_t n = std::min(chunk, samples.size() - first);
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Sample& s = samples[first + i];
+      for (int j = 0; j < 3; ++j)
+      {
+        const double o = s.Point[j] - c[j];
+        in[9 * i + j] = static_cast<T>(o);
+        in[9 * i + 3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
+        in[9 * i + 6 + j] = static_cast<T>(s.Direction[j]);
+      }
+    }
+    Check(clEnqueueWriteBuffer(q, Samples.Mem, CL_FALSE, 0, n * 9 * sizeof(T), in.data(), 0, nullptr, nullptr),
+      "clEnqueueWriteBuffer");
+    const cl_int count = static_cast<cl_int>(n);
+    Check(clSetKernelArg(k, 20, sizeof(cl_mem), &Samples.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 21, sizeof(cl_int), &count), "clSetKernelArg");
+    Check(clSetKernelArg(k, 22, sizeof(T), &scale), "clSetKernelArg");
+    Check(clSetKernelArg(k, 23, sizeof(T), &stepTol), "clSetKernelArg");
+    Check(clSetKernelArg(k, 24, sizeof(T), &newtonTol), "clSetKernelArg");
+    Check(clSetKernelArg(k, 25, sizeof(cl_int), &maxIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 26, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 27, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 28, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
+    const size_t local = 64;
+    const size_t global = (n + local - 1) / local * local;
+    Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
+      "clEnqueueNDRangeKernel");
+    Check(clEnqueueReadBuffer(q, OutReal.Mem, CL_FALSE, 0, n * 5 * sizeof(T), outR.data(), 0, nullptr, nullptr),
+      "clEnqueueReadBuffer");
+    Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * 6 * sizeof(int), outI.data(), 0, nullptr, nullptr),
+      "clEnqueueReadBuffer");
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Sample& s = samples[first + i];
+      SampleResult& r = results[first + i];
+      r.Type = static_cast<ContactType>(outI[6 * i]);
+      r.Reason = static_cast<FailReason>(outI[6 * i + 1]);
+      r.OppositeFace = outI[6 * i + 2];
+      r.OppositePatch = outI[6 * i + 3];
+      r.OppositeEdge = outI[6 * i + 4];
+      r.Iterations = outI[6 * i + 5];
+      r.Residual = static_cast<double>(outR[5 * i + 4]);
+      if (r.Type == ContactType::Failed)
+        continue;
+      const double t = static_cast<double>(outR[5 * i]);
+      r.Radius = t;
+      r.Thickness = 2.0 * t;
+      for (int j = 0; j < 3; ++j)
+      {
+        r.Center[j] = s.Point[j] + t * s.Direction[j];
+        r.Foot[j] = s.Point[j] + static_cast<double>(outR[5 * i + 1 + j]);
+      }
+    }
+  }
+}
+
+void OpenCLSolver::Upload(const BRepModel& model, const SolverData& data)
+{
+  if (P->RT->Double)
+    P->UploadAs<double>(model, data);
+  else
+    P->UploadAs<float>(model, data);
+}
+
+void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, size_t chunk)
+{
+  if (P->RT->Double)
+    P->SolveAs<double>(model, data, options, samples, results, chunk);
+  else
+    P->SolveAs<float>(model, data, options, samples, results, chunk);
+}
+
+} // namespace brt

@@ -1,0 +1,56 @@
+// BRepThickness: OpenCL host layer of the maximal-sphere solver. Picks a platform and device,
+// builds the embedded kernel once per device and precision (cached for the process), uploads
+// the prepared model, and solves samples in chunks so device memory stays bounded. VTK-free.
+#pragma once
+
+#include "Solver.h"
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace brt
+{
+
+/// No usable OpenCL platform or device, or a failed OpenCL call; the message says which and,
+/// when a device choice fails, lists the devices found.
+class OpenCLError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+class OpenCLSolver
+{
+public:
+  /// `device`: "any" (the first GPU, else the first device), "gpu", "cpu", or a case-insensitive
+  /// part of a device or platform name. `useDouble` needs cl_khr_fp64 on that device.
+  explicit OpenCLSolver(const std::string& device = "any", bool useDouble = false);
+  ~OpenCLSolver();
+  OpenCLSolver(const OpenCLSolver&) = delete;
+  OpenCLSolver& operator=(const OpenCLSolver&) = delete;
+
+  /// "platform: device (type)" for every device of every platform; empty without a platform.
+  static std::vector<std::string> ListDevices();
+
+  const std::string& DeviceName() const;
+  bool DoublePrecision() const;
+
+  /// Copies the model and the solver data to the device (done once per model).
+  void Upload(const BRepModel& model, const SolverData& data);
+
+  /// Solves `samples` (after Upload with the same model and data), `chunk` samples per launch
+  /// (0: as many as fit in 64 MiB of result and sample buffers).
+  void Solve(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+    const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk = 0);
+
+  /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
+  size_t DeviceBytes() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+
+} // namespace brt

@@ -1,0 +1,688 @@
+// BRepThickness: maximal-sphere solver kernel (Lemasson et al. 2014, sections 2.1-2.3).
+// One work-item per sample O: BVH initialisation (eq. 1), surface/surface Newton (eq. 4), trim
+// test (eq. 6 and the corner rule), surface/edge Newton (eq. 7). It mirrors the double-precision
+// reference (Filters/Core/Solver.cxx) step for step; the host builds it with -DBRT_DOUBLE for
+// double precision, else it runs in float. Coordinates arrive relative to the model's centre.
+
+#ifdef BRT_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double real;
+typedef double2 real2;
+typedef double3 real3;
+#define REAL_MAX DBL_MAX
+#else
+typedef float real;
+typedef float2 real2;
+typedef float3 real3;
+#define REAL_MAX FLT_MAX
+#endif
+
+// Contact types and failure reasons: same values as brt::ContactType and brt::FailReason.
+#define CONTACT_FAILED 0
+#define CONTACT_SURFACE_SURFACE 1
+#define CONTACT_SURFACE_EDGE 2
+#define CONTACT_SURFACE_VERTEX 3
+#define FAIL_NONE 0
+#define FAIL_NO_OPPOSITE 1
+#define FAIL_NOT_CONVERGED 2
+#define FAIL_EDGE_NOT_CONVERGED 3
+#define FAIL_NO_EDGE 4
+#define FAIL_SINGULAR 5
+#define FAIL_LEFT_MODEL 6
+
+// Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
+// grid breakpoints, first loop, loop count.
+#define FACE_INTS 6
+#define FACE_REALS 7
+
+typedef struct
+{
+  real3 P, Du, Dv, Duu, Duv, Dvv;
+} PatchEval;
+
+typedef struct
+{
+  __global const real* patches;     // 48 per patch, relative to the patch's anchor
+  __global const real* patchAnchor; // 6 per patch: anchor as hi (3) + lo (3) parts
+  __global const real* patchDomain; // 4 per patch
+  __global const int* faceInfo;     // FACE_INTS per face
+  __global const real* faceDomain;  // per face: u0, u1, v0, v1, periods in u and v (0: open),
+                                    // UV tolerance (FACE_REALS)
+  __global const real* breaks;      // grid breakpoints
+  __global const int* loops;        // first segment, count per loop
+  __global const real* trim;        // 8 per trimming segment
+  __global const int* trimEdge;     // edge per trimming segment (-1: degenerated)
+  __global const real* trimRange;   // T0, T1 per trimming segment
+  __global const int* edgeInfo;     // first segment, count per edge
+  __global const real* edgeRange;   // T0, T1 per edge
+  __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
+  __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
+  __global const real* edgeSegRange; // T0, T1 per edge segment
+} Model;
+
+// A - O for an anchor A and the sample O, both split into hi + lo parts: the difference of two
+// nearby large coordinates is formed before it is rounded, so float keeps (t + patch size) * eps
+// of accuracy instead of (model size) * eps.
+inline real3 anchor_minus(__global const real* a, real3 Ohi, real3 Olo)
+{
+  return ((real3)(a[0], a[1], a[2]) - Ohi) + ((real3)(a[3], a[4], a[5]) - Olo);
+}
+
+inline void bernstein(real t, real* B, real* D, real* DD)
+{
+  const real s = (real)1 - t;
+  B[0] = s * s * s;
+  B[1] = (real)3 * s * s * t;
+  B[2] = (real)3 * s * t * t;
+  B[3] = t * t * t;
+  D[0] = (real)-3 * s * s;
+  D[1] = (real)3 * s * s - (real)6 * s * t;
+  D[2] = (real)6 * s * t - (real)3 * t * t;
+  D[3] = (real)3 * t * t;
+  DD[0] = (real)6 * s;
+  DD[1] = (real)-12 * s + (real)6 * t;
+  DD[2] = (real)6 * s - (real)12 * t;
+  DD[3] = (real)6 * t;
+}
+
+inline int upper_index(__global const real* b, int n, real x)
+{
+  // Index i in [0, n-1] of the interval [b[i], b[i+1]) holding x (clamped).
+  int lo = 0, hi = n - 1;
+  while (lo < hi)
+  {
+    const int mid = (lo + hi + 1) / 2;
+    if (x >= b[mid])
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
+
+inline int find_patch(const Model* m, int face, real u, real v)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  const int nu = fi[1], nv = fi[2];
+  __global const real* bu = m->breaks + fi[3];
+  __global const real* bv = bu + nu + 1;
+  return fi[0] + upper_index(bu, nu, u) + upper_index(bv, nv, v) * nu;
+}
+
+PatchEval eval_patch(const Model* m, int p, real u, real v)
+{
+  __global const real* d = m->patchDomain + 4 * p;
+  __global const real* c = m->patches + 48 * p;
+  const real du = d[1] - d[0], dv = d[3] - d[2];
+  real Bu[4], Du[4], DDu[4], Bv[4], Dv[4], DDv[4];
+  bernstein((u - d[0]) / du, Bu, Du, DDu);
+  bernstein((v - d[2]) / dv, Bv, Dv, DDv);
+  PatchEval e;
+  e.P = e.Du = e.Dv = e.Duu = e.Duv = e.Dvv = (real3)(0);
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      const int k = (4 * i + j) * 3;
+      const real3 q = (real3)(c[k], c[k + 1], c[k + 2]);
+      e.P += Bu[i] * Bv[j] * q;
+      e.Du += Du[i] * Bv[j] * q;
+      e.Dv += Bu[i] * Dv[j] * q;
+      e.Duu += DDu[i] * Bv[j] * q;
+      e.Duv += Du[i] * Dv[j] * q;
+      e.Dvv += Bu[i] * DDv[j] * q;
+    }
+  }
+  e.Du /= du;
+  e.Dv /= dv;
+  e.Duu /= du * du;
+  e.Duv /= du * dv;
+  e.Dvv /= dv * dv;
+  return e;
+}
+
+// --- trimming curves ----------------------------------------------------------------------
+inline real2 seg_point(__global const real* c, real t, real2* d1, real2* d2)
+{
+  real B[4], D[4], DD[4];
+  bernstein(t, B, D, DD);
+  real2 p = (real2)(0), a = (real2)(0), b = (real2)(0);
+  for (int i = 0; i < 4; ++i)
+  {
+    const real2 q = (real2)(c[2 * i], c[2 * i + 1]);
+    p += B[i] * q;
+    a += D[i] * q;
+    b += DD[i] * q;
+  }
+  *d1 = a;
+  *d2 = b;
+  return p;
+}
+
+inline real seg_length(__global const real* c)
+{
+  return length((real2)(c[2] - c[0], c[3] - c[1])) + length((real2)(c[4] - c[2], c[5] - c[3])) +
+    length((real2)(c[6] - c[4], c[7] - c[5]));
+}
+
+// Nearest point on a cubic 2D segment: eq. 6 from the polyline c(0), c(1/3), c(2/3), c(1).
+real project_segment(__global const real* c, real2 P, real* dist)
+{
+  real2 d1, d2, poly[4];
+  for (int i = 0; i < 4; ++i)
+    poly[i] = seg_point(c, (real)i / (real)3, &d1, &d2);
+  real bestT = 0, bestD2 = REAL_MAX;
+  for (int i = 0; i < 3; ++i)
+  {
+    const real2 a = poly[i + 1] - poly[i];
+    const real len2 = dot(a, a);
+    real tau = len2 > (real)0 ? dot(P - poly[i], a) / len2 : (real)0;
+    tau = clamp(tau, (real)0, (real)1);
+    const real2 q = poly[i] + tau * a - P;
+    const real dd = dot(q, q);
+    if (dd < bestD2)
+    {
+      bestD2 = dd;
+      bestT = ((real)i + tau) / (real)3;
+    }
+  }
+  real t = bestT;
+  for (int it = 0; it < 12; ++it)
+  {
+    const real2 p = seg_point(c, t, &d1, &d2);
+    const real2 r = p - P;
+    const real f = dot(r, d1);
+    const real df = dot(d1, d1) + dot(r, d2);
+    if (df <= (real)0)
+      break;
+    const real next = clamp(t - f / df, (real)0, (real)1);
+    const real step = fabs(next - t);
+    t = next;
+    if (step < (real)1e-15)
+      break;
+  }
+  real best = REAL_MAX, bestParam = t;
+  const real cands[3] = { t, (real)0, (real)1 };
+  for (int k = 0; k < 3; ++k)
+  {
+    const real dd = length(seg_point(c, cands[k], &d1, &d2) - P);
+    if (dd < best)
+    {
+      best = dd;
+      bestParam = cands[k];
+    }
+  }
+  *dist = best;
+  return bestParam;
+}
+
+inline real2 seg_tangent(__global const real* c, real t)
+{
+  real2 d1, d2;
+  seg_point(c, t, &d1, &d2);
+  const real scale = seg_length(c);
+  if (length(d1) > (real)1e-12 * scale)
+    return d1;
+  if (t < (real)0.5)
+  {
+    for (int i = 1; i < 4; ++i)
+    {
+      const real2 a = (real2)(c[2 * i] - c[0], c[2 * i + 1] - c[1]);
+      if (length(a) > (real)1e-12 * scale)
+        return a;
+    }
+  }
+  else
+  {
+    for (int i = 2; i >= 0; --i)
+    {
+      const real2 a = (real2)(c[6] - c[2 * i], c[7] - c[2 * i + 1]);
+      if (length(a) > (real)1e-12 * scale)
+        return a;
+    }
+  }
+  return (real2)(c[6] - c[0], c[7] - c[1]);
+}
+
+inline real cross2(real2 a, real2 b)
+{
+  return a.x * b.y - a.y * b.x;
+}
+
+// Point-in-face test on the cubic trimming segments (same steps as brt::ClassifyPoint).
+int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  real bestD = REAL_MAX;
+  int bestSeg = -1, bestLoop = -1;
+  real bestT = 0;
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      __global const real* c = m->trim + 8 * s;
+      if (!(seg_length(c) > (real)0))
+        continue;
+      real dd;
+      const real t = project_segment(c, P, &dd);
+      if (dd < bestD)
+      {
+        bestD = dd;
+        bestSeg = s;
+        bestT = t;
+        bestLoop = l;
+      }
+    }
+  }
+  *segOut = bestSeg;
+  *paramOut = bestT;
+  *distOut = bestD;
+  if (bestSeg < 0)
+    return 0;
+  __global const real* c = m->trim + 8 * bestSeg;
+  real2 d1, d2;
+  const real2 q = P - seg_point(c, bestT, &d1, &d2);
+  const real endEps = (real)1e-9;
+  if (bestT > endEps && bestT < (real)1 - endEps)
+    return cross2(seg_tangent(c, bestT), q) > (real)0;
+  const int first = m->loops[2 * bestLoop], count = m->loops[2 * bestLoop + 1];
+  const int dir = bestT <= endEps ? -1 : 1;
+  int idx = bestSeg - first, other = bestSeg;
+  for (int k = 0; k < count; ++k)
+  {
+    idx = (idx + dir + count) % count;
+    if (seg_length(m->trim + 8 * (first + idx)) > (real)0)
+    {
+      other = first + idx;
+      break;
+    }
+  }
+  real2 ta, tb;
+  if (dir < 0)
+  {
+    ta = seg_tangent(m->trim + 8 * other, (real)1);
+    tb = seg_tangent(c, (real)0);
+  }
+  else
+  {
+    ta = seg_tangent(c, (real)1);
+    tb = seg_tangent(m->trim + 8 * other, (real)0);
+  }
+  const real sa = cross2(ta, q), sb = cross2(tb, q);
+  if ((sa > (real)0) == (sb > (real)0))
+    return sa > (real)0;
+  return cross2(ta, tb) < (real)0; // corner rule
+}
+
+// --- linear algebra -------------------------------------------------------------------------
+inline real det3(const real J[3][3])
+{
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+    J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+    J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+int solve3(const real J[3][3], const real r[3], real x[3])
+{
+  const real det = det3(J);
+  real bound = 1;
+  for (int j = 0; j < 3; ++j)
+    bound *= sqrt(J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j]);
+#ifdef BRT_DOUBLE
+  const real rel = (real)1e-14;
+#else
+  const real rel = (real)1e-6;
+#endif
+  if (!(fabs(det) > rel * bound) || !(bound > (real)0))
+    return 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    real A[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        A[i][j] = j == c ? r[i] : J[i][j];
+    x[c] = det3(A) / det;
+  }
+  return 1;
+}
+
+int damped3(const real J[3][3], const real r[3], real x[3])
+{
+  real A[3][3], b[3], trace = 0;
+  for (int i = 0; i < 3; ++i)
+  {
+    b[i] = 0;
+    for (int j = 0; j < 3; ++j)
+    {
+      A[i][j] = 0;
+      for (int k = 0; k < 3; ++k)
+        A[i][j] += J[k][i] * J[k][j];
+    }
+    for (int k = 0; k < 3; ++k)
+      b[i] += J[k][i] * r[k];
+    trace += A[i][i];
+  }
+  if (!(trace > (real)0))
+    return 0;
+  for (int i = 0; i < 3; ++i)
+    A[i][i] += (real)1e-9 * trace;
+  return solve3(A, b, x);
+}
+
+inline real residual3(const PatchEval* e, const real R[3])
+{
+  const real lu = length(e->Du), lv = length(e->Dv);
+  const real a = lu > (real)0 ? R[0] / lu : (real)0, b = lv > (real)0 ? R[1] / lv : (real)0;
+  return sqrt(a * a + b * b + R[2] * R[2]);
+}
+
+// Point, first and second derivative of an edge at edge parameter T.
+// C is returned relative to the sample O (C - O).
+void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C, real3* Ct,
+  real3* Ctt)
+{
+  const int first = m->edgeInfo[2 * edge], count = m->edgeInfo[2 * edge + 1];
+  int s = first;
+  while (s < first + count - 1 && T > m->edgeSegRange[2 * s + 1])
+    ++s;
+  const real T0 = m->edgeSegRange[2 * s], span = m->edgeSegRange[2 * s + 1] - T0;
+  real B[4], D[4], DD[4];
+  bernstein((T - T0) / span, B, D, DD);
+  __global const real* c = m->edgeSeg + 12 * s;
+  real3 p = (real3)(0), a = (real3)(0), b = (real3)(0);
+  for (int i = 0; i < 4; ++i)
+  {
+    const real3 q = (real3)(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    p += B[i] * q;
+    a += D[i] * q;
+    b += DD[i] * q;
+  }
+  *C = anchor_minus(m->edgeAnchor + 6 * s, Ohi, Olo) + p;
+  *Ct = a / span;
+  *Ctt = b / (span * span);
+}
+
+// --- the kernel -----------------------------------------------------------------------------
+__kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
+  __global const real* patchDomain,
+  __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
+  __global const int* loops, __global const real* trim, __global const int* trimEdge,
+  __global const real* trimRange, __global const int* edgeInfo, __global const real* edgeRange,
+  __global const real* edgeSeg, __global const real* edgeAnchor,
+  __global const real* edgeSegRange, __global const real* s1Point, __global const int* s1Face, __global const real* s1UV,
+  __global const real* nodeBox, __global const int* nodeInfo,
+  __global const real* samples, // O hi (3), O lo (3), d (3) per sample
+  const int count, const real scale, const real stepTol, const real newtonTol,
+  const int maxIterations, const int maxEdgeIterations,
+  __global real* outReal, // t, foot - O (3), residual per sample
+  __global int* outInt)   // type, reason, face, patch, edge, iterations per sample
+{
+  const int gid = get_global_id(0);
+  if (gid >= count)
+    return;
+  Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
+    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange };
+  const Model* m = &mm;
+  __global const real* sp = samples + 9 * gid;
+  const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
+  const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
+  const real3 d = (real3)(sp[6], sp[7], sp[8]);
+  __global real* oR = outReal + 5 * gid;
+  __global int* oI = outInt + 6 * gid;
+  int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
+  int iterations = 0;
+  real t = REAL_MAX, res = 0;
+  real3 foot = (real3)(0);
+
+  // --- initialisation (eq. 1) over the BVH, pruning nodes farther than t from M ------------
+  int best = -1;
+  {
+    // Candidates closer to O than this are O itself within rounding (same as the reference's
+    // 1e-9 * scale in double; float rounding needs more room).
+#ifdef BRT_DOUBLE
+    const real minDist = (real)1e-9 * scale;
+#else
+    const real minDist = (real)1e-5 * scale;
+#endif
+    int stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      __global const real* bx = nodeBox + 6 * n;
+      const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
+      if (best >= 0)
+      {
+        const real3 M = O + t * d;
+        const real3 e = fmax(fmax(lo - M, (real3)(0)), M - hi);
+        if (dot(e, e) >= t * t)
+          continue;
+      }
+      const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
+      if (cnt > 0)
+      {
+        for (int i = first; i < first + cnt; ++i)
+        {
+          const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
+          const real dn = dot(d, w), l2 = dot(w, w);
+          if (dn <= (real)1e-6 * sqrt(l2) || l2 <= minDist * minDist)
+            continue;
+          const real tt = (real)0.5 * l2 / dn;
+          if (tt < t)
+          {
+            t = tt;
+            best = i;
+          }
+        }
+        continue;
+      }
+      const int left = n + 1, right = nodeInfo[3 * n + 2];
+      const real3 ref = best >= 0 ? O + t * d : O;
+      __global const real* lb = nodeBox + 6 * left;
+      __global const real* rb = nodeBox + 6 * right;
+      const real3 el = fmax(fmax((real3)(lb[0], lb[1], lb[2]) - ref, (real3)(0)), ref - (real3)(lb[3], lb[4], lb[5]));
+      const real3 er = fmax(fmax((real3)(rb[0], rb[1], rb[2]) - ref, (real3)(0)), ref - (real3)(rb[3], rb[4], rb[5]));
+      const int leftFirst = dot(el, el) <= dot(er, er);
+      if (top + 2 > 64)
+        continue;
+      stack[top++] = leftFirst ? right : left;
+      stack[top++] = leftFirst ? left : right;
+    }
+  }
+  if (best < 0)
+  {
+    reason = FAIL_NO_OPPOSITE;
+    goto done;
+  }
+
+  // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
+  {
+    const int face = s1Face[best];
+    __global const real* fd = faceDomain + FACE_REALS * face;
+    real u = s1UV[2 * best], v = s1UV[2 * best + 1];
+    int patch = find_patch(m, face, u, v);
+    PatchEval e = eval_patch(m, patch, u, v);
+    e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo); // now S - O
+    real3 w = e.P - t * d;
+    real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - length(w) };
+    res = residual3(&e, R);
+    int clamped = 0, capped = 1;
+    for (int it = 0; it < maxIterations; ++it)
+    {
+      ++iterations;
+      const real L = length(w);
+      if (L <= (real)0 || res < (real)1e-2 * stepTol)
+      {
+        capped = 0;
+        break;
+      }
+      const real J[3][3] = { { dot(e.Du, e.Du) + dot(e.Duu, w), dot(e.Du, e.Dv) + dot(e.Duv, w), -dot(e.Du, d) },
+        { dot(e.Dv, e.Du) + dot(e.Duv, w), dot(e.Dv, e.Dv) + dot(e.Dvv, w), -dot(e.Dv, d) },
+        { -dot(w, e.Du) / L, -dot(w, e.Dv) / L, (real)1 + dot(w, d) / L } };
+      const real mr[3] = { -R[0], -R[1], -R[2] };
+      real x[3];
+      if (!solve3(J, mr, x) && !damped3(J, mr, x))
+      {
+        reason = FAIL_SINGULAR;
+        capped = 0;
+        break;
+      }
+      const real move = length(x[0] * e.Du + x[1] * e.Dv);
+      const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
+      real f = 1;
+      if (move > limit)
+        f = limit / move;
+      if (fabs(x[2]) * f > limit)
+        f = limit / fabs(x[2]);
+      const real u0 = u, v0 = v, t0 = t, res0 = res;
+      for (int k = 0; k <= 6; ++k, f *= (real)0.5)
+      {
+        real un = u0 + f * x[0], vn = v0 + f * x[1];
+        if (fd[4] > (real)0) // across a seam of a closed face the parameter wraps
+          un = fd[0] + (un - fd[0]) - fd[4] * floor((un - fd[0]) / fd[4]);
+        if (fd[5] > (real)0)
+          vn = fd[2] + (vn - fd[2]) - fd[5] * floor((vn - fd[2]) / fd[5]);
+        u = clamp(un, fd[0], fd[1]);
+        v = clamp(vn, fd[2], fd[3]);
+        clamped = u != un || v != vn;
+        t = t0 + f * x[2];
+        patch = find_patch(m, face, u, v);
+        e = eval_patch(m, patch, u, v);
+        e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
+        w = e.P - t * d;
+        R[0] = dot(e.Du, w);
+        R[1] = dot(e.Dv, w);
+        R[2] = t - length(w);
+        res = residual3(&e, R);
+        if (res < res0)
+          break;
+      }
+      if (move + fabs(x[2]) < stepTol && !clamped && res <= newtonTol)
+      {
+        capped = 0;
+        break;
+      }
+    }
+    oppFace = face;
+    if (reason == FAIL_SINGULAR)
+      goto done;
+    if (!(t > (real)0) || !(t < scale)) // no inscribed sphere is larger than the model
+    {
+      reason = FAIL_LEFT_MODEL;
+      goto done;
+    }
+    int seg;
+    real param, trimDist;
+    const int inside = classify(m, face, (real2)(u, v), &seg, &param, &trimDist);
+    const int converged = res <= newtonTol && (!capped || res <= (real)1e-2 * newtonTol);
+    if ((inside || trimDist <= fd[6]) && (!clamped || converged))
+    {
+      if (!converged)
+      {
+        reason = FAIL_NOT_CONVERGED;
+        goto done;
+      }
+      type = CONTACT_SURFACE_SURFACE;
+      oppPatch = patch;
+      foot = e.P;
+      goto done;
+    }
+
+    // --- surface/edge Newton (eq. 7) --------------------------------------------------------
+    if (seg < 0 || trimEdge[seg] < 0 || edgeInfo[2 * trimEdge[seg] + 1] == 0)
+    {
+      reason = FAIL_NO_EDGE;
+      goto done;
+    }
+    const int edge = trimEdge[seg];
+    real T = trimRange[2 * seg] + param * (trimRange[2 * seg + 1] - trimRange[2 * seg]);
+    const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
+    const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
+    int atEnd = 0;
+    real3 C, Ct, Ctt;
+    for (int it = 0; it < maxEdgeIterations; ++it)
+    {
+      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+      const real3 we = C - t * d;
+      const real L = length(we);
+      const real lt = length(Ct);
+      const real R0 = dot(Ct, we), R1 = t - L;
+      res = sqrt((lt > (real)0 ? (R0 / lt) * (R0 / lt) : (real)0) + R1 * R1);
+      ++iterations;
+      if (L <= (real)0)
+        break;
+      const real J00 = dot(Ct, Ct) + dot(Ctt, we), J01 = -dot(Ct, d);
+      const real J10 = -dot(we, Ct) / L, J11 = (real)1 + dot(we, d) / L;
+      const real det = J00 * J11 - J01 * J10;
+      if (!(fabs(det) > (real)0))
+      {
+        reason = FAIL_SINGULAR;
+        goto done;
+      }
+      const real dT = (-R0 * J11 + R1 * J01) / det;
+      const real dt = (-R1 * J00 + R0 * J10) / det;
+      const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
+      real f = 1;
+      if (fabs(dT) * lt > limit)
+        f = limit / (fabs(dT) * lt);
+      if (fabs(dt) * f > limit)
+        f = limit / fabs(dt);
+      T += f * dT;
+      t += f * dt;
+      const real Tc = clamp(T, Tlo, Thi);
+      if (Tc != T)
+      {
+        T = Tc;
+        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+        const real3 wv = C;
+        const real dn = dot(d, wv);
+        if (dn <= (real)0)
+        {
+          reason = FAIL_LEFT_MODEL;
+          goto done;
+        }
+        t = (real)0.5 * dot(wv, wv) / dn;
+        res = fabs(t - length(C - t * d));
+        atEnd = 1;
+        break;
+      }
+      if (fabs(dT) * lt + fabs(dt) < stepTol && res <= newtonTol)
+      {
+        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+        const real3 w2 = C - t * d;
+        const real l2 = length(Ct);
+        const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - length(w2);
+        res = sqrt(a * a + b * b);
+        break;
+      }
+    }
+    oppEdge = edge;
+    if (!(t > (real)0) || !(t < scale)) // no inscribed sphere is larger than the model
+    {
+      reason = FAIL_LEFT_MODEL;
+      goto done;
+    }
+    if (res > newtonTol)
+    {
+      reason = FAIL_EDGE_NOT_CONVERGED;
+      goto done;
+    }
+    type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+    foot = C;
+  }
+
+done:
+  oR[0] = t;
+  oR[1] = foot.x;
+  oR[2] = foot.y;
+  oR[3] = foot.z;
+  oR[4] = res;
+  oI[0] = type;
+  oI[1] = reason;
+  oI[2] = oppFace;
+  oI[3] = oppPatch;
+  oI[4] = oppEdge;
+  oI[5] = iterations;
+}
