@@ -1,14 +1,22 @@
 // Benchmark of the maximal-sphere solver (a program that prints figures, not a test).
-//   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--counts N1,N2,...] FILE.step...
+//   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--no-reference]
+//                       [--counts N1,N2,...] [--export DIR] FILE.step|FILE.brtsolve ...
 // For each model and sample count: samples/s of the CPU reference and of the OpenCL kernels,
-// failed share, peak host memory and the kernels' device memory, as a table.
+// failed share, peak host memory and the kernels' device memory, as a table. --export writes
+// each prepared model as DIR/<name>.brtsolve; the solver-only build (BRT_SOLVER_ONLY, no
+// OpenCASCADE) reads those, e.g. on a GPU machine.
+#ifdef BRT_HAVE_OCCT
 #include "BRepConverter.h"
+#endif
 #include "Solver.h"
+#include "SolverIO.h"
 #ifdef BRT_HAVE_OPENCL
 #include "OpenCLSolver.h"
 #endif
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -45,7 +53,7 @@ int main(int argc, char** argv)
 {
   std::vector<size_t> counts{ 1000, 10000, 100000 };
   std::vector<std::string> files;
-  std::string device = "any";
+  std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
   bool reference = true;
   for (int i = 1; i < argc; ++i)
@@ -54,6 +62,8 @@ int main(int argc, char** argv)
       device = argv[++i];
     else if (!std::strcmp(argv[i], "--double"))
       useDouble = true;
+    else if (!std::strcmp(argv[i], "--export") && i + 1 < argc)
+      exportDir = argv[++i];
     else if (!std::strcmp(argv[i], "--no-reference"))
       reference = false;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
@@ -90,29 +100,48 @@ int main(int argc, char** argv)
     }
   }
 #endif
-  std::printf("%-32s %8s %8s %8s %12s %8s %12s %8s %9s %9s\n", "model", "samples", "s1",
-    "patches", "ref_samp/s", "ref_fail", "cl_samp/s", "cl_fail", "host_MiB", "dev_MiB");
+  std::printf("%-32s %8s %8s %8s %12s %8s %12s %8s %8s %9s %9s\n", "model", "samples", "s1",
+    "patches", "ref_samp/s", "ref_fail", "cl_samp/s", "cl_fail", "agree", "host_MiB", "dev_MiB");
   for (const auto& file : files)
   {
     brt::BRepModel model;
+    brt::SolverOptions options;
+    brt::SolverData data;
+    std::vector<brt::Sample> all;
     try
     {
-      model = brt::ConvertStepFile(file, brt::ConversionOptions());
+      if (file.size() > 9 && file.compare(file.size() - 9, 9, ".brtsolve") == 0)
+        brt::ReadSolve(file, model, data, all);
+      else
+      {
+#ifdef BRT_HAVE_OCCT
+        model = brt::ConvertStepFile(file, brt::ConversionOptions());
+        data = brt::PrepareSolver(model, options);
+        all = brt::SamplesFromMesh(model, data);
+#else
+        throw std::runtime_error(file + ": this build reads only .brtsolve files (no OpenCASCADE)");
+#endif
+      }
     }
     catch (const std::exception& e)
     {
       std::fprintf(stderr, "%s\n", e.what());
       continue;
     }
-    brt::SolverOptions options;
-    const brt::SolverData data = brt::PrepareSolver(model, options);
-    const std::vector<brt::Sample> all = brt::SamplesFromMesh(model, data);
+    if (!exportDir.empty())
+    {
+      std::string base = file.substr(file.find_last_of('/') + 1);
+      base = base.substr(0, base.find_last_of('.'));
+      brt::WriteSolve(exportDir + "/" + base + ".brtsolve", model, data, all);
+    }
     const char* name = std::strrchr(file.c_str(), '/') ? std::strrchr(file.c_str(), '/') + 1 : file.c_str();
     for (size_t n : counts)
     {
+      if (n == 0)
+        n = all.size(); // 0: every mesh sample once
       const std::vector<brt::Sample> samples = Take(all, n);
       std::vector<brt::SampleResult> results;
-      double refRate = 0.0, refFail = 0.0, clRate = 0.0, clFail = 0.0, devMiB = 0.0;
+      double refRate = 0.0, refFail = 0.0, clRate = 0.0, clFail = 0.0, devMiB = 0.0, agree = -1.0;
       if (reference)
       {
         const auto t0 = std::chrono::steady_clock::now();
@@ -153,10 +182,27 @@ int main(int argc, char** argv)
             if (reasons[k])
               std::printf("  OpenCL %s: %d\n", brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
         devMiB = cl->DeviceBytes() / (1024.0 * 1024.0);
+        if (!results.empty())
+        {
+          // Same criterion as Testing/Core/TestOpenCL.cxx: same contact type and
+          // |delta 2t| <= 1e-4 * max(2t_ref, 1e-3 * model size).
+          size_t same = 0;
+          for (size_t i = 0; i < n; ++i)
+          {
+            const auto& a = results[i];
+            const auto& b = clResults[i];
+            const bool bothFailed = a.Type == brt::ContactType::Failed && b.Type == a.Type;
+            const double err = std::fabs(a.Thickness - b.Thickness) /
+              std::max(a.Thickness, 1e-3 * data.Scale);
+            same += bothFailed || (a.Type == b.Type && err <= 1e-4);
+          }
+          agree = 100.0 * same / n;
+        }
       }
 #endif
-      std::printf("%-32s %8zu %8zu %8d %12.0f %7.3f%% %12.0f %7.3f%% %9.1f %9.1f\n", name, n,
-        data.S1.size(), model.Stats.Patches, refRate, refFail, clRate, clFail, PeakRSSMiB(), devMiB);
+      std::printf("%-32s %8zu %8zu %8d %12.0f %7.3f%% %12.0f %7.3f%% %7.2f%% %9.1f %9.1f\n", name,
+        n, data.S1.size(), model.Stats.Patches, refRate, refFail, clRate, clFail, agree,
+        PeakRSSMiB(), devMiB);
       std::fflush(stdout);
     }
   }

@@ -1,0 +1,91 @@
+#include "SolverIO.h"
+
+#include <cstdint>
+#include <fstream>
+#include <stdexcept>
+#include <type_traits>
+
+namespace brt
+{
+namespace
+{
+constexpr std::uint64_t Magic = 0x31564C4F53545242ull; // "BRTSOLV1"
+
+template <class T>
+void Put(std::ofstream& out, const std::vector<T>& v)
+{
+  static_assert(std::is_trivially_copyable<T>::value, "raw dump needs trivially copyable items");
+  const std::uint64_t n = v.size();
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
+}
+
+template <class T>
+void Get(std::ifstream& in, std::vector<T>& v)
+{
+  std::uint64_t n = 0;
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!in || n > (std::uint64_t(1) << 34) / sizeof(T))
+    throw std::runtime_error("corrupt solve file");
+  v.resize(n);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
+}
+} // namespace
+
+void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d,
+  const std::vector<Sample>& samples)
+{
+  std::ofstream out(path, std::ios::binary);
+  if (!out)
+    throw std::runtime_error("cannot write '" + path + "'");
+  out.write(reinterpret_cast<const char*>(&Magic), sizeof Magic);
+  Put(out, m.Faces);
+  Put(out, m.Patches);
+  Put(out, m.Loops);
+  Put(out, m.TrimSegments);
+  Put(out, m.Edges);
+  Put(out, m.EdgeSegments);
+  Put(out, d.S1);
+  Put(out, d.Nodes);
+  Put(out, d.Breaks);
+  Put(out, d.FaceBreaks);
+  Put(out, samples);
+  const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2] };
+  Put(out, scalars);
+}
+
+void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector<Sample>& samples)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t magic = 0;
+  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+  if (!in || magic != Magic)
+    throw std::runtime_error("'" + path + "' is not a BRepThickness solve file");
+  try
+  {
+    Get(in, m.Faces);
+    Get(in, m.Patches);
+    Get(in, m.Loops);
+    Get(in, m.TrimSegments);
+    Get(in, m.Edges);
+    Get(in, m.EdgeSegments);
+    Get(in, d.S1);
+    Get(in, d.Nodes);
+    Get(in, d.Breaks);
+    Get(in, d.FaceBreaks);
+    Get(in, samples);
+    std::vector<double> scalars;
+    Get(in, scalars);
+    if (scalars.size() != 4)
+      throw std::runtime_error("corrupt solve file");
+    d.Scale = scalars[0];
+    d.Centre = { scalars[1], scalars[2], scalars[3] };
+  }
+  catch (const std::runtime_error& e)
+  {
+    throw std::runtime_error("'" + path + "': " + e.what());
+  }
+  m.Stats.Faces = static_cast<int>(m.Faces.size());
+  m.Stats.Patches = static_cast<int>(m.Patches.size());
+}
+} // namespace brt
