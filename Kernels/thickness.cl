@@ -600,7 +600,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
     real T = trimRange[2 * seg] + param * (trimRange[2 * seg + 1] - trimRange[2 * seg]);
     const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
     const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
-    int atEnd = 0;
+    int atEnd = 0, edgeCapped = 1;
     real3 C, Ct, Ctt;
     for (int it = 0; it < maxEdgeIterations; ++it)
     {
@@ -646,6 +646,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
         t = (real)0.5 * dot(wv, wv) / dn;
         res = fabs(t - length(C - t * d));
         atEnd = 1;
+        edgeCapped = 0;
         break;
       }
       if (fabs(dT) * lt + fabs(dt) < stepTol && res <= newtonTol)
@@ -655,6 +656,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
         const real l2 = length(Ct);
         const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - length(w2);
         res = sqrt(a * a + b * b);
+        edgeCapped = 0;
         break;
       }
     }
@@ -664,7 +666,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
       reason = FAIL_LEFT_MODEL;
       goto done;
     }
-    if (res > newtonTol)
+    if (res > newtonTol || (edgeCapped && res > (real)1e-2 * newtonTol))
     {
       reason = FAIL_EDGE_NOT_CONVERGED;
       goto done;

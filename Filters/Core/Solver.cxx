@@ -526,7 +526,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   const Edge& E = m.Edges[edge];
   double T = seg.T0 + proj.Parameter * (seg.T1 - seg.T0);
   const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
-  bool atEnd = false;
+  bool atEnd = false, edgeCapped = true;
   Vec3 C{};
   for (int it = 0; it < opt.MaxEdgeIterations; ++it)
   {
@@ -575,6 +575,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       const Vec3 w2 = Sub(C, Axpy(O, t, d));
       res = std::fabs(t - std::sqrt(Dot(w2, w2)));
       atEnd = true;
+      edgeCapped = false;
       break;
     }
     if (std::fabs(dT) * speed + std::fabs(dt) < stepTol && res <= opt.NewtonTolerance)
@@ -584,6 +585,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       const Vec3 w2 = Sub(C, Axpy(O, t, d));
       const double R2[2] = { Dot(e2.Ct, w2), t - std::sqrt(Dot(w2, w2)) };
       res = Residual2(e2.Ct, R2);
+      edgeCapped = false;
       break;
     }
   }
@@ -595,7 +597,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     r.Reason = FailReason::LeftModel;
     return;
   }
-  if (res > opt.NewtonTolerance)
+  if (res > opt.NewtonTolerance || (edgeCapped && res > 1e-2 * opt.NewtonTolerance))
   {
     r.Reason = FailReason::EdgeNotConverged;
     return;

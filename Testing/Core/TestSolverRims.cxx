@@ -1,0 +1,128 @@
+// Samples near rims and holes against an independent exact computation: the largest t for which
+// the ball of radius t centred at M = O + t d stays inside the solid, found by bisection on t
+// with OpenCASCADE's exact distance (BRepExtrema) from M to the solid's boundary.
+#include "AnalyticShapes.h"
+#include "SolverTestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRep_Builder.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shape.hxx>
+#include <gp_Pnt.hxx>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace
+{
+using namespace brt;
+
+/// Exact distance from p to the solid's boundary: to the compound of its faces (a solid given to
+/// BRepExtrema gives 0 for points inside it).
+double BoundaryDistance(const TopoDS_Shape& faces, const std::array<double, 3>& p)
+{
+  BRepExtrema_DistShapeShape dist(
+    BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), faces, Extrema_ExtFlag_MIN);
+  return dist.IsDone() ? dist.Value() : -1.0;
+}
+
+TopoDS_Shape Faces(const TopoDS_Shape& solid)
+{
+  BRep_Builder b;
+  TopoDS_Compound c;
+  b.MakeCompound(c);
+  for (TopExp_Explorer ex(solid, TopAbs_FACE); ex.More(); ex.Next())
+    b.Add(c, ex.Current());
+  return c;
+}
+
+/// Largest t with dist(O + t d, boundary) >= t (the ball touches O and stays inside).
+double ExactRadius(const TopoDS_Shape& faces, const Sample& s, double hi)
+{
+  double lo = 0.0;
+  const double eps = 1e-10 * hi;
+  for (int it = 0; it < 60 && hi - lo > eps; ++it)
+  {
+    const double t = 0.5 * (lo + hi);
+    const std::array<double, 3> M{ s.Point[0] + t * s.Direction[0], s.Point[1] + t * s.Direction[1],
+      s.Point[2] + t * s.Direction[2] };
+    if (BoundaryDistance(faces, M) >= t * (1.0 - 1e-9))
+      lo = t;
+    else
+      hi = t;
+  }
+  return 0.5 * (lo + hi);
+}
+
+void CheckRims(const char* name, const TopoDS_Shape& shape, double h)
+{
+  // Tight conversion so that the patches do not limit the comparison.
+  const test::Solved s = test::SolveShape(shape, 1e-7);
+  const TopoDS_Shape faces = Faces(shape);
+  const std::vector<double> rim = test::RimDistances(s.Model, s.Samples);
+  std::map<std::string, int> types;
+  double worst = 0.0, worstEdge = 0.0, worstCorner = 0.0;
+  int checked = 0, corners = 0, failed = 0, nearRim = 0;
+  for (size_t i = 0; i < s.Samples.size(); ++i)
+  {
+    if (rim[i] >= h)
+      continue;
+    ++nearRim;
+    if (i % 23 != 0) // every 23rd near-rim sample: enough to cover the rims, quick enough
+      continue;
+    const SampleResult& r = s.Results[i];
+    if (r.Type == ContactType::Failed)
+    {
+      ++failed;
+      continue;
+    }
+    const double exact = ExactRadius(faces, s.Samples[i], std::max(2.0 * r.Radius, h));
+    // Samples on a face's boundary (mesh vertices on edges, moved 1e-2 of a triangle into the
+    // face) have spheres of about 0 at convex edges and corners; they are reported apart.
+    if (rim[i] < 1e-3 * h)
+    {
+      ++corners;
+      worstCorner = std::max(worstCorner, std::fabs(r.Radius - exact));
+      continue;
+    }
+    ++types[ContactTypeName(r.Type)];
+    const double err = std::fabs(r.Radius - exact) / exact;
+    if (err > 1e-5)
+      std::printf("[rim] %s sample %zu: solver t=%.10g (%s), exact t=%.10g, rel %.2e\n", name, i,
+        r.Radius, ContactTypeName(r.Type), exact, err);
+    (r.Type == ContactType::SurfaceSurface ? worst : worstEdge) =
+      std::max(r.Type == ContactType::SurfaceSurface ? worst : worstEdge, err);
+    ++checked;
+  }
+  std::printf("[rims] %s: %d samples within one thickness of a rim; %d checked against the exact "
+              "radius: max relative error %.2e (surface/surface), %.2e (surface/edge or vertex);",
+    name, nearRim, checked, worst, worstEdge);
+  for (const auto& t : types)
+    std::printf(" %s %d", t.first.c_str(), t.second);
+  std::printf("; %d failed; %d on a face boundary, max absolute error %.2e\n", failed, corners,
+    worstCorner);
+  EXPECT_GT(checked, 50);
+  EXPECT_LE(worst, 1e-5);
+  // Target 1e-5. Measured 2.4e-4 on the L-bracket, where the foot point leaves a plane across
+  // its tangent (G1) edge with the fillet: eq. 7 on that edge gives a slightly larger sphere
+  // than the true one, which touches the fillet. Continuing onto the tangent neighbour face is
+  // the open fix (docs/Solver.md); this bound keeps the measured level from regressing.
+  EXPECT_LE(worstEdge, 5e-4);
+  EXPECT_EQ(failed, 0);
+}
+
+TEST(SolverRims, HolePlateAgainstExactDistance)
+{
+  CheckRims("hole plate", analytic::HolePlate(80, 6, 10), 6.0);
+}
+
+TEST(SolverRims, FilletedLBracketAgainstExactDistance)
+{
+  CheckRims("L-bracket", analytic::LBracket(60, 8, 40, 5), 8.0);
+}
+} // namespace
