@@ -206,7 +206,7 @@ struct OpenCLSolver::Impl
   // Model buffers, in the kernel's argument order (0..19), then the chunk buffers.
   static constexpr int ModelBuffers = 20;
   Buffer Model[ModelBuffers];
-  Buffer Samples, OutReal, OutInt;
+  Buffer Samples, SampleFace, OutReal, OutInt;
 
   template <class T>
   void UploadAs(const BRepModel& m, const SolverData& data);
@@ -283,7 +283,7 @@ bool OpenCLSolver::DoublePrecision() const
 
 size_t OpenCLSolver::DeviceBytes() const
 {
-  size_t n = P->Samples.Bytes + P->OutReal.Bytes + P->OutInt.Bytes;
+  size_t n = P->Samples.Bytes + P->SampleFace.Bytes + P->OutReal.Bytes + P->OutInt.Bytes;
   for (const auto& b : P->Model)
     n += b.Bytes;
   return n;
@@ -309,7 +309,8 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   {
     const Face& F = m.Faces[f];
     faceInfo.insert(faceInfo.end(),
-      { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount });
+      { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
+        F.Reversed ? 1 : 0, F.Solid });
     faceDomain.insert(faceDomain.end(), F.Domain.begin(), F.Domain.end());
     faceDomain.insert(faceDomain.end(), { static_cast<T>(F.Period[0]), static_cast<T>(F.Period[1]),
       static_cast<T>(F.UVTolerance) });
@@ -324,7 +325,7 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   }
   for (const auto& e : m.Edges)
   {
-    edgeInfo.insert(edgeInfo.end(), { e.FirstSegment, e.SegmentCount });
+    edgeInfo.insert(edgeInfo.end(), { e.FirstSegment, e.SegmentCount, e.Faces[0], e.Faces[1] });
     edgeRange.insert(edgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1) });
   }
   for (const auto& s : m.EdgeSegments)
@@ -389,7 +390,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
-  const size_t perSample = 14 * sizeof(T) + 6 * sizeof(int);
+  const size_t perSample = 14 * sizeof(T) + 7 * sizeof(int);
   if (chunk == 0)
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
   chunk = std::min(chunk, samples.size());
@@ -397,6 +398,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
   cl_command_queue q = RT->Queue;
   cl_kernel k = RT->Kernel;
   Samples.Allocate(ctx, chunk * 9 * sizeof(T), CL_MEM_READ_ONLY);
+  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
   OutReal.Allocate(ctx, chunk * 5 * sizeof(T), CL_MEM_WRITE_ONLY);
   OutInt.Allocate(ctx, chunk * 6 * sizeof(int), CL_MEM_WRITE_ONLY);
   const auto& c = data.Centre;
@@ -405,7 +407,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
   const T newtonTol = static_cast<T>(options.NewtonTolerance);
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
   std::vector<T> in(chunk * 9), outR(chunk * 5);
-  std::vector<int> outI(chunk * 6);
+  std::vector<int> outI(chunk * 6), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
   for (cl_uint a = 0; a < ModelBuffers; ++a)
@@ -423,19 +425,23 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
         in[9 * i + 3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
         in[9 * i + 6 + j] = static_cast<T>(s.Direction[j]);
       }
+      faces[i] = s.Face;
     }
+    Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
+      "clEnqueueWriteBuffer");
     Check(clEnqueueWriteBuffer(q, Samples.Mem, CL_FALSE, 0, n * 9 * sizeof(T), in.data(), 0, nullptr, nullptr),
       "clEnqueueWriteBuffer");
     const cl_int count = static_cast<cl_int>(n);
     Check(clSetKernelArg(k, 20, sizeof(cl_mem), &Samples.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 21, sizeof(cl_int), &count), "clSetKernelArg");
-    Check(clSetKernelArg(k, 22, sizeof(T), &scale), "clSetKernelArg");
-    Check(clSetKernelArg(k, 23, sizeof(T), &stepTol), "clSetKernelArg");
-    Check(clSetKernelArg(k, 24, sizeof(T), &newtonTol), "clSetKernelArg");
-    Check(clSetKernelArg(k, 25, sizeof(cl_int), &maxIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 26, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 27, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 28, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 21, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 22, sizeof(cl_int), &count), "clSetKernelArg");
+    Check(clSetKernelArg(k, 23, sizeof(T), &scale), "clSetKernelArg");
+    Check(clSetKernelArg(k, 24, sizeof(T), &stepTol), "clSetKernelArg");
+    Check(clSetKernelArg(k, 25, sizeof(T), &newtonTol), "clSetKernelArg");
+    Check(clSetKernelArg(k, 26, sizeof(cl_int), &maxIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 27, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 28, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 29, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),

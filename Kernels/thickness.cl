@@ -31,8 +31,8 @@ typedef float3 real3;
 #define FAIL_LEFT_MODEL 6
 
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
-// grid breakpoints, first loop, loop count.
-#define FACE_INTS 6
+// grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid.
+#define FACE_INTS 8
 #define FACE_REALS 7
 
 typedef struct
@@ -53,7 +53,7 @@ typedef struct
   __global const real* trim;        // 8 per trimming segment
   __global const int* trimEdge;     // edge per trimming segment (-1: degenerated)
   __global const real* trimRange;   // T0, T1 per trimming segment
-  __global const int* edgeInfo;     // first segment, count per edge
+  __global const int* edgeInfo;     // first segment, count, face 0, face 1 per edge
   __global const real* edgeRange;   // T0, T1 per edge
   __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
   __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
@@ -382,7 +382,7 @@ inline real residual3(const PatchEval* e, const real R[3])
 void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C, real3* Ct,
   real3* Ctt)
 {
-  const int first = m->edgeInfo[2 * edge], count = m->edgeInfo[2 * edge + 1];
+  const int first = m->edgeInfo[4 * edge], count = m->edgeInfo[4 * edge + 1];
   int s = first;
   while (s < first + count - 1 && T > m->edgeSegRange[2 * s + 1])
     ++s;
@@ -403,7 +403,391 @@ void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C,
   *Ctt = b / (span * span);
 }
 
+// --- surface/surface Newton (eq. 4) ------------------------------------------------------
+typedef struct
+{
+  real u, v, t, res, param, trimDist;
+  int patch, singular, clamped, capped, inside, seg;
+  int inward; // the sphere is on the material side of the face at the foot point
+  real3 foot; // S - O
+} SurfaceSolve;
+
+inline int ss_converged(const SurfaceSolve* s, real newtonTol)
+{
+  // A run that hit the iteration cap with |R| just under the tolerance is not trusted.
+  return s->res <= newtonTol && (!s->capped || s->res <= (real)1e-2 * newtonTol);
+}
+
+inline int ss_on_face(const SurfaceSolve* s, __global const real* fd, real newtonTol)
+{
+  return (s->inside || s->trimDist <= fd[6]) && (!s->clamped || ss_converged(s, newtonTol));
+}
+
+// Newton on (u, v, t) on `face`, with trust region and backtracking, then the trim test.
+SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
+  real v, real t, real scale, real stepTol, real newtonTol, int maxIterations, int* iterations)
+{
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  SurfaceSolve out;
+  out.singular = 0;
+  int patch = find_patch(m, face, u, v);
+  PatchEval e = eval_patch(m, patch, u, v);
+  e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo); // now S - O
+  real3 w = e.P - t * d;
+  real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - length(w) };
+  real res = residual3(&e, R);
+  int clamped = 0, capped = 1;
+  for (int it = 0; it < maxIterations; ++it)
+  {
+    ++*iterations;
+    const real L = length(w);
+    if (L <= (real)0 || res < (real)1e-2 * stepTol)
+    {
+      capped = 0;
+      break;
+    }
+    const real J[3][3] = { { dot(e.Du, e.Du) + dot(e.Duu, w), dot(e.Du, e.Dv) + dot(e.Duv, w), -dot(e.Du, d) },
+      { dot(e.Dv, e.Du) + dot(e.Duv, w), dot(e.Dv, e.Dv) + dot(e.Dvv, w), -dot(e.Dv, d) },
+      { -dot(w, e.Du) / L, -dot(w, e.Dv) / L, (real)1 + dot(w, d) / L } };
+    const real mr[3] = { -R[0], -R[1], -R[2] };
+    real x[3];
+    if (!solve3(J, mr, x) && !damped3(J, mr, x))
+    {
+      out.singular = 1;
+      capped = 0;
+      break;
+    }
+    const real move = length(x[0] * e.Du + x[1] * e.Dv);
+    const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
+    real f = 1;
+    if (move > limit)
+      f = limit / move;
+    if (fabs(x[2]) * f > limit)
+      f = limit / fabs(x[2]);
+    const real u0 = u, v0 = v, t0 = t, res0 = res;
+    for (int k = 0; k <= 6; ++k, f *= (real)0.5)
+    {
+      real un = u0 + f * x[0], vn = v0 + f * x[1];
+      if (fd[4] > (real)0) // across a seam of a closed face the parameter wraps
+        un = fd[0] + (un - fd[0]) - fd[4] * floor((un - fd[0]) / fd[4]);
+      if (fd[5] > (real)0)
+        vn = fd[2] + (vn - fd[2]) - fd[5] * floor((vn - fd[2]) / fd[5]);
+      u = clamp(un, fd[0], fd[1]);
+      v = clamp(vn, fd[2], fd[3]);
+      clamped = u != un || v != vn;
+      t = t0 + f * x[2];
+      patch = find_patch(m, face, u, v);
+      e = eval_patch(m, patch, u, v);
+      e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
+      w = e.P - t * d;
+      R[0] = dot(e.Du, w);
+      R[1] = dot(e.Dv, w);
+      R[2] = t - length(w);
+      res = residual3(&e, R);
+      if (res < res0)
+        break;
+    }
+    if (move + fabs(x[2]) < stepTol && !clamped && res <= newtonTol)
+    {
+      capped = 0;
+      break;
+    }
+  }
+  out.u = u;
+  out.v = v;
+  out.t = t;
+  out.res = res;
+  out.patch = patch;
+  out.foot = e.P;
+  out.clamped = clamped;
+  out.capped = capped;
+  out.inside = classify(m, face, (real2)(u, v), &out.seg, &out.param, &out.trimDist);
+  const real side = -dot(w, cross(e.Du, e.Dv)) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
+  out.inward = !(side > (real)0);
+  return out;
+}
+
+// (u, v) on `face` of the point at edge parameter T of `edge`, from that face's trimming
+// segments on the edge; 0 if none covers T.
+int edge_point_on_face(const Model* m, int face, int edge, real T, real* u, real* v)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      const real T0 = m->trimRange[2 * s], T1 = m->trimRange[2 * s + 1];
+      const real lo = fmin(T0, T1), hi = fmax(T0, T1);
+      if (m->trimEdge[s] != edge || T < lo || T > hi || hi <= lo)
+        continue;
+      real2 d1, d2;
+      const real2 p = seg_point(m->trim + 8 * s, (T - T0) / (T1 - T0), &d1, &d2);
+      *u = p.x;
+      *v = p.y;
+      return 1;
+    }
+  }
+  return 0;
+}
+
 // --- the kernel -----------------------------------------------------------------------------
+// Eq. 1 over the BVH: the s1 point with the smallest t below `bound` (+inf: any), pruning nodes
+// farther than t from M. With a finite bound it finds the s1 points inside that sphere.
+int initialise(__global const real* s1Point, __global const int* s1Face,
+  __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real* tOut)
+{
+  int best = -1;
+  real t = bound;
+  const int bounded = bound < REAL_MAX;
+    // Candidates closer to O than this are O itself within rounding (same as the reference's
+    // 1e-9 * scale in double; float rounding needs more room).
+#ifdef BRT_DOUBLE
+    const real minDist = (real)1e-9 * scale;
+#else
+    const real minDist = (real)1e-5 * scale;
+#endif
+    int stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      __global const real* bx = nodeBox + 6 * n;
+      const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
+      if (best >= 0 || bounded)
+      {
+        const real3 M = O + t * d;
+        const real3 e = fmax(fmax(lo - M, (real3)(0)), M - hi);
+        if (dot(e, e) >= t * t)
+          continue;
+      }
+      const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
+      if (cnt > 0)
+      {
+        for (int i = first; i < first + cnt; ++i)
+        {
+          // Walls of other solids don't count; nor does a face already tried.
+          if (faceInfo[FACE_INTS * s1Face[i] + 7] != solid || s1Face[i] == excludeFace)
+            continue;
+          const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
+          const real dn = dot(d, w), l2 = dot(w, w);
+          if (dn <= (real)1e-6 * sqrt(l2) || l2 <= minDist * minDist)
+            continue;
+          const real tt = (real)0.5 * l2 / dn;
+          if (tt < t)
+          {
+            t = tt;
+            best = i;
+          }
+        }
+        continue;
+      }
+      const int left = n + 1, right = nodeInfo[3 * n + 2];
+      const real3 ref = (best >= 0 || bounded) ? O + t * d : O;
+      __global const real* lb = nodeBox + 6 * left;
+      __global const real* rb = nodeBox + 6 * right;
+      const real3 el = fmax(fmax((real3)(lb[0], lb[1], lb[2]) - ref, (real3)(0)), ref - (real3)(lb[3], lb[4], lb[5]));
+      const real3 er = fmax(fmax((real3)(rb[0], rb[1], rb[2]) - ref, (real3)(0)), ref - (real3)(rb[3], rb[4], rb[5]));
+      const int leftFirst = dot(el, el) <= dot(er, er);
+      if (top + 2 > 64)
+        continue;
+      stack[top++] = leftFirst ? right : left;
+      stack[top++] = leftFirst ? left : right;
+    }
+  *tOut = t;
+  return best;
+}
+
+typedef struct
+{
+  real t, res;
+  real3 foot; // relative to O
+  int type, reason, face, patch, edge;
+} Result;
+
+// Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
+// v0) with the initial radius t; mirrors brt::SolveFrom.
+Result solve_from(const Model* m, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
+  real t, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
+  int* iterations)
+{
+  __global const real* faceDomain = m->faceDomain;
+  __global const int* faceInfo = m->faceInfo;
+  __global const int* edgeInfo = m->edgeInfo;
+  __global const int* trimEdge = m->trimEdge;
+  __global const real* trimRange = m->trimRange;
+  __global const real* edgeRange = m->edgeRange;
+  int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
+  real res = 0;
+  real3 foot = (real3)(0);
+  // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
+  {
+    __global const real* fd = faceDomain + FACE_REALS * face;
+    const SurfaceSolve ss = surface_newton(m, face, Ohi, Olo, d, u0, v0, t, scale, stepTol,
+      newtonTol, maxIterations, iterations);
+    t = ss.t;
+    res = ss.res;
+    oppFace = face;
+    if (ss.singular)
+    {
+      reason = FAIL_SINGULAR;
+      goto out;
+    }
+    if (!(t > (real)0) || !(t < scale)) // no inscribed sphere is larger than the model
+    {
+      reason = FAIL_LEFT_MODEL;
+      goto out;
+    }
+    if (ss_on_face(&ss, fd, newtonTol))
+    {
+      if (!ss_converged(&ss, newtonTol))
+      {
+        reason = FAIL_NOT_CONVERGED;
+        goto out;
+      }
+      if (!ss.inward)
+      {
+        reason = FAIL_LEFT_MODEL;
+        goto out;
+      }
+      type = CONTACT_SURFACE_SURFACE;
+      oppPatch = ss.patch;
+      foot = ss.foot;
+      goto out;
+    }
+    const int seg = ss.seg;
+    const real param = ss.param;
+
+    // --- surface/edge Newton (eq. 7) --------------------------------------------------------
+    if (seg < 0 || trimEdge[seg] < 0 || edgeInfo[4 * trimEdge[seg] + 1] == 0)
+    {
+      reason = FAIL_NO_EDGE;
+      goto out;
+    }
+    const int edge = trimEdge[seg];
+    real T = trimRange[2 * seg] + param * (trimRange[2 * seg + 1] - trimRange[2 * seg]);
+    const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
+    const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
+    int atEnd = 0, edgeCapped = 1;
+    real3 C, Ct, Ctt;
+    for (int it = 0; it < maxEdgeIterations; ++it)
+    {
+      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+      const real3 we = C - t * d;
+      const real L = length(we);
+      const real lt = length(Ct);
+      const real R0 = dot(Ct, we), R1 = t - L;
+      res = sqrt((lt > (real)0 ? (R0 / lt) * (R0 / lt) : (real)0) + R1 * R1);
+      ++*iterations;
+      if (L <= (real)0)
+        break;
+      const real J00 = dot(Ct, Ct) + dot(Ctt, we), J01 = -dot(Ct, d);
+      const real J10 = -dot(we, Ct) / L, J11 = (real)1 + dot(we, d) / L;
+      const real det = J00 * J11 - J01 * J10;
+      if (!(fabs(det) > (real)0))
+      {
+        reason = FAIL_SINGULAR;
+        goto out;
+      }
+      const real dT = (-R0 * J11 + R1 * J01) / det;
+      const real dt = (-R1 * J00 + R0 * J10) / det;
+      const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
+      real f = 1;
+      if (fabs(dT) * lt > limit)
+        f = limit / (fabs(dT) * lt);
+      if (fabs(dt) * f > limit)
+        f = limit / fabs(dt);
+      T += f * dT;
+      t += f * dt;
+      const real Tc = clamp(T, Tlo, Thi);
+      if (Tc != T)
+      {
+        T = Tc;
+        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+        const real3 wv = C;
+        const real dn = dot(d, wv);
+        if (dn <= (real)0)
+        {
+          reason = FAIL_LEFT_MODEL;
+          goto out;
+        }
+        t = (real)0.5 * dot(wv, wv) / dn;
+        res = fabs(t - length(C - t * d));
+        atEnd = 1;
+        edgeCapped = 0;
+        break;
+      }
+      if (fabs(dT) * lt + fabs(dt) < stepTol && res <= newtonTol)
+      {
+        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+        const real3 w2 = C - t * d;
+        const real l2 = length(Ct);
+        const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - length(w2);
+        res = sqrt(a * a + b * b);
+        edgeCapped = 0;
+        break;
+      }
+    }
+    oppEdge = edge;
+    const int edgeValid = t > (real)0 && t < scale;
+    const int edgeConverged = res <= newtonTol && (!edgeCapped || res <= (real)1e-2 * newtonTol);
+    // The face across that edge (see the reference): keep its sphere when it is valid and no
+    // larger than the edge's, or when the edge Newton failed.
+    {
+      const int f0 = edgeInfo[4 * edge + 2], f1 = edgeInfo[4 * edge + 3];
+      const int nb = f0 == face ? f1 : f0;
+      real un, vn;
+      if (nb >= 0 && nb != face && faceInfo[FACE_INTS * nb + 1] > 0 &&
+        edge_point_on_face(m, nb, edge, T, &un, &vn))
+      {
+        const SurfaceSolve sn = surface_newton(m, nb, Ohi, Olo, d, un, vn, edgeValid ? t : ss.t,
+          scale, stepTol, newtonTol, maxIterations, iterations);
+        if (!sn.singular && sn.t > (real)0 && sn.t < scale && ss_converged(&sn, newtonTol) &&
+          sn.inward &&
+          ss_on_face(&sn, faceDomain + FACE_REALS * nb, newtonTol) &&
+          (!(edgeValid && edgeConverged) || sn.t <= t * (real)(1.0 + 1e-12)))
+        {
+          type = CONTACT_SURFACE_SURFACE;
+          reason = FAIL_NONE;
+          oppFace = nb;
+          oppPatch = sn.patch;
+          oppEdge = -1;
+          t = sn.t;
+          res = sn.res;
+          foot = sn.foot;
+          goto out;
+        }
+      }
+    }
+    if (!edgeValid) // no inscribed sphere is larger than the model
+    {
+      reason = FAIL_LEFT_MODEL;
+      goto out;
+    }
+    if (!edgeConverged)
+    {
+      reason = FAIL_EDGE_NOT_CONVERGED;
+      goto out;
+    }
+    type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+    foot = C;
+  }
+
+out:;
+  Result r;
+  r.t = t;
+  r.res = res;
+  r.foot = foot;
+  r.type = type;
+  r.reason = reason;
+  r.face = oppFace;
+  r.patch = oppPatch;
+  r.edge = oppEdge;
+  return r;
+}
+
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
   __global const real* patchDomain,
   __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
@@ -413,6 +797,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global const real* edgeSegRange, __global const real* s1Point, __global const int* s1Face, __global const real* s1UV,
   __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* samples, // O hi (3), O lo (3), d (3) per sample
+  __global const int* sampleFace, // the face of each sample
   const int count, const real scale, const real stepTol, const real newtonTol,
   const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // t, foot - O (3), residual per sample
@@ -435,244 +820,55 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   real t = REAL_MAX, res = 0;
   real3 foot = (real3)(0);
 
-  // --- initialisation (eq. 1) over the BVH, pruning nodes farther than t from M ------------
-  int best = -1;
+  // --- initialisation (eq. 1), steps 4-7, then the verification that the sphere is maximal:
+  // an s1 point inside it (t below the found radius) restarts the solve there, at most 3 times.
+  Result r;
   {
-    // Candidates closer to O than this are O itself within rounding (same as the reference's
-    // 1e-9 * scale in double; float rounding needs more room).
-#ifdef BRT_DOUBLE
-    const real minDist = (real)1e-9 * scale;
-#else
-    const real minDist = (real)1e-5 * scale;
-#endif
-    int stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0)
+    const int solid = faceInfo[FACE_INTS * sampleFace[gid] + 7];
+    int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+      REAL_MAX, &t);
+    if (best < 0)
     {
-      const int n = stack[--top];
-      __global const real* bx = nodeBox + 6 * n;
-      const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
+      reason = FAIL_NO_OPPOSITE;
+      goto done;
+    }
+    r = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t, scale,
+      stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+    if (r.type == CONTACT_FAILED && r.face >= 0)
+    {
+      // That start led nowhere: try the best start on any other face once.
+      best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
+        REAL_MAX, &t);
       if (best >= 0)
       {
-        const real3 M = O + t * d;
-        const real3 e = fmax(fmax(lo - M, (real3)(0)), M - hi);
-        if (dot(e, e) >= t * t)
-          continue;
+        const Result other = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+          s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+          &iterations);
+        if (other.type != CONTACT_FAILED)
+          r = other;
       }
-      const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
-      if (cnt > 0)
-      {
-        for (int i = first; i < first + cnt; ++i)
-        {
-          const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
-          const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= (real)1e-6 * sqrt(l2) || l2 <= minDist * minDist)
-            continue;
-          const real tt = (real)0.5 * l2 / dn;
-          if (tt < t)
-          {
-            t = tt;
-            best = i;
-          }
-        }
-        continue;
-      }
-      const int left = n + 1, right = nodeInfo[3 * n + 2];
-      const real3 ref = best >= 0 ? O + t * d : O;
-      __global const real* lb = nodeBox + 6 * left;
-      __global const real* rb = nodeBox + 6 * right;
-      const real3 el = fmax(fmax((real3)(lb[0], lb[1], lb[2]) - ref, (real3)(0)), ref - (real3)(lb[3], lb[4], lb[5]));
-      const real3 er = fmax(fmax((real3)(rb[0], rb[1], rb[2]) - ref, (real3)(0)), ref - (real3)(rb[3], rb[4], rb[5]));
-      const int leftFirst = dot(el, el) <= dot(er, er);
-      if (top + 2 > 64)
-        continue;
-      stack[top++] = leftFirst ? right : left;
-      stack[top++] = leftFirst ? left : right;
     }
-  }
-  if (best < 0)
-  {
-    reason = FAIL_NO_OPPOSITE;
-    goto done;
-  }
-
-  // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
-  {
-    const int face = s1Face[best];
-    __global const real* fd = faceDomain + FACE_REALS * face;
-    real u = s1UV[2 * best], v = s1UV[2 * best + 1];
-    int patch = find_patch(m, face, u, v);
-    PatchEval e = eval_patch(m, patch, u, v);
-    e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo); // now S - O
-    real3 w = e.P - t * d;
-    real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - length(w) };
-    res = residual3(&e, R);
-    int clamped = 0, capped = 1;
-    for (int it = 0; it < maxIterations; ++it)
+    for (int restart = 0; restart < 3 && r.type != CONTACT_FAILED; ++restart)
     {
-      ++iterations;
-      const real L = length(w);
-      if (L <= (real)0 || res < (real)1e-2 * stepTol)
-      {
-        capped = 0;
-        break;
-      }
-      const real J[3][3] = { { dot(e.Du, e.Du) + dot(e.Duu, w), dot(e.Du, e.Dv) + dot(e.Duv, w), -dot(e.Du, d) },
-        { dot(e.Dv, e.Du) + dot(e.Duv, w), dot(e.Dv, e.Dv) + dot(e.Dvv, w), -dot(e.Dv, d) },
-        { -dot(w, e.Du) / L, -dot(w, e.Dv) / L, (real)1 + dot(w, d) / L } };
-      const real mr[3] = { -R[0], -R[1], -R[2] };
-      real x[3];
-      if (!solve3(J, mr, x) && !damped3(J, mr, x))
-      {
-        reason = FAIL_SINGULAR;
-        capped = 0;
-        break;
-      }
-      const real move = length(x[0] * e.Du + x[1] * e.Dv);
-      const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
-      real f = 1;
-      if (move > limit)
-        f = limit / move;
-      if (fabs(x[2]) * f > limit)
-        f = limit / fabs(x[2]);
-      const real u0 = u, v0 = v, t0 = t, res0 = res;
-      for (int k = 0; k <= 6; ++k, f *= (real)0.5)
-      {
-        real un = u0 + f * x[0], vn = v0 + f * x[1];
-        if (fd[4] > (real)0) // across a seam of a closed face the parameter wraps
-          un = fd[0] + (un - fd[0]) - fd[4] * floor((un - fd[0]) / fd[4]);
-        if (fd[5] > (real)0)
-          vn = fd[2] + (vn - fd[2]) - fd[5] * floor((vn - fd[2]) / fd[5]);
-        u = clamp(un, fd[0], fd[1]);
-        v = clamp(vn, fd[2], fd[3]);
-        clamped = u != un || v != vn;
-        t = t0 + f * x[2];
-        patch = find_patch(m, face, u, v);
-        e = eval_patch(m, patch, u, v);
-        e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
-        w = e.P - t * d;
-        R[0] = dot(e.Du, w);
-        R[1] = dot(e.Dv, w);
-        R[2] = t - length(w);
-        res = residual3(&e, R);
-        if (res < res0)
-          break;
-      }
-      if (move + fabs(x[2]) < stepTol && !clamped && res <= newtonTol)
-      {
-        capped = 0;
-        break;
-      }
+      best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+        r.t * (real)(1.0 - 1e-6), &t);
+      if (best < 0)
+        break; // no s1 point inside: maximal at the resolution of s1
+      const Result again = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+        &iterations);
+      if (again.type == CONTACT_FAILED)
+        break; // keep the tangent sphere found; the restart did not converge
+      r = again;
     }
-    oppFace = face;
-    if (reason == FAIL_SINGULAR)
-      goto done;
-    if (!(t > (real)0) || !(t < scale)) // no inscribed sphere is larger than the model
-    {
-      reason = FAIL_LEFT_MODEL;
-      goto done;
-    }
-    int seg;
-    real param, trimDist;
-    const int inside = classify(m, face, (real2)(u, v), &seg, &param, &trimDist);
-    const int converged = res <= newtonTol && (!capped || res <= (real)1e-2 * newtonTol);
-    if ((inside || trimDist <= fd[6]) && (!clamped || converged))
-    {
-      if (!converged)
-      {
-        reason = FAIL_NOT_CONVERGED;
-        goto done;
-      }
-      type = CONTACT_SURFACE_SURFACE;
-      oppPatch = patch;
-      foot = e.P;
-      goto done;
-    }
-
-    // --- surface/edge Newton (eq. 7) --------------------------------------------------------
-    if (seg < 0 || trimEdge[seg] < 0 || edgeInfo[2 * trimEdge[seg] + 1] == 0)
-    {
-      reason = FAIL_NO_EDGE;
-      goto done;
-    }
-    const int edge = trimEdge[seg];
-    real T = trimRange[2 * seg] + param * (trimRange[2 * seg + 1] - trimRange[2 * seg]);
-    const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
-    const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
-    int atEnd = 0, edgeCapped = 1;
-    real3 C, Ct, Ctt;
-    for (int it = 0; it < maxEdgeIterations; ++it)
-    {
-      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-      const real3 we = C - t * d;
-      const real L = length(we);
-      const real lt = length(Ct);
-      const real R0 = dot(Ct, we), R1 = t - L;
-      res = sqrt((lt > (real)0 ? (R0 / lt) * (R0 / lt) : (real)0) + R1 * R1);
-      ++iterations;
-      if (L <= (real)0)
-        break;
-      const real J00 = dot(Ct, Ct) + dot(Ctt, we), J01 = -dot(Ct, d);
-      const real J10 = -dot(we, Ct) / L, J11 = (real)1 + dot(we, d) / L;
-      const real det = J00 * J11 - J01 * J10;
-      if (!(fabs(det) > (real)0))
-      {
-        reason = FAIL_SINGULAR;
-        goto done;
-      }
-      const real dT = (-R0 * J11 + R1 * J01) / det;
-      const real dt = (-R1 * J00 + R0 * J10) / det;
-      const real limit = fmax((real)2 * fabs(t), (real)1e-2 * scale);
-      real f = 1;
-      if (fabs(dT) * lt > limit)
-        f = limit / (fabs(dT) * lt);
-      if (fabs(dt) * f > limit)
-        f = limit / fabs(dt);
-      T += f * dT;
-      t += f * dt;
-      const real Tc = clamp(T, Tlo, Thi);
-      if (Tc != T)
-      {
-        T = Tc;
-        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-        const real3 wv = C;
-        const real dn = dot(d, wv);
-        if (dn <= (real)0)
-        {
-          reason = FAIL_LEFT_MODEL;
-          goto done;
-        }
-        t = (real)0.5 * dot(wv, wv) / dn;
-        res = fabs(t - length(C - t * d));
-        atEnd = 1;
-        edgeCapped = 0;
-        break;
-      }
-      if (fabs(dT) * lt + fabs(dt) < stepTol && res <= newtonTol)
-      {
-        eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-        const real3 w2 = C - t * d;
-        const real l2 = length(Ct);
-        const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - length(w2);
-        res = sqrt(a * a + b * b);
-        edgeCapped = 0;
-        break;
-      }
-    }
-    oppEdge = edge;
-    if (!(t > (real)0) || !(t < scale)) // no inscribed sphere is larger than the model
-    {
-      reason = FAIL_LEFT_MODEL;
-      goto done;
-    }
-    if (res > newtonTol || (edgeCapped && res > (real)1e-2 * newtonTol))
-    {
-      reason = FAIL_EDGE_NOT_CONVERGED;
-      goto done;
-    }
-    type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
-    foot = C;
+    t = r.t;
+    res = r.res;
+    foot = r.foot;
+    type = r.type;
+    reason = r.reason;
+    oppFace = r.face;
+    oppPatch = r.patch;
+    oppEdge = r.edge;
   }
 
 done:

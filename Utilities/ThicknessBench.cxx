@@ -37,6 +37,23 @@ double PeakRSSMiB()
   return 0.0;
 }
 
+/// Share of failed samples in percent; with BRT_BENCH_REASONS set, also prints the reasons.
+double FailedPercent(const std::vector<brt::SampleResult>& results, const char* who)
+{
+  int reasons[8] = { 0 };
+  size_t failed = 0;
+  for (const auto& r : results)
+  {
+    failed += r.Type == brt::ContactType::Failed;
+    ++reasons[static_cast<int>(r.Reason) & 7];
+  }
+  if (failed > 0 && std::getenv("BRT_BENCH_REASONS"))
+    for (int k = 1; k < 8; ++k)
+      if (reasons[k])
+        std::printf("  %s %s: %d\n", who, brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
+  return results.empty() ? 0.0 : 100.0 * failed / results.size();
+}
+
 /// n samples drawn cyclically from the mesh samples (a sample count above the mesh's repeats
 /// the vertices: the solver's cost does not depend on which vertex it is).
 std::vector<brt::Sample> Take(const std::vector<brt::Sample>& all, size_t n)
@@ -148,17 +165,7 @@ int main(int argc, char** argv)
         brt::SolveReference(model, data, options, samples, results);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         refRate = n / s;
-        int reasons[8] = { 0 };
-        for (const auto& r : results)
-        {
-          refFail += r.Type == brt::ContactType::Failed;
-          ++reasons[static_cast<int>(r.Reason) & 7];
-        }
-        refFail = 100.0 * refFail / n;
-        if (refFail > 0.0 && std::getenv("BRT_BENCH_REASONS"))
-          for (int k = 1; k < 8; ++k)
-            if (reasons[k])
-              std::printf("  %s: %d\n", brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
+        refFail = FailedPercent(results, "reference");
       }
 #ifdef BRT_HAVE_OPENCL
       if (cl)
@@ -170,17 +177,7 @@ int main(int argc, char** argv)
         cl->Solve(model, data, options, samples, clResults);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         clRate = n / s;
-        int reasons[8] = { 0 };
-        for (const auto& r : clResults)
-        {
-          clFail += r.Type == brt::ContactType::Failed;
-          ++reasons[static_cast<int>(r.Reason) & 7];
-        }
-        clFail = 100.0 * clFail / n;
-        if (clFail > 0.0 && std::getenv("BRT_BENCH_REASONS"))
-          for (int k = 1; k < 8; ++k)
-            if (reasons[k])
-              std::printf("  OpenCL %s: %d\n", brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
+        clFail = FailedPercent(clResults, "OpenCL");
         devMiB = cl->DeviceBytes() / (1024.0 * 1024.0);
         if (!results.empty())
         {

@@ -34,7 +34,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::EdgeNotConverged: return "surface/edge Newton did not converge";
     case FailReason::NoEdge: return "foot point left the face across a degenerated edge";
     case FailReason::Singular: return "singular Jacobian";
-    case FailReason::LeftModel: return "sphere radius not positive or larger than the model";
+    case FailReason::LeftModel: return "sphere leaves the model (touches a face from outside, or radius not positive or larger than the model)";
   }
   return "unknown";
 }
@@ -105,10 +105,14 @@ double BoxDistance2(const BVHNode& n, const Vec3& p)
 /// A point gives a smaller t exactly when it lies strictly inside the current sphere (centre
 /// M = O + t d, radius t), so nodes farther than t from M are pruned (the paper's bound 2t is
 /// looser).
-int Initialise(const SolverData& data, const Sample& s, double& bestT)
+int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, double& bestT,
+  double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1)
 {
+  // Thickness is a property of one solid: in an assembly, the walls of other solids don't count.
+  const int solid = m.Faces[s.Face].Solid;
   const double minDist2 = (1e-9 * data.Scale) * (1e-9 * data.Scale);
-  bestT = std::numeric_limits<double>::infinity();
+  bestT = bound; // only points giving a smaller t count: with a finite bound, points inside
+                 // the sphere of that radius
   int best = -1;
   int stack[64];
   int top = 0;
@@ -128,6 +132,8 @@ int Initialise(const SolverData& data, const Sample& s, double& bestT)
     {
       for (int i = n.First; i < n.First + n.Count; ++i)
       {
+        if (m.Faces[data.S1[i].Face].Solid != solid || data.S1[i].Face == excludeFace)
+          continue;
         const Vec3 w = Sub(data.S1[i].Point, O);
         const double dn = Dot(d, w), l2 = Dot(w, w);
         // Points in O's tangent plane (its own face, flat around it) give no sphere, nor do
@@ -388,24 +394,41 @@ double Residual2(const Vec3& Ct, const double R[2])
   return std::hypot(l > 0.0 ? R[0] / l : 0.0, R[1]);
 }
 
-void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, SampleResult& r)
+/// Outcome of the surface/surface Newton (eq. 4) on one face.
+struct SurfaceSolve
 {
-  r = SampleResult();
-  const Vec3& O = s.Point;
-  const Vec3& d = s.Direction;
-  double t = 0.0;
-  const int p1 = Initialise(data, s, t);
-  if (p1 < 0)
+  double U = 0.0, V = 0.0, T = 0.0, Res = 0.0;
+  int Patch = -1;
+  Vec3 Foot{};
+  bool Singular = false;
+  bool Clamped = false; ///< the last step stopped at the face's domain
+  bool Capped = true;   ///< the loop ran out of iterations instead of stopping on its own
+  TrimProjection Trim;  ///< trim test of the final (u, v)
+  /// |R| within the tolerance; a run that hit the iteration cap with |R| just under the
+  /// tolerance (still crawling) is not trusted unless |R| is far below it.
+  bool Converged(const SolverOptions& opt) const
   {
-    r.Reason = FailReason::NoOppositePoint;
-    return;
+    return Res <= opt.NewtonTolerance && (!Capped || Res <= 1e-2 * opt.NewtonTolerance);
   }
-  // --- surface/surface Newton (eq. 4), in the opposite face's (u,v) --------------------------
-  const int face = data.S1[p1].Face;
+  /// The foot point is on the face: inside the trim, or within the face's UV tolerance of it
+  /// (a seam, say), and not pushed against the domain by an unconverged run.
+  bool OnFace(const Face& F, const SolverOptions& opt) const
+  {
+    return (Trim.Inside || Trim.Distance <= F.UVTolerance) && (!Clamped || Converged(opt));
+  }
+  /// The sphere lies on the material side of the face at the foot point: M - P points against
+  /// the face's outward normal. A stationary sphere touching the face from outside is no
+  /// inscribed sphere (Newton can converge to one).
+  bool Inward = true;
+};
+
+/// Surface/surface Newton (eq. 4) on `face` from (u, v, t), with trust region and backtracking.
+SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Vec3& O, const Vec3& d, int face, double u, double v, double t, int& iterations)
+{
   const Face& F = m.Faces[face];
-  double u = data.S1[p1].U, v = data.S1[p1].V;
   const double stepTol = 1e-13 * data.Scale;
+  SurfaceSolve out;
   int patch = -1;
   bool clamped = false;
   // State at (u, v, t): patch evaluation, w = S - M, residual.
@@ -422,18 +445,17 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     res = Residual3(e, R);
   };
   evaluate(u, v, t);
-  bool capped = true; // the loop ran out of iterations instead of stopping on its own
   for (int it = 0; it < opt.MaxIterations; ++it)
   {
-    ++r.Iterations;
+    ++iterations;
     const double L = std::sqrt(Dot(w, w));
     if (L <= 0.0 || res < 1e-2 * stepTol)
     {
-      capped = false;
+      out.Capped = false;
       break;
     }
     // Exact Jacobian of eq. 4 (the paper drops the second-derivative terms; with them Newton
-    // converges quadratically on fillets and thick curved walls, see docs/Design.md).
+    // converges quadratically on fillets and thick curved walls, see docs/Solver.md).
     const double J[3][3] = { { Dot(e.Du, e.Du) + Dot(e.Duu, w), Dot(e.Du, e.Dv) + Dot(e.Duv, w), -Dot(e.Du, d) },
       { Dot(e.Dv, e.Du) + Dot(e.Duv, w), Dot(e.Dv, e.Dv) + Dot(e.Dvv, w), -Dot(e.Dv, d) },
       { -Dot(w, e.Du) / L, -Dot(w, e.Dv) / L, 1.0 + Dot(w, d) / L } };
@@ -441,11 +463,11 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     double x[3];
     if (!Solve3(J, mr, x) && !Damped3(J, mr, x))
     {
-      r.Reason = FailReason::Singular;
-      capped = false;
+      out.Singular = true;
+      out.Capped = false;
       break;
     }
-    // Trust region: a step moves the foot point by at most t (and at least a little) ...
+    // Trust region: a step moves the foot point by at most max(2t, 1e-2 of the model) ...
     const Vec3 du = { x[0] * e.Du[0] + x[1] * e.Dv[0], x[0] * e.Du[1] + x[1] * e.Dv[1],
       x[0] * e.Du[2] + x[1] * e.Dv[2] };
     const double move = std::sqrt(Dot(du, du));
@@ -472,15 +494,84 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     }
     if (move + std::fabs(x[2]) < stepTol && !clamped && res <= opt.NewtonTolerance)
     {
-      capped = false; // the full Newton step is negligible: converged
+      out.Capped = false; // the full Newton step is negligible: converged
       break;
     }
   }
-  const Vec3 S = e.P;
+  out.U = u;
+  out.V = v;
+  out.T = t;
+  out.Res = res;
+  out.Patch = patch;
+  out.Foot = e.P;
+  out.Clamped = clamped;
+  out.Trim = ClassifyPoint(m, face, u, v);
+  const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
+    e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] }; // outward up to the face's orientation
+  const double side = -Dot(w, n) * (F.Reversed ? -1.0 : 1.0); // (M - P) . n_out
+  out.Inward = !(side > 0.0);
+  return out;
+}
+
+/// (u, v) on `face` of the point at edge parameter T of `edge`, from that face's trimming
+/// segments on the edge; false if the face has none covering T.
+bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u, double& v)
+{
+  const Face& F = m.Faces[face];
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& loop = m.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      const TrimSegment& ts = m.TrimSegments[s];
+      const double lo = std::min(ts.T0, ts.T1), hi = std::max(ts.T0, ts.T1);
+      if (ts.Edge != edge || T < lo || T > hi || hi <= lo)
+        continue;
+      const auto p = EvaluateCubic<2>(ts.ControlPoints.data(), (T - ts.T0) / (ts.T1 - ts.T0)).P;
+      u = p[0];
+      v = p[1];
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Steps 4-7 from the s1 point p1 with the initial radius t.
+void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int p1, double t, SampleResult& r)
+{
+  const int iterations = r.Iterations;
+  r = SampleResult();
+  r.Iterations = iterations;
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  auto acceptSurface = [&](int f, const SurfaceSolve& ss) {
+    r.Type = ContactType::SurfaceSurface;
+    r.Reason = FailReason::None;
+    r.OppositeFace = f;
+    r.OppositePatch = ss.Patch;
+    r.OppositeEdge = -1;
+    r.Residual = ss.Res;
+    r.Radius = ss.T;
+    r.Thickness = 2.0 * ss.T;
+    r.Center = Axpy(O, ss.T, d);
+    r.Foot = ss.Foot;
+  };
+  // --- surface/surface Newton (eq. 4), in the opposite face's (u,v) --------------------------
+  const int face = data.S1[p1].Face;
+  const Face& F = m.Faces[face];
+  const double stepTol = 1e-13 * data.Scale;
+  const SurfaceSolve ss =
+    SurfaceNewton(m, data, opt, O, d, face, data.S1[p1].U, data.S1[p1].V, t, r.Iterations);
+  t = ss.T;
+  double res = ss.Res;
   r.OppositeFace = face;
   r.Residual = res;
-  if (r.Reason == FailReason::Singular)
+  if (ss.Singular)
+  {
+    r.Reason = FailReason::Singular;
     return;
+  }
   // No inscribed sphere is larger than the model. (Radii near 0 are right at convex edges.)
   if (!(t > 0.0) || !(t < data.Scale))
   {
@@ -488,26 +579,20 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     return;
   }
   // --- trim test (eq. 6 and the corner rule) -------------------------------------------------
-  // A foot point within the face's UV tolerance of its trimming curves (a seam, say) is on the
-  // face within the conversion tolerance.
-  const TrimProjection proj = ClassifyPoint(m, face, u, v);
-  // Converged: |R| within the tolerance; a run that hit the iteration cap with |R| just under
-  // the tolerance (still crawling) is not trusted unless |R| is far below it.
-  const bool converged =
-    res <= opt.NewtonTolerance && (!capped || res <= 1e-2 * opt.NewtonTolerance);
-  if ((proj.Inside || proj.Distance <= F.UVTolerance) && (!clamped || converged))
+  const TrimProjection& proj = ss.Trim;
+  if (ss.OnFace(F, opt))
   {
-    if (!converged)
+    if (!ss.Converged(opt))
     {
       r.Reason = FailReason::NotConverged;
       return;
     }
-    r.Type = ContactType::SurfaceSurface;
-    r.OppositePatch = patch;
-    r.Radius = t;
-    r.Thickness = 2.0 * t;
-    r.Center = Axpy(O, t, d);
-    r.Foot = S;
+    if (!ss.Inward)
+    {
+      r.Reason = FailReason::LeftModel;
+      return;
+    }
+    acceptSurface(face, ss);
     return;
   }
   // --- surface/edge Newton (eq. 7), started from the projection on the trimming curve ---------
@@ -591,13 +676,35 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   }
   r.OppositeEdge = edge;
   r.Residual = res;
+  const bool edgeValid = t > 0.0 && t < data.Scale;
+  const bool edgeConverged =
+    res <= opt.NewtonTolerance && (!edgeCapped || res <= 1e-2 * opt.NewtonTolerance);
+  // --- the face across that edge ----------------------------------------------------------------
+  // Where the edge is tangent-continuous (a fillet meeting a plane), the true sphere touches the
+  // neighbouring face rather than the edge, and eq. 7 overestimates it. Continue the surface
+  // Newton on the neighbour from the edge point and keep its sphere when it is valid and no
+  // larger (or when the edge Newton failed).
+  const int nb = E.Faces[0] == face ? E.Faces[1] : E.Faces[0];
+  double un = 0.0, vn = 0.0;
+  if (nb >= 0 && nb != face && m.Faces[nb].PatchCount > 0 && EdgePointOnFace(m, nb, edge, T, un, vn))
+  {
+    const SurfaceSolve sn = SurfaceNewton(m, data, opt, O, d, nb, un, vn,
+      edgeValid ? t : ss.T, r.Iterations);
+    if (!sn.Singular && sn.T > 0.0 && sn.T < data.Scale && sn.Converged(opt) && sn.Inward &&
+      sn.OnFace(m.Faces[nb], opt) &&
+      (!(edgeValid && edgeConverged) || sn.T <= t * (1.0 + 1e-12)))
+    {
+      acceptSurface(nb, sn);
+      return;
+    }
+  }
   // No inscribed sphere is larger than the model. (Radii near 0 are right at convex edges.)
-  if (!(t > 0.0) || !(t < data.Scale))
+  if (!edgeValid)
   {
     r.Reason = FailReason::LeftModel;
     return;
   }
-  if (res > opt.NewtonTolerance || (edgeCapped && res > 1e-2 * opt.NewtonTolerance))
+  if (!edgeConverged)
   {
     r.Reason = FailReason::EdgeNotConverged;
     return;
@@ -607,6 +714,55 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   r.Thickness = 2.0 * t;
   r.Center = Axpy(O, t, d);
   r.Foot = C;
+}
+/// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
+/// that the sphere is maximal: a point of s1 gives
+/// a smaller t in eq. 1 exactly when it lies inside the sphere, so the bounded BVH query finds any
+/// s1 point inside it. Newton may have converged to another stationary (tangent but not
+/// inscribed) sphere; it restarts from that point, at most 3 times.
+void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r)
+{
+  r = SampleResult();
+  double t = 0.0;
+  int p = Initialise(m, data, s, t);
+  if (p < 0)
+  {
+    r.Reason = FailReason::NoOppositePoint;
+    return;
+  }
+  SolveFrom(m, data, opt, s, p, t, r);
+  if (r.Type == ContactType::Failed && r.OppositeFace >= 0)
+  {
+    // The start on that face led nowhere (e.g. a convex blend with no tangent sphere): try the
+    // best start on any other face once.
+    p = Initialise(m, data, s, t, std::numeric_limits<double>::infinity(), r.OppositeFace);
+    if (p >= 0)
+    {
+      SampleResult other;
+      other.Iterations = r.Iterations;
+      SolveFrom(m, data, opt, s, p, t, other);
+      if (other.Type != ContactType::Failed)
+        r = other;
+      else
+        r.Iterations = other.Iterations;
+    }
+  }
+  for (int restart = 0; restart < 3 && r.Type != ContactType::Failed; ++restart)
+  {
+    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6));
+    if (p < 0)
+      return; // no s1 point inside: maximal at the resolution of s1
+    SampleResult again;
+    again.Iterations = r.Iterations;
+    SolveFrom(m, data, opt, s, p, t, again);
+    if (again.Type == ContactType::Failed)
+    {
+      r.Iterations = again.Iterations;
+      return; // keep the tangent sphere found; the restart did not converge
+    }
+    r = again;
+  }
 }
 } // namespace
 
