@@ -377,7 +377,7 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
 }
 
 template <class T>
-void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
+void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, size_t chunk)
 {
@@ -405,6 +405,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
   const T scale = static_cast<T>(data.Scale);
   const T stepTol = static_cast<T>((sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale);
   const T newtonTol = static_cast<T>(options.NewtonTolerance);
+  const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::SolveOne's verification
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
   std::vector<T> in(chunk * 9), outR(chunk * 5);
   std::vector<int> outI(chunk * 6), faces(chunk);
@@ -438,10 +439,11 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel&, const SolverData& data,
     Check(clSetKernelArg(k, 23, sizeof(T), &scale), "clSetKernelArg");
     Check(clSetKernelArg(k, 24, sizeof(T), &stepTol), "clSetKernelArg");
     Check(clSetKernelArg(k, 25, sizeof(T), &newtonTol), "clSetKernelArg");
-    Check(clSetKernelArg(k, 26, sizeof(cl_int), &maxIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 27, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 28, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 29, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 26, sizeof(T), &slack), "clSetKernelArg");
+    Check(clSetKernelArg(k, 27, sizeof(cl_int), &maxIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 28, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 29, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 30, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),

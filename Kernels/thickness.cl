@@ -29,6 +29,7 @@ typedef float3 real3;
 #define FAIL_NO_EDGE 4
 #define FAIL_SINGULAR 5
 #define FAIL_LEFT_MODEL 6
+#define FAIL_NOT_MAXIMAL 7
 
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid.
@@ -545,8 +546,12 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
     // 1e-9 * scale in double; float rounding needs more room).
 #ifdef BRT_DOUBLE
     const real minDist = (real)1e-9 * scale;
+    const real noise = (real)0;
 #else
     const real minDist = (real)1e-5 * scale;
+    // s1 - O carries float rounding of about 1e-7 of the model size: a point of O's own face
+    // must stand clearly in front of O's tangent plane to count.
+    const real noise = (real)4 * FLT_EPSILON * scale;
 #endif
     int stack[64];
     int top = 0;
@@ -573,7 +578,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
             continue;
           const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= (real)1e-6 * sqrt(l2) || l2 <= minDist * minDist)
+          if (dn <= fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
             continue;
           const real tt = (real)0.5 * l2 / dn;
           if (tt < t)
@@ -798,7 +803,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* samples, // O hi (3), O lo (3), d (3) per sample
   __global const int* sampleFace, // the face of each sample
-  const int count, const real scale, const real stepTol, const real newtonTol,
+  const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
   const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // t, foot - O (3), residual per sample
   __global int* outInt)   // type, reason, face, patch, edge, iterations per sample
@@ -848,17 +853,28 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
           r = other;
       }
     }
-    for (int restart = 0; restart < 3 && r.type != CONTACT_FAILED; ++restart)
+    for (int check = 0; r.type != CONTACT_FAILED; ++check)
     {
+      // Points inside by less than the patches' accuracy (slack) prove nothing.
       best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-        r.t * (real)(1.0 - 1e-6), &t);
+        r.t * (real)(1.0 - 1e-6) - slack, &t);
       if (best < 0)
         break; // no s1 point inside: maximal at the resolution of s1
-      const Result again = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
-        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-        &iterations);
-      if (again.type == CONTACT_FAILED)
-        break; // keep the tangent sphere found; the restart did not converge
+      // A point inside proves the true radius is below t(best) < r.t: restart, and the
+      // restart must shrink the sphere.
+      Result again;
+      again.type = CONTACT_FAILED;
+      if (check < 3)
+        again = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
+          scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+      if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
+      {
+        r.type = CONTACT_FAILED;
+        r.reason = FAIL_NOT_MAXIMAL;
+        r.patch = -1;
+        r.edge = -1;
+        break;
+      }
       r = again;
     }
     t = r.t;

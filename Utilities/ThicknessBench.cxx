@@ -40,7 +40,7 @@ double PeakRSSMiB()
 /// Share of failed samples in percent; with BRT_BENCH_REASONS set, also prints the reasons.
 double FailedPercent(const std::vector<brt::SampleResult>& results, const char* who)
 {
-  int reasons[8] = { 0 };
+  int reasons[8] = { 0 }; // brt::FailReason values 0..7
   size_t failed = 0;
   for (const auto& r : results)
   {

@@ -35,6 +35,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::NoEdge: return "foot point left the face across a degenerated edge";
     case FailReason::Singular: return "singular Jacobian";
     case FailReason::LeftModel: return "sphere leaves the model (touches a face from outside, or radius not positive or larger than the model)";
+    case FailReason::NotMaximal: return "sphere not maximal (contains s1 points; no restart shrank it)";
   }
   return "unknown";
 }
@@ -359,7 +360,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     }
     s.U += 1e-2 * (cu - s.U);
     s.V += 1e-2 * (cv - s.V);
-    const PatchEval e = EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
+    const PatchEval e =
+      EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
     Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
       e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
     const double len = std::sqrt(Dot(n, n));
@@ -719,7 +721,8 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
 /// that the sphere is maximal: a point of s1 gives
 /// a smaller t in eq. 1 exactly when it lies inside the sphere, so the bounded BVH query finds any
 /// s1 point inside it. Newton may have converged to another stationary (tangent but not
-/// inscribed) sphere; it restarts from that point, at most 3 times.
+/// inscribed) sphere; it restarts from that point (at most 3 times), and each restart must shrink
+/// the sphere. A sphere that still contains an s1 point fails as not maximal.
 void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, SampleResult& r)
 {
@@ -748,18 +751,31 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
         r.Iterations = other.Iterations;
     }
   }
-  for (int restart = 0; restart < 3 && r.Type != ContactType::Failed; ++restart)
+  // Points inside by less than the patches' own accuracy prove nothing (a sphere inscribed in a
+  // concave fillet touches its whole arc, and the arc's patches wander by up to the tolerance).
+  const double slack = 2.0 * m.Tolerance;
+  for (int check = 0; r.Type != ContactType::Failed; ++check)
   {
-    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6));
+    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6) - slack);
     if (p < 0)
       return; // no s1 point inside: maximal at the resolution of s1
+    // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
     SampleResult again;
     again.Iterations = r.Iterations;
-    SolveFrom(m, data, opt, s, p, t, again);
-    if (again.Type == ContactType::Failed)
+    if (check < 3)
+      SolveFrom(m, data, opt, s, p, t, again);
+    if (check == 3 || again.Type == ContactType::Failed ||
+      !(again.Radius < r.Radius * (1.0 - 1e-6)))
     {
-      r.Iterations = again.Iterations;
-      return; // keep the tangent sphere found; the restart did not converge
+      const int iterations = std::max(r.Iterations, again.Iterations);
+      const int face = r.OppositeFace;
+      const double residual = r.Residual;
+      r = SampleResult();
+      r.Reason = FailReason::NotMaximal;
+      r.OppositeFace = face;
+      r.Residual = residual;
+      r.Iterations = iterations;
+      return;
     }
     r = again;
   }
