@@ -109,7 +109,8 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options);
 /// a face's boundary are moved a tiny step into the face (see the implementation).
 std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data);
 
-/// Double-precision reference of steps 3-7 for samples [first, first + count).
+/// Double-precision reference of steps 3-8 (docs/Solver.md) for every sample; results[i] is
+/// samples[i]'s.
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
   const std::vector<Sample>& samples, std::vector<SampleResult>& results);
 

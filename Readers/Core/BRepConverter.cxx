@@ -39,8 +39,6 @@
 #include <Poly_Triangulation.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <Standard_Failure.hxx>
-#include <TColGeom2d_Array1OfBezierCurve.hxx>
-#include <TColGeom_Array1OfBezierCurve.hxx>
 #include <TColGeom_Array2OfBezierSurface.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TopExp.hxx>
@@ -574,7 +572,7 @@ inline void Store(const gp_Pnt& p, double* c)
 /// Converts a curve over [f,l] into cubic Bezier segments that keep the curve's parameter.
 /// CurveT: Geom2d_Curve or Geom_Curve and their B-spline/Bezier/line/trimmed/approx types.
 template <int N, class CurveT, class BSplineT, class BezierT, class LineT, class TrimmedT,
-  class ToBezierT, class ApproxT, class ArrayT>
+  class ToBezierT, class ApproxT>
 std::vector<CurveSegment<N>> ConvertCurve(const Handle(CurveT)& curve, double f, double l,
   double tol)
 {
@@ -649,21 +647,17 @@ std::vector<CurveSegment<N>> ConvertCurve(const Handle(CurveT)& curve, double f,
 std::vector<Segment2> ConvertCurve2d(const Handle(Geom2d_Curve)& c, double f, double l, double tol)
 {
   return ConvertCurve<2, Geom2d_Curve, Geom2d_BSplineCurve, Geom2d_BezierCurve, Geom2d_Line,
-    Geom2d_TrimmedCurve, Geom2dConvert_BSplineCurveToBezierCurve, Geom2dConvert_ApproxCurve,
-    TColGeom2d_Array1OfBezierCurve>(c, f, l, tol);
+    Geom2d_TrimmedCurve, Geom2dConvert_BSplineCurveToBezierCurve, Geom2dConvert_ApproxCurve>(
+    c, f, l, tol);
 }
 
 std::vector<Segment3> ConvertCurve3d(const Handle(Geom_Curve)& c, double f, double l, double tol)
 {
   return ConvertCurve<3, Geom_Curve, Geom_BSplineCurve, Geom_BezierCurve, Geom_Line,
-    Geom_TrimmedCurve, GeomConvert_BSplineCurveToBezierCurve, GeomConvert_ApproxCurve,
-    TColGeom_Array1OfBezierCurve>(c, f, l, tol);
+    Geom_TrimmedCurve, GeomConvert_BSplineCurveToBezierCurve, GeomConvert_ApproxCurve>(
+    c, f, l, tol);
 }
 
-[[maybe_unused]] double Distance(const gp_Pnt2d& p, const double* c)
-{
-  return std::hypot(p.X() - c[0], p.Y() - c[1]);
-}
 double Distance(const gp_Pnt& p, const double* c)
 {
   return std::hypot(p.X() - c[0], p.Y() - c[1], p.Z() - c[2]);
