@@ -16,8 +16,10 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 
+#include <algorithm>
 #include <cstring>
 #include <initializer_list>
 #include <string>
@@ -59,15 +61,61 @@ void AddString(vtkFieldData* fd, const char* name, std::initializer_list<std::st
   fd->AddArray(a);
 }
 
-void FillPolyData(const brt::BRepModel& m, vtkPolyData* out)
+/// Faces [first, last) of piece `piece` out of `pieces`: contiguous ranges of faces with about
+/// the same number of mesh vertices each (the mesh is stored face after face).
+std::pair<int, int> PieceFaces(const brt::BRepModel& m, int piece, int pieces)
 {
-  const brt::DisplayMesh& M = m.Mesh;
+  const int nf = static_cast<int>(m.Faces.size());
+  if (pieces <= 1)
+    return { 0, nf };
+  std::vector<size_t> before(nf + 1, 0); // vertices of the faces before face f
+  for (int f : m.Mesh.FaceIds)
+    ++before[f + 1];
+  for (int f = 0; f < nf; ++f)
+    before[f + 1] += before[f];
+  auto boundary = [&](int k) {
+    const double target = static_cast<double>(before[nf]) * k / pieces;
+    return static_cast<int>(
+      std::lower_bound(before.begin(), before.end(), target) - before.begin());
+  };
+  return { std::min(boundary(piece), nf), std::min(boundary(piece + 1), nf) };
+}
+
+void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int pieces)
+{
+  const brt::DisplayMesh& Mfull = m.Mesh;
+  // This piece's part of the mesh: the vertices and triangles of its faces, in their order.
+  const auto faces = PieceFaces(m, piece, pieces);
+  brt::DisplayMesh M;
+  std::vector<int> newId(Mfull.NumberOfPoints(), -1);
+  for (size_t i = 0; i < Mfull.NumberOfPoints(); ++i)
+  {
+    const int f = Mfull.FaceIds[i];
+    if (f < faces.first || f >= faces.second)
+      continue;
+    newId[i] = static_cast<int>(M.FaceIds.size());
+    M.FaceIds.push_back(f);
+    M.Points.insert(M.Points.end(), &Mfull.Points[3 * i], &Mfull.Points[3 * i] + 3);
+    M.Normals.insert(M.Normals.end(), &Mfull.Normals[3 * i], &Mfull.Normals[3 * i] + 3);
+    M.UV.insert(M.UV.end(), &Mfull.UV[2 * i], &Mfull.UV[2 * i] + 2);
+  }
+  for (size_t t = 0; t < Mfull.TriangleFace.size(); ++t)
+  {
+    const int f = Mfull.TriangleFace[t];
+    if (f < faces.first || f >= faces.second)
+      continue;
+    M.TriangleFace.push_back(f);
+    for (int k = 0; k < 3; ++k)
+      M.Triangles.push_back(newId[Mfull.Triangles[3 * t + k]]);
+  }
+
   const vtkIdType n = static_cast<vtkIdType>(M.NumberOfPoints());
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
   pts->SetNumberOfPoints(n);
-  std::memcpy(vtkDoubleArray::SafeDownCast(pts->GetData())->GetPointer(0), M.Points.data(),
-    sizeof(double) * 3 * n);
+  if (n > 0)
+    std::memcpy(vtkDoubleArray::SafeDownCast(pts->GetData())->GetPointer(0), M.Points.data(),
+      sizeof(double) * 3 * n);
   out->SetPoints(pts);
 
   vtkNew<vtkCellArray> polys;
@@ -155,6 +203,8 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out)
     [](const brt::EdgeSegment& s, double* o) { o[0] = s.T0; o[1] = s.T1; });
   AddArray<vtkIntArray>(fd, "EdgeFaces", 2, m.Edges,
     [](const brt::Edge& e, int* o) { o[0] = e.Faces[0]; o[1] = e.Faces[1]; });
+  AddArray<vtkDoubleArray>(fd, "EdgeRange", 2, m.Edges,
+    [](const brt::Edge& e, double* o) { o[0] = e.T0; o[1] = e.T1; });
   AddArray<vtkIntArray>(fd, "EdgeInfo", 4, m.Edges, [](const brt::Edge& e, int* o) {
     o[0] = e.FirstSegment;
     o[1] = e.SegmentCount;
@@ -215,6 +265,15 @@ int vtkSTEPReader::CanReadFile(const char* filename)
   }
 }
 
+int vtkSTEPReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* out)
+{
+  // Pieces (MPI ranks) get whole faces of the display mesh; the B-Rep in the field data is
+  // complete in every piece, since each rank's samples may touch any face.
+  out->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
 int vtkSTEPReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* out)
 {
   vtkPolyData* output = vtkPolyData::GetData(out, 0);
@@ -242,7 +301,14 @@ int vtkSTEPReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInfor
     output->Initialize();
     return 1;
   }
-  FillPolyData(model, output);
+  vtkInformation* outInfo = out->GetInformationObject(0);
+  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  FillPolyData(model, output, piece, pieces);
 
   const auto& s = model.Stats;
   vtkLogF(INFO,

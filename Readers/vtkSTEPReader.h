@@ -8,6 +8,9 @@
  * converted B-Rep (BezierPatches, PatchFace, PatchDomain, TrimSegments, TrimSegmentInfo, ...)
  * and the conversion statistics; docs/DataContract.md lists every array. Lengths are in mm.
  *
+ * Under MPI, every piece holds whole faces of the display mesh (contiguous ranges of faces with
+ * about the same number of vertices) and the complete B-Rep in its field data.
+ *
  * Bad input (missing, empty, non-STEP, truncated file, no face) gives one error message naming
  * the file and the reason, and an empty output.
  */
@@ -63,6 +66,7 @@ protected:
   vtkSTEPReader();
   ~vtkSTEPReader() override;
 
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   char* FileName = nullptr;

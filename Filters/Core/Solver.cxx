@@ -786,17 +786,23 @@ void SolveReference(const BRepModel& model, const SolverData& data, const Solver
   const std::vector<Sample>& samples, std::vector<SampleResult>& results)
 {
   results.resize(samples.size());
-  if (data.Nodes.empty())
+  SolveReferenceRange(model, data, options, samples, results, 0, samples.size());
+}
+
+void SolveReferenceRange(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, size_t first, size_t last)
+{
+  for (size_t i = first; i < last; ++i)
   {
-    for (auto& r : results)
+    if (data.Nodes.empty())
     {
-      r = SampleResult();
-      r.Reason = FailReason::NoOppositePoint;
+      results[i] = SampleResult();
+      results[i].Reason = FailReason::NoOppositePoint;
     }
-    return;
+    else
+      SolveOne(model, data, options, samples[i], results[i]);
   }
-  for (size_t i = 0; i < samples.size(); ++i)
-    SolveOne(model, data, options, samples[i], results[i]);
 }
 
 } // namespace brt

@@ -114,6 +114,12 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
   const std::vector<Sample>& samples, std::vector<SampleResult>& results);
 
+/// The same for samples[first, last) only, into results[first, last) (results sized by the
+/// caller). Calls on disjoint ranges may run on different threads at once.
+void SolveReferenceRange(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, size_t first, size_t last);
+
 /// Patch of `face` containing (u,v), by binary search on the face's grid breakpoints.
 int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v);
 

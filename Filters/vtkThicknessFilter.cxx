@@ -1,0 +1,548 @@
+#include "vtkThicknessFilter.h"
+
+#include "BRepFieldData.h"
+#include "OpenCLSolver.h"
+#include "Solver.h"
+
+#include "vtkCellArray.h"
+#include "vtkCommunicator.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkLogger.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+vtkStandardNewMacro(vtkThicknessFilter);
+vtkCxxSetObjectMacro(vtkThicknessFilter, Controller, vtkMultiProcessController);
+
+namespace
+{
+constexpr int FailReasons = 8; // brt::FailReason values 0..7
+// Residual histogram: log10 |R| from -16 to 0 in quarter decades; the first bin also holds
+// smaller residuals (and 0), the last one larger.
+constexpr double ResidualLow = -16.0, ResidualHigh = 0.0;
+constexpr int ResidualBins = 64;
+constexpr int ContactTypes = 4; // brt::ContactType values 0..3
+constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Lower(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+double Seconds(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+template <class ArrayT>
+ArrayT* NewColumn(vtkTable* t, const char* name)
+{
+  vtkNew<ArrayT> a;
+  a->SetName(name);
+  t->AddColumn(a);
+  return a;
+}
+
+/// Per-vertex area: a third of every adjacent triangle.
+std::vector<double> VertexAreas(vtkPolyData* mesh)
+{
+  std::vector<double> area(mesh->GetNumberOfPoints(), 0.0);
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* polys = mesh->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+  {
+    if (ids->GetNumberOfIds() != 3)
+      continue;
+    double p[3][3];
+    for (int k = 0; k < 3; ++k)
+      mesh->GetPoint(ids->GetId(k), p[k]);
+    const double a[3] = { p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2] };
+    const double b[3] = { p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2] };
+    const double c[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+      a[0] * b[1] - a[1] * b[0] };
+    const double third = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / 6.0;
+    for (int k = 0; k < 3; ++k)
+      area[ids->GetId(k)] += third;
+  }
+  return area;
+}
+} // namespace
+
+struct vtkThicknessFilter::Internals
+{
+  // The last solve, kept while the input and the solver settings stay the same, so that
+  // changing the Summary's limits does not solve again.
+  std::string Key;
+  std::vector<brt::SampleResult> Results;
+  double PrepareSeconds = 0.0, SolveSeconds = 0.0;
+  size_t S1Points = 0;
+  std::string DeviceUsed;
+  std::string LengthUnit = "mm", SourceFile;
+  // The OpenCL solver (its built kernel) stays while the device and the precision do.
+  std::unique_ptr<brt::OpenCLSolver> CL;
+  std::string CLKey;
+};
+
+vtkThicknessFilter::vtkThicknessFilter()
+  : Internal(new Internals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(4);
+  this->SetDevice("auto");
+  this->SetController(vtkMultiProcessController::GetGlobalController());
+}
+
+vtkThicknessFilter::~vtkThicknessFilter()
+{
+  this->SetDevice(nullptr);
+  this->SetController(nullptr);
+}
+
+const char* vtkThicknessFilter::GetDeviceUsed() const
+{
+  return this->Internal->DeviceUsed.c_str();
+}
+
+int vtkThicknessFilter::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == RESIDUALS || port == SUMMARY)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+int vtkThicknessFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* thickness = vtkPolyData::GetData(outputVector, THICKNESS);
+  vtkPolyData* medial = vtkPolyData::GetData(outputVector, MEDIAL_POINTS);
+  vtkTable* residuals = vtkTable::GetData(outputVector, RESIDUALS);
+  vtkTable* summary = vtkTable::GetData(outputVector, SUMMARY);
+  Internals& I = *this->Internal;
+  vtkMultiProcessController* ctrl =
+    this->Controller && this->Controller->GetNumberOfProcesses() > 1 ? this->Controller : nullptr;
+  const int rank = ctrl ? ctrl->GetLocalProcessId() : 0;
+
+  // --- solve (local; every process goes on to the collective part, also after an error) ------
+  bool ok = true;
+  const vtkIdType n = input->GetNumberOfPoints();
+  const bool empty = n == 0 && !brt::HasBRepFieldData(input);
+  std::ostringstream keyStream;
+  keyStream.precision(17);
+  keyStream << input << ' ' << input->GetMTime() << ' ' << this->S1Spacing << ' '
+            << this->NewtonTolerance << ' ' << this->MaxIterations << ' '
+            << (this->Device ? this->Device : "") << ' ' << this->Precision;
+  if (empty)
+  {
+    // Nothing upstream (a reader that failed has already said why): empty outputs.
+    I.Key.clear();
+    I.Results.clear();
+  }
+  else if (keyStream.str() != I.Key)
+  {
+    I.Key.clear();
+    try
+    {
+      ok = this->Solve(input);
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< e.what());
+      ok = false;
+    }
+    if (ok)
+      I.Key = keyStream.str();
+  }
+  if (!ok)
+    I.Results.clear();
+
+  // --- local statistics ------------------------------------------------------------------------
+  const std::vector<brt::SampleResult>& R = I.Results;
+  const std::vector<double> area = ok && !empty ? VertexAreas(input) : std::vector<double>();
+  enum Sum
+  {
+    Samples,
+    SolvedArea,
+    AreaThickness,
+    TotalArea,
+    AreaBelow,
+    AreaAbove,
+    PerType,                      // ContactTypes counts
+    PerReason = PerType + ContactTypes, // FailReasons counts
+    SumCount = PerReason + FailReasons
+  };
+  std::vector<double> sums(SumCount, 0.0);
+  std::vector<double> residualHist(ContactTypes * ResidualBins, 0.0);
+  double minmax[2] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+  for (size_t i = 0; i < R.size(); ++i)
+  {
+    const brt::SampleResult& r = R[i];
+    sums[Samples] += 1;
+    sums[TotalArea] += area[i];
+    sums[PerType + static_cast<int>(r.Type)] += 1;
+    if (r.Type == brt::ContactType::Failed)
+    {
+      sums[PerReason + static_cast<int>(r.Reason)] += 1;
+      continue;
+    }
+    sums[SolvedArea] += area[i];
+    sums[AreaThickness] += area[i] * r.Thickness;
+    if (this->MinimumThickness > 0.0 && r.Thickness < this->MinimumThickness)
+      sums[AreaBelow] += area[i];
+    if (this->MaximumThickness > 0.0 && r.Thickness > this->MaximumThickness)
+      sums[AreaAbove] += area[i];
+    minmax[0] = std::min(minmax[0], r.Thickness);
+    minmax[1] = std::max(minmax[1], r.Thickness);
+    const double l = r.Residual > 0.0 ? std::log10(r.Residual) : ResidualLow;
+    const int bin = std::clamp(static_cast<int>(std::floor((l - ResidualLow) /
+                                 (ResidualHigh - ResidualLow) * ResidualBins)),
+      0, ResidualBins - 1);
+    residualHist[static_cast<int>(r.Type) * ResidualBins + bin] += 1;
+  }
+  double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
+  long long localCount = static_cast<long long>(R.size()), offset = 0;
+
+  // --- collective part: every process, in the same order -------------------------------------
+  int okFlag = ok ? 1 : 0;
+  if (ctrl)
+  {
+    int all = 0;
+    ctrl->AllReduce(&okFlag, &all, 1, vtkCommunicator::MIN_OP);
+    okFlag = all;
+    std::vector<double> buffer(sums.size());
+    ctrl->AllReduce(sums.data(), buffer.data(), static_cast<vtkIdType>(sums.size()),
+      vtkCommunicator::SUM_OP);
+    sums.swap(buffer);
+    buffer.resize(residualHist.size());
+    ctrl->AllReduce(residualHist.data(), buffer.data(),
+      static_cast<vtkIdType>(residualHist.size()), vtkCommunicator::SUM_OP);
+    residualHist.swap(buffer);
+    double v = 0.0;
+    ctrl->AllReduce(&minmax[0], &v, 1, vtkCommunicator::MIN_OP);
+    minmax[0] = v;
+    ctrl->AllReduce(&minmax[1], &v, 1, vtkCommunicator::MAX_OP);
+    minmax[1] = v;
+    double t[2];
+    ctrl->AllReduce(times, t, 2, vtkCommunicator::MAX_OP);
+    times[0] = t[0];
+    times[1] = t[1];
+    std::vector<long long> counts(ctrl->GetNumberOfProcesses());
+    ctrl->AllGather(&localCount, counts.data(), 1);
+    for (int p = 0; p < rank; ++p)
+      offset += counts[p];
+  }
+  const bool anySolved = minmax[1] >= minmax[0];
+  const int bins = this->HistogramBins;
+  const double histMax = anySolved && minmax[1] > 0.0 ? minmax[1] : 1.0;
+  std::vector<double> areaHist(bins, 0.0);
+  for (size_t i = 0; i < R.size(); ++i)
+    if (R[i].Type != brt::ContactType::Failed)
+      areaHist[std::clamp(static_cast<int>(R[i].Thickness / histMax * bins), 0, bins - 1)] +=
+        area[i];
+  if (ctrl)
+  {
+    std::vector<double> buffer(areaHist.size());
+    ctrl->AllReduce(areaHist.data(), buffer.data(), bins, vtkCommunicator::SUM_OP);
+    areaHist.swap(buffer);
+  }
+  if (!okFlag)
+  {
+    thickness->Initialize();
+    medial->Initialize();
+    residuals->Initialize();
+    summary->Initialize();
+    return 1;
+  }
+
+  // --- port 0: the mesh with the thickness arrays ----------------------------------------------
+  thickness->ShallowCopy(input);
+  auto pointArray = [&](auto array, const char* name, int comps) {
+    array->SetName(name);
+    array->SetNumberOfComponents(comps);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(R.size()));
+    thickness->GetPointData()->AddArray(array);
+    return array;
+  };
+  vtkNew<vtkDoubleArray> thick, radius, centre, foot, residual;
+  vtkNew<vtkIntArray> type, reason, iterations, opposite;
+  pointArray(thick.Get(), "Thickness", 1);
+  pointArray(radius.Get(), "Radius", 1);
+  pointArray(centre.Get(), "SphereCenter", 3);
+  pointArray(foot.Get(), "FootPoint", 3);
+  pointArray(type.Get(), "ContactType", 1);
+  pointArray(reason.Get(), "FailReason", 1);
+  pointArray(residual.Get(), "Residual", 1);
+  pointArray(iterations.Get(), "Iterations", 1);
+  pointArray(opposite.Get(), "OppositeFaceId", 1);
+  vtkNew<vtkPoints> centres;
+  centres->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> mRadius, mThick;
+  vtkNew<vtkIntArray> mType, mFace;
+  vtkNew<vtkIdTypeArray> mId;
+  mRadius->SetName("Radius");
+  mThick->SetName("Thickness");
+  mType->SetName("ContactType");
+  mFace->SetName("FaceId");
+  mId->SetName("SampleId");
+  vtkDataArray* faceIds = input->GetPointData()->GetArray("FaceId");
+  for (size_t i = 0; i < R.size(); ++i)
+  {
+    const brt::SampleResult& r = R[i];
+    const vtkIdType id = static_cast<vtkIdType>(i);
+    const bool solved = r.Type != brt::ContactType::Failed;
+    thick->SetValue(id, solved ? r.Thickness : NaN);
+    radius->SetValue(id, solved ? r.Radius : NaN);
+    for (int k = 0; k < 3; ++k)
+    {
+      centre->SetComponent(id, k, solved ? r.Center[k] : NaN);
+      foot->SetComponent(id, k, solved ? r.Foot[k] : NaN);
+    }
+    type->SetValue(id, static_cast<int>(r.Type));
+    reason->SetValue(id, static_cast<int>(r.Reason));
+    residual->SetValue(id, r.Residual);
+    iterations->SetValue(id, r.Iterations);
+    opposite->SetValue(id, r.OppositeFace);
+    if (!solved)
+      continue;
+    centres->InsertNextPoint(r.Center.data());
+    mRadius->InsertNextValue(r.Radius);
+    mThick->InsertNextValue(r.Thickness);
+    mType->InsertNextValue(static_cast<int>(r.Type));
+    mFace->InsertNextValue(faceIds ? static_cast<int>(faceIds->GetComponent(id, 0)) : -1);
+    mId->InsertNextValue(static_cast<vtkIdType>(offset) + id);
+  }
+  thickness->GetPointData()->SetActiveScalars("Thickness");
+
+  // --- port 1: medial points -------------------------------------------------------------------
+  medial->SetPoints(centres);
+  vtkNew<vtkCellArray> verts;
+  const vtkIdType nm = centres->GetNumberOfPoints();
+  verts->AllocateExact(nm, nm);
+  for (vtkIdType i = 0; i < nm; ++i)
+    verts->InsertNextCell(1, &i);
+  medial->SetVerts(verts);
+  medial->GetPointData()->AddArray(mRadius);
+  medial->GetPointData()->AddArray(mThick);
+  medial->GetPointData()->AddArray(mType);
+  medial->GetPointData()->AddArray(mFace);
+  medial->GetPointData()->AddArray(mId);
+  medial->GetPointData()->SetActiveScalars("Thickness");
+
+  // --- port 2: residual histogram (rows on process 0 only, the others add none) ----------------
+  auto* rLow = NewColumn<vtkDoubleArray>(residuals, "Log10ResidualLower");
+  auto* rHigh = NewColumn<vtkDoubleArray>(residuals, "Log10ResidualUpper");
+  auto* rSS = NewColumn<vtkIdTypeArray>(residuals, "SurfaceSurface");
+  auto* rSE = NewColumn<vtkIdTypeArray>(residuals, "SurfaceEdge");
+  auto* rSV = NewColumn<vtkIdTypeArray>(residuals, "SurfaceVertex");
+  if (rank == 0)
+    for (int b = 0; b < ResidualBins; ++b)
+    {
+      const double w = (ResidualHigh - ResidualLow) / ResidualBins;
+      rLow->InsertNextValue(ResidualLow + b * w);
+      rHigh->InsertNextValue(ResidualLow + (b + 1) * w);
+      rSS->InsertNextValue(static_cast<vtkIdType>(residualHist[1 * ResidualBins + b]));
+      rSE->InsertNextValue(static_cast<vtkIdType>(residualHist[2 * ResidualBins + b]));
+      rSV->InsertNextValue(static_cast<vtkIdType>(residualHist[3 * ResidualBins + b]));
+    }
+
+  // --- port 3: summary -------------------------------------------------------------------------
+  auto* quantity = NewColumn<vtkStringArray>(summary, "Quantity");
+  auto* value = NewColumn<vtkDoubleArray>(summary, "Value");
+  auto* binLow = NewColumn<vtkDoubleArray>(summary, "BinLower");
+  auto* binHigh = NewColumn<vtkDoubleArray>(summary, "BinUpper");
+  auto row = [&](const std::string& name, double v, double lo = NaN, double hi = NaN) {
+    quantity->InsertNextValue(name);
+    value->InsertNextValue(v);
+    binLow->InsertNextValue(lo);
+    binHigh->InsertNextValue(hi);
+  };
+  if (rank == 0)
+  {
+    const double solvedArea = sums[SolvedArea];
+    row("Samples", sums[Samples]);
+    row("SurfaceSurface", sums[PerType + 1]);
+    row("SurfaceEdge", sums[PerType + 2]);
+    row("SurfaceVertex", sums[PerType + 3]);
+    row("Failed", sums[PerType + 0]);
+    // One row per failure reason (brt::FailReason 1..7), named for scripts.
+    static const char* const reasonRows[FailReasons] = { "", "FailedNoOppositePoint",
+      "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
+      "FailedLeftModel", "FailedNotMaximal" };
+    for (int k = 1; k < FailReasons; ++k)
+      row(reasonRows[k], sums[PerReason + k]);
+    row("ThicknessMin", anySolved ? minmax[0] : NaN);
+    row("ThicknessMax", anySolved ? minmax[1] : NaN);
+    row("ThicknessMean", solvedArea > 0.0 ? sums[AreaThickness] / solvedArea : NaN);
+    row("TotalArea", sums[TotalArea]);
+    row("SolvedArea", solvedArea);
+    row("MinimumThickness", this->MinimumThickness);
+    row("AreaShareBelowMinimum",
+      this->MinimumThickness > 0.0 && solvedArea > 0.0 ? sums[AreaBelow] / solvedArea : NaN);
+    row("MaximumThickness", this->MaximumThickness);
+    row("AreaShareAboveMaximum",
+      this->MaximumThickness > 0.0 && solvedArea > 0.0 ? sums[AreaAbove] / solvedArea : NaN);
+    row("S1Points", static_cast<double>(I.S1Points));
+    row("PrepareSeconds", times[0]);
+    row("SolveSeconds", times[1]);
+    for (int b = 0; b < bins; ++b)
+      row("AreaHistogram", solvedArea > 0.0 ? areaHist[b] / solvedArea : 0.0,
+        histMax * b / bins, histMax * (b + 1) / bins);
+  }
+  vtkNew<vtkStringArray> device, unit, source;
+  device->SetName("Device");
+  device->InsertNextValue(I.DeviceUsed);
+  unit->SetName("LengthUnit");
+  unit->InsertNextValue(I.LengthUnit);
+  source->SetName("SourceFile");
+  source->InsertNextValue(I.SourceFile);
+  summary->GetFieldData()->AddArray(device);
+  summary->GetFieldData()->AddArray(unit);
+  summary->GetFieldData()->AddArray(source);
+
+  if (rank == 0)
+    vtkLogF(INFO,
+      "vtkThicknessFilter: %s: %.0f samples on %s: %.0f surface/surface, %.0f surface/edge, %.0f "
+      "surface/vertex, %.0f failed; thickness %.4g .. %.4g %s (area-weighted mean %.4g); prepare "
+      "%.3f s, solve %.3f s",
+      I.SourceFile.c_str(), sums[Samples], I.DeviceUsed.c_str(), sums[PerType + 1],
+      sums[PerType + 2], sums[PerType + 3], sums[PerType + 0], anySolved ? minmax[0] : NaN,
+      anySolved ? minmax[1] : NaN, I.LengthUnit.c_str(),
+      sums[SolvedArea] > 0.0 ? sums[AreaThickness] / sums[SolvedArea] : NaN, times[0], times[1]);
+  return 1;
+}
+
+bool vtkThicknessFilter::Solve(vtkPolyData* input)
+{
+  Internals& I = *this->Internal;
+  const auto t0 = std::chrono::steady_clock::now();
+  const brt::BRepModel model = brt::ModelFromPolyData(input);
+  I.LengthUnit = model.LengthUnit;
+  I.SourceFile = model.SourceFile;
+  brt::SolverOptions options;
+  options.S1Spacing = this->S1Spacing;
+  options.NewtonTolerance = this->NewtonTolerance;
+  options.MaxIterations = this->MaxIterations;
+  options.MaxEdgeIterations = this->MaxIterations;
+  const brt::SolverData data = brt::PrepareSolver(model, options);
+  const std::vector<brt::Sample> samples = brt::SamplesFromMesh(model, data);
+  I.S1Points = data.S1.size();
+  this->UpdateProgress(0.05);
+
+  // Device.
+  const std::string device = Lower(this->Device ? this->Device : "auto");
+  const bool useDouble = this->Precision == DOUBLE;
+  bool reference = device == "reference";
+  if (!reference)
+  {
+    const std::string clDevice = device == "auto" ? "any" : device;
+    const std::string clKey = clDevice + (useDouble ? " double" : " float");
+    try
+    {
+      if (!I.CL || I.CLKey != clKey)
+      {
+        I.CL.reset();
+        I.CL = std::make_unique<brt::OpenCLSolver>(clDevice, useDouble);
+        I.CLKey = clKey;
+      }
+      I.CL->Upload(model, data);
+    }
+    catch (const brt::OpenCLError& e)
+    {
+      I.CL.reset();
+      if (device != "auto")
+      {
+        vtkErrorMacro(<< "Device '" << this->Device << "': " << e.what());
+        return false;
+      }
+      vtkWarningMacro(<< e.what() << "\nSolving with the CPU reference instead.");
+      reference = true;
+    }
+  }
+  I.DeviceUsed = reference
+    ? "CPU reference (double, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+      " threads)"
+    : std::string("OpenCL ") + (useDouble ? "double" : "float") + ": " + I.CL->DeviceName();
+  I.PrepareSeconds = Seconds(t0);
+
+  // Solve in chunks: progress and abort between them.
+  const auto t1 = std::chrono::steady_clock::now();
+  const size_t n = samples.size();
+  I.Results.assign(n, brt::SampleResult());
+  const size_t chunk = std::max<size_t>(2048, (n + 49) / 50);
+  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  for (size_t first = 0; first < n; first += chunk)
+  {
+    const size_t last = std::min(n, first + chunk);
+    if (reference)
+    {
+      std::vector<std::thread> pool;
+      const size_t per = (last - first + threads - 1) / threads;
+      for (unsigned k = 0; k < threads; ++k)
+      {
+        const size_t a = first + k * per, b = std::min(last, a + per);
+        if (a < b)
+          pool.emplace_back([&, a, b] {
+            brt::SolveReferenceRange(model, data, options, samples, I.Results, a, b);
+          });
+      }
+      for (auto& t : pool)
+        t.join();
+    }
+    else
+    {
+      const std::vector<brt::Sample> part(samples.begin() + first, samples.begin() + last);
+      std::vector<brt::SampleResult> out;
+      I.CL->Solve(model, data, options, part, out);
+      std::copy(out.begin(), out.end(), I.Results.begin() + first);
+    }
+    this->UpdateProgress(0.05 + 0.95 * static_cast<double>(last) / n);
+    if (this->GetAbortExecute())
+    {
+      vtkWarningMacro(<< "Thickness solve aborted after " << last << " of " << n << " samples.");
+      return false;
+    }
+  }
+  I.SolveSeconds = Seconds(t1);
+  return true;
+}
+
+void vtkThicknessFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "S1Spacing: " << this->S1Spacing << "\n";
+  os << indent << "NewtonTolerance: " << this->NewtonTolerance << "\n";
+  os << indent << "MaxIterations: " << this->MaxIterations << "\n";
+  os << indent << "Device: " << (this->Device ? this->Device : "(none)") << "\n";
+  os << indent << "Precision: " << (this->Precision == DOUBLE ? "double" : "float") << "\n";
+  os << indent << "MinimumThickness: " << this->MinimumThickness << "\n";
+  os << indent << "MaximumThickness: " << this->MaximumThickness << "\n";
+  os << indent << "HistogramBins: " << this->HistogramBins << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
+  os << indent << "DeviceUsed: " << this->Internal->DeviceUsed << "\n";
+}

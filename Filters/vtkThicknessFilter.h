@@ -1,0 +1,148 @@
+/**
+ * @class   vtkThicknessFilter
+ * @brief   Exact wall thickness of a B-Rep by maximal inscribed spheres (Lemasson et al. 2014).
+ *
+ * Input: the output of vtkSTEPReader (docs/DataContract.md): the display mesh, whose vertices are
+ * the thickness samples, and the converted B-Rep (Bezier patches, trimming loops, edges) in its
+ * field data. For every vertex O with inward normal d the filter finds the largest sphere tangent
+ * to the surface at O that stays inside the solid; its diameter 2t is the thickness at O and its
+ * centre a sample of the medial axis. The solve runs in OpenCL (any GPU, or the CPU through
+ * PoCL) or in the double-precision CPU reference (docs/Solver.md).
+ *
+ * Outputs:
+ * - port 0 "Thickness": the input mesh with point arrays Thickness (2t; NaN where the sample
+ *   failed), Radius, SphereCenter, FootPoint, ContactType (0 failed, 1 surface/surface,
+ *   2 surface/edge, 3 surface/vertex), FailReason, Residual, Iterations, OppositeFaceId.
+ * - port 1 "Medial Points": one vertex per solved sample at its sphere centre, with Radius,
+ *   Thickness, ContactType and SampleId (the sample's index in port 0, across all pieces).
+ * - port 2 "Residuals": histogram (vtkTable) of log10 |R| per contact type.
+ * - port 3 "Summary": vtkTable of Quantity / Value rows (min, max and area-weighted mean
+ *   thickness, area shares below MinimumThickness and above MaximumThickness, counts per
+ *   contact type and failure reason, times) followed by the area-weighted thickness histogram
+ *   (rows "AreaHistogram" with BinLower / BinUpper).
+ *
+ * Under MPI every piece solves only its own vertices against the whole B-Rep (which each piece
+ * carries in its field data); the tables are reduced over the controller and filled on process 0,
+ * so the gathered result equals a single-process run.
+ */
+#ifndef vtkThicknessFilter_h
+#define vtkThicknessFilter_h
+
+#include "BRepThicknessFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkMultiProcessController;
+
+class BREPTHICKNESSFILTERS_EXPORT vtkThicknessFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkThicknessFilter* New();
+  vtkTypeMacro(vtkThicknessFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum OutputPorts
+  {
+    THICKNESS = 0,
+    MEDIAL_POINTS = 1,
+    RESIDUALS = 2,
+    SUMMARY = 3
+  };
+
+  enum PrecisionTypes
+  {
+    FLOAT = 0,
+    DOUBLE = 1
+  };
+
+  ///@{
+  /// Spacing of the coarse sample set s1 on the patches, in model units; 0 (default) picks 1/100
+  /// of the bounding-box diagonal. Smaller is slower and finds thin features more surely.
+  vtkSetClampMacro(S1Spacing, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(S1Spacing, double);
+  ///@}
+
+  ///@{
+  /// Newton stops when |R| (in model units) is at most this. Default 1e-4.
+  vtkSetClampMacro(NewtonTolerance, double, 1e-12, 1.0);
+  vtkGetMacro(NewtonTolerance, double);
+  ///@}
+
+  ///@{
+  /// Iteration cap of the surface/surface and of the surface/edge Newton. Default 50.
+  vtkSetClampMacro(MaxIterations, int, 1, 10000);
+  vtkGetMacro(MaxIterations, int);
+  ///@}
+
+  ///@{
+  /// Where to solve: "auto" (default: the first OpenCL GPU, else the first OpenCL device, else
+  /// the CPU reference with a warning), "reference" (the double-precision CPU reference, on all
+  /// cores), "gpu", "cpu" (an OpenCL device of that type, e.g. PoCL), or part of an OpenCL device
+  /// or platform name. A named device that is not found is an error listing the devices.
+  vtkSetStringMacro(Device);
+  vtkGetStringMacro(Device);
+  ///@}
+
+  ///@{
+  /// Arithmetic of the OpenCL kernels: FLOAT (default, the paper's) or DOUBLE (needs
+  /// cl_khr_fp64). The CPU reference is always double.
+  vtkSetClampMacro(Precision, int, FLOAT, DOUBLE);
+  vtkGetMacro(Precision, int);
+  ///@}
+
+  ///@{
+  /// Thickness limits for the Summary: the share of the area thinner than MinimumThickness and
+  /// thicker than MaximumThickness (model units; 0 disables a limit). They do not change the
+  /// solve, so changing them does not solve again.
+  vtkSetClampMacro(MinimumThickness, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MinimumThickness, double);
+  vtkSetClampMacro(MaximumThickness, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumThickness, double);
+  ///@}
+
+  ///@{
+  /// Bins of the Summary's area-weighted thickness histogram (from 0 to the maximum). Default 20.
+  vtkSetClampMacro(HistogramBins, int, 1, 100000);
+  vtkGetMacro(HistogramBins, int);
+  ///@}
+
+  ///@{
+  /// Controller for the reductions of the tables under MPI; the global controller by default.
+  void SetController(vtkMultiProcessController*);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
+  /// What the last solve ran on (e.g. "OpenCL float: Portable Computing Language: cpu-...").
+  const char* GetDeviceUsed() const;
+
+protected:
+  vtkThicknessFilter();
+  ~vtkThicknessFilter() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double S1Spacing = 0.0;
+  double NewtonTolerance = 1e-4;
+  int MaxIterations = 50;
+  char* Device = nullptr;
+  int Precision = FLOAT;
+  double MinimumThickness = 0.0;
+  double MaximumThickness = 0.0;
+  int HistogramBins = 20;
+  vtkMultiProcessController* Controller = nullptr;
+
+private:
+  vtkThicknessFilter(const vtkThicknessFilter&) = delete;
+  void operator=(const vtkThicknessFilter&) = delete;
+
+  /// Reads the B-Rep, prepares s1 and the BVH, picks the device and solves every vertex of
+  /// `input` into Internal->Results. False after an error (reported) or an abort.
+  bool Solve(vtkPolyData* input);
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
