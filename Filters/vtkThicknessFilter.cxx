@@ -193,6 +193,7 @@ int vtkThicknessFilter::RequestData(
     TotalArea,
     AreaBelow,
     AreaAbove,
+    SolvingProcesses,
     PerType,                      // ContactTypes counts
     PerReason = PerType + ContactTypes, // FailReasons counts
     SumCount = PerReason + FailReasons
@@ -200,6 +201,7 @@ int vtkThicknessFilter::RequestData(
   std::vector<double> sums(SumCount, 0.0);
   std::vector<double> residualHist(ContactTypes * ResidualBins, 0.0);
   double minmax[2] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+  sums[SolvingProcesses] = R.empty() ? 0.0 : 1.0;
   for (size_t i = 0; i < R.size(); ++i)
   {
     const brt::SampleResult& r = R[i];
@@ -338,6 +340,10 @@ int vtkThicknessFilter::RequestData(
     mId->InsertNextValue(static_cast<vtkIdType>(offset) + id);
   }
   thickness->GetPointData()->SetActiveScalars("Thickness");
+  // ParaView titles a scalar bar with the array name and its component name: "Thickness (mm)".
+  const std::string unitTitle = "(" + I.LengthUnit + ")";
+  thick->SetComponentName(0, unitTitle.c_str());
+  radius->SetComponentName(0, unitTitle.c_str());
 
   // --- port 1: medial points -------------------------------------------------------------------
   medial->SetPoints(centres);
@@ -410,6 +416,7 @@ int vtkThicknessFilter::RequestData(
     row("S1Points", static_cast<double>(I.S1Points));
     row("PrepareSeconds", times[0]);
     row("SolveSeconds", times[1]);
+    row("SolvingProcesses", sums[SolvingProcesses]);
     for (int b = 0; b < bins; ++b)
       row("AreaHistogram", solvedArea > 0.0 ? areaHist[b] / solvedArea : 0.0,
         histMax * b / bins, histMax * (b + 1) / bins);

@@ -1,118 +1,247 @@
-"""BRepThickness batch run: read a STEP part and write its results.
+"""BRepThickness batch run: the wall thickness of a STEP part, written to files.
 
-    pvpython Utilities/brepthickness_batch.py MODEL.step [--out DIR] [--plugin PATH]
-             [--tolerance T] [--max-edge L] [--size W H]
+    pvpython Utilities/brepthickness_batch.py MODEL.step [--out DIR] [options]
 
 Writes, under DIR (default ./brepthickness-out/<model>):
-  <model>.vtp             the reader's output (display mesh, FaceId/SolidId/FaceUV/Normals,
-                          the converted B-Rep in field data)
-  <model>-summary.csv     conversion statistics
-  <model>.png             rendering coloured by FaceId, with a scalar bar
-Until the thickness filter exists (issue 4) the map is coloured by FaceId.
-Exits with status 1 and one message on bad input.
+  <model>-thickness.vtp    display mesh with Thickness, Radius, SphereCenter, FootPoint,
+                           ContactType, FailReason, Residual, Iterations, OppositeFaceId
+  <model>-medial.vtp       medial points (sphere centres) with Radius, Thickness, SampleId
+  <model>-summary.csv      thickness statistics, contact counts, times, conversion statistics
+  <model>-histogram.csv    area-weighted thickness histogram
+  <model>-residuals.csv    histogram of log10 |R| per contact type
+  <model>.png              thickness map with a scalar bar (failed samples in magenta)
+  <model>-medial.png       medial points coloured by thickness, in the part's silhouette
+Prints a one-screen summary. Exits with status 1 and one message on bad input.
 """
 import argparse
 import csv
+import math
 import os
+import re
 import sys
 
+# Colour map of the paper: white at zero, then blue, green, yellow, red at the maximum.
+THICKNESS_RGB = [0.0, 1, 1, 1, 0.25, 0, 0, 1, 0.5, 0, 1, 0, 0.75, 1, 1, 0, 1.0, 1, 0, 0]
+FAILED_RGB = [1.0, 0.0, 1.0]
 
-def main():
+
+def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("model")
-    ap.add_argument("--out", default=None)
+    ap.add_argument("model", help="STEP file (.step/.stp)")
+    ap.add_argument("--out", default=None, help="output folder (default ./brepthickness-out/<model>)")
     ap.add_argument("--plugin", default=os.environ.get("BRT_PLUGIN"),
                     help="BRepThickness.so (default: $BRT_PLUGIN, else PV_PLUGIN_PATH)")
-    ap.add_argument("--tolerance", type=float, default=1e-4)
-    ap.add_argument("--max-edge", type=float, default=0.0)
-    ap.add_argument("--size", type=int, nargs=2, default=(1200, 900))
-    args = ap.parse_args()
+    ap.add_argument("--tolerance", type=float, default=1e-4, help="Bezier conversion tolerance (mm)")
+    ap.add_argument("--max-edge", type=float, default=0.0,
+                    help="longest display-mesh edge, sets the sample density (mm; 0: diagonal/50)")
+    ap.add_argument("--device", default="auto", help="auto, reference, gpu, cpu or an OpenCL device name")
+    ap.add_argument("--precision", choices=("float", "double"), default="float")
+    ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
+    ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
+    ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/100)")
+    ap.add_argument("--bins", type=int, default=20, help="bins of the thickness histogram")
+    ap.add_argument("--size", type=int, nargs=2, default=(1200, 900), metavar=("W", "H"))
+    return ap.parse_args(argv)
 
-    from paraview.simple import (LoadPlugin, GetActiveViewOrCreate, Show, ColorBy, GetColorTransferFunction,
-                                 ResetCamera, SaveScreenshot, SaveData, Render)
-    from paraview import servermanager as sm
+
+def load_plugin(path):
     import paraview.simple as simple
+    ns = {}
+    if path:
+        if not os.path.isfile(path):
+            sys.exit("error: plugin '%s' does not exist (build the project first)" % path)
+        simple.LoadPlugin(path, ns=ns)
+    reader = ns.get("STEPReader", getattr(simple, "STEPReader", None))
+    thickness = ns.get("BRepThickness", getattr(simple, "BRepThickness", None))
+    if reader is None or thickness is None:
+        sys.exit("error: the BRepThickness plugin is not loaded (give --plugin or set PV_PLUGIN_PATH)")
+    return reader, thickness
+
+
+def collect_errors(proxy, errors):
+    """Collects the error messages of a proxy's VTK object (the reader names the file)."""
     from vtkmodules.util.misc import calldata_type
     from vtkmodules.util.vtkConstants import VTK_STRING
 
-    ns = {}
-    if args.plugin:
-        if not os.path.isfile(args.plugin):
-            sys.exit("error: plugin '%s' does not exist (build the project first)" % args.plugin)
-        LoadPlugin(args.plugin, ns=ns)
-    STEPReader = ns.get("STEPReader", getattr(simple, "STEPReader", None))
-    if STEPReader is None:
-        sys.exit("error: the BRepThickness plugin is not loaded (give --plugin or set PV_PLUGIN_PATH)")
-
-    name = os.path.splitext(os.path.basename(args.model))[0]
-    out = args.out or os.path.join("brepthickness-out", name)
-    reader = STEPReader(FileName=os.path.abspath(args.model), Tolerance=args.tolerance,
-                               MaxEdgeLength=args.max_edge)
-    errors = []
-
     @calldata_type(VTK_STRING)
     def on_error(obj, event, message):
-        errors.append(message.strip().splitlines()[-1])
+        # VTK's format: "ERROR: In <file>, line <n>\n<class> (<address>): <message>\n"
+        lines = message.strip().splitlines()
+        text = "\n".join(lines[1:] if len(lines) > 1 and lines[0].startswith("ERROR: In ") else lines)
+        errors.append(re.sub(r"^\w+ \(0x[0-9a-fA-F]+\): ", "", text))
 
-    reader.GetClientSideObject().AddObserver("ErrorEvent", on_error)
-    reader.UpdatePipeline()
-    if errors:
-        sys.exit("error: " + errors[0].split(": ", 1)[-1])
-    data = sm.Fetch(reader)
-    fd = data.GetFieldData()
+    proxy.GetClientSideObject().AddObserver("ErrorEvent", on_error)
 
-    os.makedirs(out, exist_ok=True)
-    vtp = os.path.join(out, name + ".vtp")
-    SaveData(vtp, proxy=reader)
 
-    keys = ["NumberOfSolids", "NumberOfFaces", "NumberOfPatches", "NumberOfLoops", "NumberOfTrimSegments",
-            "NumberOfEdges", "NumberOfEdgeSegments", "Tolerance", "MaxPatchDeviation", "MaxEdgeDeviation",
-            "MaxLoopGapUV", "MaxLoopGap3D", "OpenLoops", "ReadSeconds", "HealSeconds", "ConvertSeconds",
-            "MeshSeconds"]
-    summary = os.path.join(out, name + "-summary.csv")
-    with open(summary, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["quantity", "value"])
-        w.writerow(["SourceFile", os.path.abspath(args.model)])
-        w.writerow(["LengthUnit", fd.GetAbstractArray("LengthUnit").GetValue(0)])
-        w.writerow(["MeshPoints", data.GetNumberOfPoints()])
-        for k in keys:
-            w.writerow([k, fd.GetArray(k).GetValue(0)])
-        warnings = fd.GetAbstractArray("ConversionWarnings")
-        w.writerow(["Warnings", warnings.GetNumberOfValues()])
+def table_rows(table):
+    cols = [table.GetColumn(c) for c in range(table.GetNumberOfColumns())]
+    names = [c.GetName() for c in cols]
+    rows = [[c.GetValue(r) for c in cols] for r in range(table.GetNumberOfRows())]
+    return names, rows
 
-    view = GetActiveViewOrCreate("RenderView")
-    view.ViewSize = list(args.size)
-    view.OrientationAxesVisibility = 1
-    display = Show(reader, view)
-    ColorBy(display, ("POINTS", "FaceId"))
-    lut = GetColorTransferFunction("FaceId")
-    lut.ApplyPreset("Rainbow Uniform", True)
+
+def fmt(v):
+    return "" if isinstance(v, float) and math.isnan(v) else v
+
+
+def render(source, port, view, name_png, size, lut, tmax, title, points=False, context=None):
+    import paraview.simple as simple
+    for rep in view.Representations:
+        if hasattr(rep, "Visibility"):
+            rep.Visibility = 0
+    if context is not None:
+        ctx = simple.Show(context, view)
+        simple.ColorBy(ctx, None)
+        ctx.Opacity = 0.15
+        ctx.DiffuseColor = [0.6, 0.6, 0.6]
+    display = simple.Show(simple.OutputPort(source, port), view)
+    simple.ColorBy(display, ("POINTS", "Thickness"))
+    display.LookupTable = lut
+    lut.RescaleTransferFunction(0.0, tmax)  # white at zero, red at the maximum
+    if points:
+        display.SetRepresentationType("Points")
+        display.PointSize = 3
     display.SetScalarBarVisibility(view, True)
     bar = simple.GetScalarBar(lut, view)
-    bar.Title = "FaceId"
+    bar.Title = title
     bar.ComponentTitle = ""
+    bar.RangeLabelFormat = "%-#6.3g"
+    bar.WindowLocation = "Any Location"
+    bar.Position = [0.88, 0.1]
+    bar.ScalarBarLength = 0.8
     view.CameraPosition = [1, -1.3, 0.9]
     view.CameraFocalPoint = [0, 0, 0]
     view.CameraViewUp = [0, 0, 1]
-    ResetCamera(view)
-    Render(view)
-    png = os.path.join(out, name + ".png")
-    SaveScreenshot(png, view, ImageResolution=list(args.size))
+    simple.ResetCamera(view)
+    simple.Render(view)
+    simple.SaveScreenshot(name_png, view, ImageResolution=list(size))
 
-    s = {k: fd.GetArray(k).GetValue(0) for k in keys}
-    print("BRepThickness: %s" % args.model)
-    print("  %d solids, %d faces -> %d bicubic patches (max deviation %.2e mm, tolerance %.0e)"
-          % (s["NumberOfSolids"], s["NumberOfFaces"], s["NumberOfPatches"], s["MaxPatchDeviation"], s["Tolerance"]))
-    print("  %d trimming segments in %d loops (%d open), %d edges in %d segments"
-          % (s["NumberOfTrimSegments"], s["NumberOfLoops"], s["OpenLoops"], s["NumberOfEdges"],
-             s["NumberOfEdgeSegments"]))
-    print("  display mesh: %d points, %d triangles" % (data.GetNumberOfPoints(), data.GetNumberOfCells()))
-    print("  read %.2f s, heal %.2f s, convert %.2f s, mesh %.2f s"
-          % (s["ReadSeconds"], s["HealSeconds"], s["ConvertSeconds"], s["MeshSeconds"]))
-    for path in (vtp, summary, png):
-        print("  wrote %s" % path)
+
+def main(argv=None):
+    args = parse_args(argv)
+    import paraview.simple as simple
+    from paraview import servermanager as sm
+    STEPReader, BRepThickness = load_plugin(args.plugin)
+
+    name = os.path.splitext(os.path.basename(args.model))[0]
+    out = args.out or os.path.join("brepthickness-out", name)
+    errors = []
+    reader = STEPReader(FileName=os.path.abspath(args.model), Tolerance=args.tolerance,
+                        MaxEdgeLength=args.max_edge)
+    collect_errors(reader, errors)
+    reader.UpdatePipeline()
+    if errors:
+        sys.exit("error: " + errors[0])
+    thick = BRepThickness(Input=reader, Device=args.device,
+                          Precision="Double" if args.precision == "double" else "Float",
+                          MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
+                          S1Spacing=args.s1_spacing, HistogramBins=args.bins)
+    collect_errors(thick, errors)
+    thick.UpdatePipeline()
+    if errors:
+        sys.exit("error: " + errors[0])
+
+    mesh = sm.Fetch(thick, idx=0)
+    summary = sm.Fetch(thick, idx=3)
+    residuals = sm.Fetch(thick, idx=2)
+    if mesh.GetNumberOfPoints() == 0 or summary.GetNumberOfRows() == 0:
+        sys.exit("error: STEP file '%s': the thickness filter produced no result" % args.model)
+    fd = mesh.GetFieldData()
+    unit = fd.GetAbstractArray("LengthUnit").GetValue(0)
+    device = summary.GetFieldData().GetAbstractArray("Device").GetValue(0)
+
+    os.makedirs(out, exist_ok=True)
+    files = {}
+    files["thickness"] = os.path.join(out, name + "-thickness.vtp")
+    simple.SaveData(files["thickness"], proxy=simple.OutputPort(thick, 0))
+    files["medial"] = os.path.join(out, name + "-medial.vtp")
+    simple.SaveData(files["medial"], proxy=simple.OutputPort(thick, 1))
+
+    _, rows = table_rows(summary)
+    stats = {r[0]: r[1] for r in rows if r[0] != "AreaHistogram"}
+    histogram = [r for r in rows if r[0] == "AreaHistogram"]
+    conversion = ["NumberOfSolids", "NumberOfFaces", "NumberOfPatches", "NumberOfTrimSegments",
+                  "NumberOfEdges", "MaxPatchDeviation", "ReadSeconds", "HealSeconds", "ConvertSeconds",
+                  "MeshSeconds"]
+    files["summary"] = os.path.join(out, name + "-summary.csv")
+    with open(files["summary"], "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["quantity", "value", "unit"])
+        w.writerow(["SourceFile", os.path.abspath(args.model), ""])
+        w.writerow(["Device", device, ""])
+        for k, v in stats.items():
+            u = unit if k.startswith("Thickness") or k in ("MinimumThickness", "MaximumThickness") else (
+                unit + "^2" if k.endswith("Area") else ("s" if k.endswith("Seconds") else ""))
+            w.writerow([k, fmt(v), u])
+        for k in conversion:
+            w.writerow([k, fd.GetArray(k).GetValue(0), "s" if k.endswith("Seconds") else ""])
+    files["histogram"] = os.path.join(out, name + "-histogram.csv")
+    with open(files["histogram"], "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["thickness_from_" + unit, "thickness_to_" + unit, "area_share"])
+        for r in histogram:
+            w.writerow([r[2], r[3], r[1]])
+    files["residuals"] = os.path.join(out, name + "-residuals.csv")
+    with open(files["residuals"], "w", newline="") as f:
+        names, rows = table_rows(residuals)
+        w = csv.writer(f)
+        w.writerow(names)
+        w.writerows(rows)
+
+    # Pictures: the thickness map, then the medial points.
+    view = simple.CreateView("RenderView")
+    view.ViewSize = list(args.size)
+    view.OrientationAxesVisibility = 1
+    view.Background = [1, 1, 1]
+    try:  # ParaView >= 5.10: the palette decides the background unless told otherwise
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.OrientationAxesLabelColor = [0, 0, 0]
+    lut = simple.GetColorTransferFunction("Thickness")
+    lut.ColorSpace = "RGB"
+    tmax = stats["ThicknessMax"] if stats["ThicknessMax"] > 0 else 1.0
+    lut.RGBPoints = [x * (tmax if i % 4 == 0 else 1) for i, x in enumerate(THICKNESS_RGB)]
+    lut.NanColor = FAILED_RGB
+    lut.AutomaticRescaleRangeMode = "Never"
+    title = "Thickness (%s)" % unit
+    files["png"] = os.path.join(out, name + ".png")
+    render(thick, 0, view, files["png"], args.size, lut, tmax, title)
+    bar = simple.GetScalarBar(lut, view)
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+    simple.SaveScreenshot(files["png"], view, ImageResolution=list(args.size))
+    files["medial_png"] = os.path.join(out, name + "-medial.png")
+    render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
+           context=simple.OutputPort(thick, 0))
+
+    n = stats["Samples"]
+    share = lambda k: 100.0 * stats[k] / n if n else 0.0
+    print("BRepThickness: %s  (%s)" % (args.model, device))
+    print("  %d faces -> %d bicubic patches (max deviation %.1e %s); %d samples, %d s1 points"
+          % (fd.GetArray("NumberOfFaces").GetValue(0), fd.GetArray("NumberOfPatches").GetValue(0),
+             fd.GetArray("MaxPatchDeviation").GetValue(0), unit, n, stats["S1Points"]))
+    print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% failed"
+          % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"), share("Failed")))
+    failed = [(k[len("Failed"):], int(v)) for k, v in stats.items() if k.startswith("Failed") and k != "Failed" and v]
+    if failed:
+        print("  failed: " + ", ".join("%s %d" % kv for kv in failed))
+    print("  thickness: min %.4g, max %.4g, area-weighted mean %.4g %s"
+          % (stats["ThicknessMin"], stats["ThicknessMax"], stats["ThicknessMean"], unit))
+    if args.min_thickness > 0:
+        print("  area thinner than %g %s: %.2f%%" % (args.min_thickness, unit, 100 * stats["AreaShareBelowMinimum"]))
+    if args.max_thickness > 0:
+        print("  area thicker than %g %s: %.2f%%" % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximum"]))
+    print("  times: read %.2f s, convert %.2f s, mesh %.2f s, prepare %.2f s, solve %.2f s"
+          % (fd.GetArray("ReadSeconds").GetValue(0) + fd.GetArray("HealSeconds").GetValue(0),
+             fd.GetArray("ConvertSeconds").GetValue(0), fd.GetArray("MeshSeconds").GetValue(0),
+             stats["PrepareSeconds"], stats["SolveSeconds"]))
+    for key in ("thickness", "medial", "summary", "histogram", "residuals", "png", "medial_png"):
+        print("  wrote %s" % files[key])
+    # Release the view (and its OpenGL context) before the interpreter's teardown closes X.
+    simple.Delete(view)
+    del view
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
