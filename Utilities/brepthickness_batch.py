@@ -46,13 +46,12 @@ def parse_args(argv=None):
 
 def load_plugin(path):
     import paraview.simple as simple
-    ns = {}
     if path:
         if not os.path.isfile(path):
             sys.exit("error: plugin '%s' does not exist (build the project first)" % path)
-        simple.LoadPlugin(path, ns=ns)
-    reader = ns.get("STEPReader", getattr(simple, "STEPReader", None))
-    thickness = ns.get("BRepThickness", getattr(simple, "BRepThickness", None))
+        simple.LoadPlugin(path)  # adds the plugin's proxies to paraview.simple
+    reader = getattr(simple, "STEPReader", None)
+    thickness = getattr(simple, "BRepThickness", None)
     if reader is None or thickness is None:
         sys.exit("error: the BRepThickness plugin is not loaded (give --plugin or set PV_PLUGIN_PATH)")
     return reader, thickness

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   # ParaView 5.11 SDK (bundles VTK 9.2). Never libvtk9-dev: it conflicts with python3-paraview.
-  paraview paraview-dev python3-paraview libdouble-conversion-dev libglew-dev libopenmpi-dev
+  paraview paraview-dev python3-paraview libdouble-conversion-dev libglew-dev libopenmpi-dev openmpi-bin
   # OpenCASCADE 7.6
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libocct-ocaf-dev libocct-visualization-dev libtbb-dev
