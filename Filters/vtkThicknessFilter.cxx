@@ -529,7 +529,10 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       std::copy(out.begin(), out.end(), I.Results.begin() + first);
     }
     this->UpdateProgress(0.05 + 0.95 * static_cast<double>(last) / n);
-    if (this->GetAbortExecute())
+    // CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees this filter's AbortExecute (set by
+    // ParaView's Abort) and an abort upstream, and makes the executive mark the outputs aborted,
+    // so that the next update solves again.
+    if (this->CheckAbort())
     {
       vtkWarningMacro(<< "Thickness solve aborted after " << last << " of " << n << " samples.");
       return false;
