@@ -493,6 +493,11 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     P->SolveAs<double>(model, data, options, samples, results, chunk);
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
+  // The kernels have no descent fallback (brt::SolveOne): the few samples whose sphere they could
+  // not prove maximal are finished on the host by the reference, in double.
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (results[i].Reason == FailReason::NotMaximal)
+      SolveReferenceRange(model, data, options, samples, results, i, i + 1);
 }
 
 } // namespace brt

@@ -534,14 +534,19 @@ int edge_point_on_face(const Model* m, int face, int edge, real T, real* u, real
 
 // --- the kernel -----------------------------------------------------------------------------
 // Eq. 1 over the BVH: the s1 point with the smallest t below `bound` (+inf: any), pruning nodes
-// farther than t from M. With a finite bound it finds the s1 points inside that sphere.
+// farther than t from M. With a finite bound it finds the s1 points inside that sphere; with
+// ballR > 0 only those inside the ball of radius ballR about O + ballT d (the verification: a
+// depth measured as a distance, as in the reference's Initialise).
 int initialise(__global const real* s1Point, __global const int* s1Face,
   __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
-  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real* tOut)
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real ballT, real ballR,
+  real* tOut)
 {
   int best = -1;
   real t = bound;
   const int bounded = bound < REAL_MAX;
+  const int ball = ballR > (real)0;
+  const real3 ballM = O + ballT * d;
     // Candidates closer to O than this are O itself within rounding (same as the reference's
     // 1e-9 * scale in double; float rounding needs more room).
 #ifdef BRT_DOUBLE
@@ -561,6 +566,12 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const int n = stack[--top];
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
+      if (ball)
+      {
+        const real3 e = fmax(fmax(lo - ballM, (real3)(0)), ballM - hi);
+        if (dot(e, e) >= ballR * ballR)
+          continue;
+      }
       if (best >= 0 || bounded)
       {
         const real3 M = O + t * d;
@@ -580,6 +591,12 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           const real dn = dot(d, w), l2 = dot(w, w);
           if (dn <= fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
             continue;
+          if (ball)
+          {
+            const real3 q = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - ballM;
+            if (dot(q, q) >= ballR * ballR)
+              continue;
+          }
           const real tt = (real)0.5 * l2 / dn;
           if (tt < t)
           {
@@ -831,7 +848,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   {
     const int solid = faceInfo[FACE_INTS * sampleFace[gid] + 7];
     int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      REAL_MAX, &t);
+      REAL_MAX, 0, 0, &t);
     if (best < 0)
     {
       reason = FAIL_NO_OPPOSITE;
@@ -843,7 +860,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
     {
       // That start led nowhere: try the best start on any other face once.
       best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-        REAL_MAX, &t);
+        REAL_MAX, 0, 0, &t);
       if (best >= 0)
       {
         const Result other = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
@@ -855,9 +872,9 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
     }
     for (int check = 0; r.type != CONTACT_FAILED; ++check)
     {
-      // Points inside by less than the patches' accuracy (slack) prove nothing.
+      // Points inside by less than the patches' accuracy (slack, as a distance) prove nothing.
       best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-        r.t * (real)(1.0 - 1e-6) - slack, &t);
+        r.t * (real)(1.0 - 1e-6), r.t, r.t - slack, &t);
       if (best < 0)
         break; // no s1 point inside: maximal at the resolution of s1
       // A point inside proves the true radius is below t(best) < r.t: restart, and the

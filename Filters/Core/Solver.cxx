@@ -106,9 +106,18 @@ double BoxDistance2(const BVHNode& n, const Vec3& p)
 /// A point gives a smaller t exactly when it lies strictly inside the current sphere (centre
 /// M = O + t d, radius t), so nodes farther than t from M are pruned (the paper's bound 2t is
 /// looser).
+///
+/// With ballR > 0 only points deeper than the verification needs count: points inside the ball of
+/// radius ballR about O + ballT d (the sphere found, shrunk by the patches' accuracy). The depth
+/// must be measured as a distance: near O, t(P) drops steeply for a point barely inside the
+/// sphere (a sample O off the patches by 1e-5 makes its neighbours on a fillet of radius 0.3 give
+/// t 10% below the radius), so a bound on t alone would reject maximal spheres.
 int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, double& bestT,
-  double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1)
+  double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1,
+  double ballT = 0.0, double ballR = 0.0)
 {
+  const bool ball = ballR > 0.0;
+  const Vec3 ballM = Axpy(s.Point, ballT, s.Direction);
   // Thickness is a property of one solid: in an assembly, the walls of other solids don't count.
   const int solid = m.Faces[s.Face].Solid;
   const double minDist2 = (1e-9 * data.Scale) * (1e-9 * data.Scale);
@@ -123,6 +132,8 @@ int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, doub
   while (top > 0)
   {
     const BVHNode& n = data.Nodes[stack[--top]];
+    if (ball && BoxDistance2(n, ballM) >= ballR * ballR)
+      continue;
     if (std::isfinite(bestT))
     {
       const Vec3 M = Axpy(O, bestT, d);
@@ -141,6 +152,12 @@ int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, doub
         // points on top of O (an s1 point may coincide with a sample).
         if (dn <= 1e-6 * std::sqrt(l2) || l2 <= minDist2)
           continue;
+        if (ball)
+        {
+          const Vec3 q = Sub(data.S1[i].Point, ballM);
+          if (Dot(q, q) >= ballR * ballR)
+            continue;
+        }
         const double t = 0.5 * l2 / dn;
         if (t < bestT)
         {
@@ -717,6 +734,238 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   r.Center = Axpy(O, t, d);
   r.Foot = C;
 }
+/// The sphere radius that eq. 1 gives for the boundary point P: t(P) = |P-O|^2 / (2 d.(P-O)),
+/// infinite when P is not in front of O.
+double SphereRadius(const Vec3& O, const Vec3& d, const Vec3& P)
+{
+  const Vec3 w = Sub(P, O);
+  const double b = Dot(d, w);
+  return b > 0.0 ? 0.5 * Dot(w, w) / b : std::numeric_limits<double>::infinity();
+}
+
+/// The fallback of SolveOne for the hard samples: a descent on t instead of a Newton on eq. 4.
+/// Every stationary point of t(P) over a face is a tangent sphere (grad t = (S-M).S_u / d.(S-O)),
+/// but Newton finds any of them, maxima and saddles too, and may leave the face on the way; the
+/// smallest sphere is the minimum of t over the boundary. This minimises t(u, v) over the
+/// trimmed face from (u, v) by Newton steps on grad t, made positive definite with the first
+/// fundamental form where the Hessian is not, with a backtracking line search that only accepts
+/// a smaller t. Where the step would leave the face, it goes on along the edge it crosses
+/// (minimising t(T) over the edge, stopping at its ends: surface/edge and surface/vertex
+/// contacts). Since t only decreases, it cannot climb back to the sphere it started below.
+SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, double u, double v, int& iterations)
+{
+  SampleResult r;
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const Face& F = m.Faces[face];
+  const double tiny = 1e-14 * data.Scale;
+  struct State
+  {
+    double U, V, T;
+    PatchEval E;
+    int Patch;
+  };
+  auto evaluate = [&](double uu, double vv, State& st) {
+    st.U = uu;
+    st.V = vv;
+    st.Patch = FindPatchFast(m, data, face, uu, vv);
+    st.E = EvaluatePatch(m.Patches[st.Patch], uu, vv);
+    st.T = SphereRadius(O, d, st.E.P);
+  };
+  State cur;
+  evaluate(u, v, cur);
+  if (!std::isfinite(cur.T))
+    return r;
+  int crossing = -1;     // trimming segment the last step ran into
+  double crossingAt = 0; // its local parameter
+  for (int it = 0; it < 4 * opt.MaxIterations; ++it)
+  {
+    ++iterations;
+    const PatchEval& e = cur.E;
+    const Vec3 w0 = Sub(e.P, O);
+    const double b = Dot(d, w0), t = cur.T;
+    const Vec3 w = Sub(e.P, Axpy(O, t, d)); // S - M
+    const double g[2] = { Dot(w, e.Du) / b, Dot(w, e.Dv) / b };
+    const double du_d = Dot(d, e.Du), dv_d = Dot(d, e.Dv);
+    double H[2][2] = {
+      { (Dot(e.Du, e.Du) - 2.0 * g[0] * du_d + Dot(w, e.Duu)) / b,
+        (Dot(e.Du, e.Dv) - g[1] * du_d - g[0] * dv_d + Dot(w, e.Duv)) / b },
+      { 0.0, (Dot(e.Dv, e.Dv) - 2.0 * g[1] * dv_d + Dot(w, e.Dvv)) / b } };
+    H[1][0] = H[0][1];
+    const double G[2][2] = { { Dot(e.Du, e.Du) / b, Dot(e.Du, e.Dv) / b },
+      { Dot(e.Du, e.Dv) / b, Dot(e.Dv, e.Dv) / b } };
+    // Levenberg-Marquardt: H + lambda G, lambda raised until positive definite.
+    double step[2] = { 0.0, 0.0 };
+    for (double lambda = 0.0; lambda < 1e12; lambda = lambda == 0.0 ? 1e-3 : 10.0 * lambda)
+    {
+      const double a00 = H[0][0] + lambda * G[0][0], a01 = H[0][1] + lambda * G[0][1],
+                   a11 = H[1][1] + lambda * G[1][1];
+      const double det = a00 * a11 - a01 * a01;
+      if (a00 > 0.0 && det > 1e-300 * std::fabs(a00 * a11) && det > 0.0)
+      {
+        step[0] = -(a11 * g[0] - a01 * g[1]) / det;
+        step[1] = -(a00 * g[1] - a01 * g[0]) / det;
+        break;
+      }
+    }
+    const Vec3 move3 = { step[0] * e.Du[0] + step[1] * e.Dv[0],
+      step[0] * e.Du[1] + step[1] * e.Dv[1], step[0] * e.Du[2] + step[1] * e.Dv[2] };
+    double len = std::sqrt(Dot(move3, move3));
+    const double limit = std::max(t, 1e-3 * data.Scale);
+    double f = len > limit ? limit / len : 1.0;
+    const double slope = g[0] * step[0] + g[1] * step[1]; // < 0
+    if (len * f < tiny || !(slope < 0.0))
+      break; // stationary: a minimum of t on the face
+    bool accepted = false;
+    crossing = -1;
+    for (int k = 0; k < 40; ++k, f *= 0.5)
+    {
+      const double un = Wrap(cur.U + f * step[0], F.Domain[0], F.Period[0]);
+      const double vn = Wrap(cur.V + f * step[1], F.Domain[2], F.Period[1]);
+      const double uc = std::clamp(un, F.Domain[0], F.Domain[1]);
+      const double vc = std::clamp(vn, F.Domain[2], F.Domain[3]);
+      const TrimProjection tp = ClassifyPoint(m, face, uc, vc);
+      if (!(tp.Inside || tp.Distance <= F.UVTolerance) || uc != un || vc != vn)
+      {
+        if (crossing < 0)
+        {
+          crossing = tp.Segment; // first (longest) step that left the face: the edge it crossed
+          crossingAt = tp.Parameter;
+        }
+        continue;
+      }
+      State next;
+      evaluate(uc, vc, next);
+      if (next.T <= t + 1e-4 * f * slope)
+      {
+        cur = next;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted)
+    {
+      if (crossing >= 0)
+        break; // go on along the edge
+      // No decrease at any step length: at the minimum within rounding.
+      crossing = -1;
+      break;
+    }
+    if (len * f < tiny)
+      break;
+  }
+
+  // On the face: a minimum of t in its interior, if the last step did not want to leave it.
+  auto finishOnFace = [&]() {
+    const PatchEval& e = cur.E;
+    const Vec3 w = Sub(e.P, Axpy(O, cur.T, d));
+    const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - std::sqrt(Dot(w, w)) };
+    const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
+      e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
+    if (-Dot(w, n) * (F.Reversed ? -1.0 : 1.0) > 0.0)
+    {
+      r.Reason = FailReason::LeftModel; // touches the face from outside
+      return;
+    }
+    r.Residual = Residual3(e, R);
+    if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
+    {
+      r.Reason = FailReason::NotConverged;
+      return;
+    }
+    r.Type = ContactType::SurfaceSurface;
+    r.OppositeFace = face;
+    r.OppositePatch = cur.Patch;
+    r.Radius = cur.T;
+    r.Thickness = 2.0 * cur.T;
+    r.Center = Axpy(O, cur.T, d);
+    r.Foot = e.P;
+  };
+  if (crossing < 0)
+  {
+    finishOnFace();
+    return r;
+  }
+  const TrimSegment& seg = m.TrimSegments[crossing];
+  if (seg.Edge < 0 || m.Edges[seg.Edge].SegmentCount == 0)
+  {
+    finishOnFace(); // a pole: stay at the best point of the face
+    return r;
+  }
+  // Along the edge: minimise t(T) = t(C(T)) by Newton on t'(T), with line search.
+  const int edge = seg.Edge;
+  const Edge& E = m.Edges[edge];
+  const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
+  double T = std::clamp(seg.T0 + crossingAt * (seg.T1 - seg.T0), Tlo, Thi);
+  EdgeEval ee = EvaluateEdge(m, edge, T);
+  double t = SphereRadius(O, d, ee.C);
+  if (!(t < cur.T))
+  {
+    finishOnFace(); // the face point is already below the edge: keep it
+    return r;
+  }
+  bool atEnd = false;
+  for (int it = 0; it < 2 * opt.MaxEdgeIterations; ++it)
+  {
+    ++iterations;
+    const double b = Dot(d, Sub(ee.C, O));
+    const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+    const double g = Dot(w, ee.Ct) / b;
+    const double dCt = Dot(d, ee.Ct);
+    double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
+    const double metric = Dot(ee.Ct, ee.Ct) / b;
+    if (!(h > 0.0))
+      h = metric > 0.0 ? metric : 1.0;
+    double dT = -g / h;
+    const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
+    const double limit = std::max(t, 1e-3 * data.Scale);
+    if (std::fabs(dT) * speed > limit)
+      dT *= limit / (std::fabs(dT) * speed);
+    if (std::fabs(dT) * speed < tiny)
+      break;
+    bool accepted = false;
+    for (int k = 0; k < 40; ++k, dT *= 0.5)
+    {
+      const double Tn = std::clamp(T + dT, Tlo, Thi);
+      const EdgeEval en = EvaluateEdge(m, edge, Tn);
+      const double tn = SphereRadius(O, d, en.C);
+      if (tn <= t + 1e-4 * g * (Tn - T))
+      {
+        atEnd = Tn == Tlo || Tn == Thi;
+        accepted = T != Tn;
+        T = Tn;
+        ee = en;
+        t = tn;
+        break;
+      }
+    }
+    if (!accepted)
+      break;
+  }
+  if (!(t > 0.0) || !(t < data.Scale))
+  {
+    r.Reason = FailReason::LeftModel;
+    return r;
+  }
+  const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+  const double Re[2] = { Dot(ee.Ct, w), t - std::sqrt(Dot(w, w)) };
+  r.Residual = atEnd ? std::fabs(Re[1]) : Residual2(ee.Ct, Re);
+  if (!(r.Residual <= opt.NewtonTolerance))
+  {
+    r.Reason = FailReason::EdgeNotConverged;
+    return r;
+  }
+  r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
+  r.OppositeFace = face;
+  r.OppositeEdge = edge;
+  r.Radius = t;
+  r.Thickness = 2.0 * t;
+  r.Center = Axpy(O, t, d);
+  r.Foot = ee.C;
+  return r;
+}
+
 /// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
 /// that the sphere is maximal: a point of s1 gives
 /// a smaller t in eq. 1 exactly when it lies inside the sphere, so the bounded BVH query finds any
@@ -752,11 +1001,12 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     }
   }
   // Points inside by less than the patches' own accuracy prove nothing (a sphere inscribed in a
-  // concave fillet touches its whole arc, and the arc's patches wander by up to the tolerance).
+  // concave fillet touches its whole arc, and the arc's patches wander by up to the tolerance;
+  // the sample itself lies on the exact surface, up to the tolerance off the patches).
   const double slack = 2.0 * m.Tolerance;
   for (int check = 0; r.Type != ContactType::Failed; ++check)
   {
-    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6) - slack);
+    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6), -1, r.Radius, r.Radius - slack);
     if (p < 0)
       return; // no s1 point inside: maximal at the resolution of s1
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
@@ -764,6 +1014,13 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     again.Iterations = r.Iterations;
     if (check < 3)
       SolveFrom(m, data, opt, s, p, t, again);
+    if (check < 3 && (again.Type == ContactType::Failed || !(again.Radius < r.Radius * (1.0 - 1e-6))))
+    {
+      // Newton went back to the same sphere or failed: descend on t from the point inside.
+      int iterations = again.Iterations;
+      again = Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations);
+      again.Iterations = iterations;
+    }
     if (check == 3 || again.Type == ContactType::Failed ||
       !(again.Radius < r.Radius * (1.0 - 1e-6)))
     {
