@@ -9,6 +9,8 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 namespace brt
 {
@@ -494,10 +496,21 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
   // The kernels have no descent fallback (brt::SolveOne): the few samples whose sphere they could
-  // not prove maximal are finished on the host by the reference, in double.
+  // not prove maximal are finished on the host by the reference, in double, on every core.
+  std::vector<size_t> hard;
   for (size_t i = 0; i < samples.size(); ++i)
     if (results[i].Reason == FailReason::NotMaximal)
-      SolveReferenceRange(model, data, options, samples, results, i, i + 1);
+      hard.push_back(i);
+  const size_t threads =
+    std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), hard.size());
+  std::vector<std::thread> pool;
+  for (size_t k = 0; k < threads; ++k)
+    pool.emplace_back([&, k] {
+      for (size_t j = k; j < hard.size(); j += threads)
+        SolveReferenceRange(model, data, options, samples, results, hard[j], hard[j] + 1);
+    });
+  for (auto& t : pool)
+    t.join();
 }
 
 } // namespace brt

@@ -105,10 +105,18 @@ TEST_P(KernelVsReference, EveryDataModel)
     for (const auto& l : listed)
       std::printf("[disagreement] %s\n", l.c_str());
     // The target is 99.9% agreement. Measured on PoCL (docs/Solver.md): 100% on every analytic
-    // model in both precisions; on the real parts 99.74-99.88% in double and 97.7-98.8% in
+    // model in both precisions; on the real parts 99.73-99.89% in double and 98.2-99.1% in
     // float. The bounds below sit just above those figures so that a regression fails; the gap
     // to 99.9% on the real parts is an open item, not hidden.
-    EXPECT_LE(bad, samples.size() * (useDouble ? 50 : 300) / 10000) << name;
+    EXPECT_LE(bad, samples.size() * (useDouble ? 30 : 200) / 10000) << name;
+    // Failed samples (flagged, never reported as thicknesses): measured at most 1.30% of the
+    // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
+    // host finish; before the distance test and the descent, up to 5.7%.
+    size_t refFailed = 0;
+    for (const auto& r : ref)
+      refFailed += r.Type == ContactType::Failed;
+    EXPECT_LE(refFailed, samples.size() * 150 / 10000) << name;
+    EXPECT_LE(clFailed, samples.size() * 150 / 10000) << name;
     if (!useDouble)
       test::PrintResidualSummary(name + " (reference)", ref);
     test::PrintResidualSummary(name + (useDouble ? " (kernel double)" : " (kernel float)"), got);

@@ -1,7 +1,7 @@
 """Baseline images: the batch script's thickness map and medial point cloud of a model, rendered
 headless, compared with the PNGs in Testing/Data/Baseline.
 
-Usage: xvfb-run -a pvpython test_images.py PLUGIN_FILE MODEL.step BASELINE_DIR WORK_DIR
+Usage: run-headless.sh pvpython test_images.py PLUGIN_FILE MODEL.step BASELINE_DIR WORK_DIR
 
 Each image is compared with vtkImageDifference (small shifts allowed, as in VTK's regression
 tests); the thresholded error must stay at most 10. With BRT_UPDATE_BASELINES=1 the rendered images
