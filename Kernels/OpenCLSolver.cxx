@@ -498,7 +498,7 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   // The kernels have no descent fallback (brt::SolveOne): the few samples whose sphere they could
   // not prove maximal are finished on the host by the reference, in double, on every core.
   std::vector<size_t> hard;
-  for (size_t i = 0; i < samples.size(); ++i)
+  for (size_t i = 0; i < samples.size() && HostFinish; ++i)
     if (results[i].Reason == FailReason::NotMaximal)
       hard.push_back(i);
   const size_t threads =

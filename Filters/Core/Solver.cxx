@@ -815,10 +815,10 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     const double limit = std::max(t, 1e-3 * data.Scale);
     double f = len > limit ? limit / len : 1.0;
     const double slope = g[0] * step[0] + g[1] * step[1]; // < 0
+    crossing = -1;
     if (len * f < tiny || !(slope < 0.0))
       break; // stationary: a minimum of t on the face
     bool accepted = false;
-    crossing = -1;
     for (int k = 0; k < 40; ++k, f *= 0.5)
     {
       const double un = Wrap(cur.U + f * step[0], F.Domain[0], F.Period[0]);
@@ -844,15 +844,10 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
         break;
       }
     }
-    if (!accepted)
-    {
-      if (crossing >= 0)
-        break; // go on along the edge
-      // No decrease at any step length: at the minimum within rounding.
-      crossing = -1;
-      break;
-    }
-    if (len * f < tiny)
+    // No step length decreases t: along the edge the longest step crossed (crossing >= 0), or at
+    // the minimum within rounding. A step cut to nothing because longer ones left the face: the
+    // minimum is on that edge.
+    if (!accepted || len * f < tiny)
       break;
   }
 

@@ -66,7 +66,8 @@ size_t Compare(const std::string& name, const std::vector<SampleResult>& ref,
       ref[i].Residual, FailReasonName(ref[i].Reason), ContactTypeName(cl[i].Type),
       cl[i].Thickness, cl[i].OppositeFace, cl[i].Residual, cl[i].Iterations,
       FailReasonName(cl[i].Reason));
-    listed->push_back(line);
+    if (listed)
+      listed->push_back(line);
   }
   return bad;
 }
@@ -117,6 +118,23 @@ TEST_P(KernelVsReference, EveryDataModel)
       refFailed += r.Type == ContactType::Failed;
     EXPECT_LE(refFailed, samples.size() * 150 / 10000) << name;
     EXPECT_LE(clFailed, samples.size() * 150 / 10000) << name;
+    // The figures above include the samples the kernels hand back as not maximal, which the
+    // host finishes with the reference. The kernels alone, which have no descent and so fail
+    // where the reference now succeeds: measured 98.5-99.8% agreement in double and 97.3-98.6%
+    // in float on the real parts (docs/Solver.md); the bounds sit just above.
+    std::vector<SampleResult> alone;
+    cl->SetHostFinish(false);
+    cl->Solve(m, data, options, samples, alone, 4096);
+    cl->SetHostFinish(true);
+    size_t handedBack = 0;
+    for (const auto& r : alone)
+      handedBack += r.Reason == FailReason::NotMaximal;
+    const size_t badAlone = Compare(name, ref, alone, 1e-4, data.Scale, nullptr);
+    std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu handed back as not maximal "
+                "(%.3f%%)\n",
+      name.c_str(), useDouble ? "double" : "float", badAlone, 100.0 * badAlone / samples.size(),
+      handedBack, 100.0 * handedBack / samples.size());
+    EXPECT_LE(badAlone, samples.size() * (useDouble ? 160 : 300) / 10000) << name;
     if (!useDouble)
       test::PrintResidualSummary(name + " (reference)", ref);
     test::PrintResidualSummary(name + (useDouble ? " (kernel double)" : " (kernel float)"), got);
