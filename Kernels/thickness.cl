@@ -10,11 +10,13 @@ typedef double real;
 typedef double2 real2;
 typedef double3 real3;
 #define REAL_MAX DBL_MAX
+#define REAL_EPS DBL_EPSILON
 #else
 typedef float real;
 typedef float2 real2;
 typedef float3 real3;
 #define REAL_MAX FLT_MAX
+#define REAL_EPS FLT_EPSILON
 #endif
 
 // Contact types and failure reasons: same values as brt::ContactType and brt::FailReason.
@@ -59,7 +61,17 @@ typedef struct
   __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
   __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
   __global const real* edgeSegRange; // T0, T1 per edge segment
+  real slack; // the patches' accuracy: 2x the conversion tolerance (model units)
 } Model;
+
+// A foot point on the sample's own face within the patches' accuracy of O is the trivial
+// solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
+// sphere whose radius the patches' accuracy does not fix: no contact (brt::AtSample). P is
+// relative to O.
+inline int at_sample(const Model* m, int sampleFace, int face, real3 P, real3 d, real t)
+{
+  return face == sampleFace && (dot(P, P) <= m->slack * m->slack || dot(P, d) < (real)0.5 * t);
+}
 
 // A - O for an anchor A and the sample O, both split into hi + lo parts: the difference of two
 // nearby large coordinates is formed before it is rounded, so float keeps (t + patch size) * eps
@@ -631,7 +643,7 @@ typedef struct
 
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
 // v0) with the initial radius t; mirrors brt::SolveFrom.
-Result solve_from(const Model* m, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
+Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
   real t, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
   int* iterations)
 {
@@ -669,7 +681,7 @@ Result solve_from(const Model* m, real3 Ohi, real3 Olo, real3 d, int face, real 
         reason = FAIL_NOT_CONVERGED;
         goto out;
       }
-      if (!ss.inward)
+      if (!ss.inward || at_sample(m, sampleFace, face, ss.foot, d, ss.t))
       {
         reason = FAIL_LEFT_MODEL;
         goto out;
@@ -693,7 +705,7 @@ Result solve_from(const Model* m, real3 Ohi, real3 Olo, real3 d, int face, real 
     const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
     const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
     int atEnd = 0, edgeCapped = 1;
-    real3 C, Ct, Ctt;
+    real3 C = (real3)(0), Ct = (real3)(0), Ctt = (real3)(0);
     for (int it = 0; it < maxEdgeIterations; ++it)
     {
       eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
@@ -767,7 +779,7 @@ Result solve_from(const Model* m, real3 Ohi, real3 Olo, real3 d, int face, real 
         const SurfaceSolve sn = surface_newton(m, nb, Ohi, Olo, d, un, vn, edgeValid ? t : ss.t,
           scale, stepTol, newtonTol, maxIterations, iterations);
         if (!sn.singular && sn.t > (real)0 && sn.t < scale && ss_converged(&sn, newtonTol) &&
-          sn.inward &&
+          sn.inward && !at_sample(m, sampleFace, nb, sn.foot, d, sn.t) &&
           ss_on_face(&sn, faceDomain + FACE_REALS * nb, newtonTol) &&
           (!(edgeValid && edgeConverged) || sn.t <= t * (real)(1.0 + 1e-12)))
         {
@@ -810,6 +822,247 @@ out:;
   return r;
 }
 
+// --- the descent fallback (brt::Descend) ------------------------------------------------------
+inline real wrap_param(real x, real lo, real period)
+{
+  return period > (real)0 ? lo + (x - lo) - period * floor((x - lo) / period) : x;
+}
+
+// Eq. 1's radius for the boundary point P, given w = P - O; REAL_MAX when P is not in front of O.
+inline real sphere_radius(real3 d, real3 w)
+{
+  const real b = dot(d, w);
+  return b > (real)0 ? (real)0.5 * dot(w, w) / b : REAL_MAX;
+}
+
+typedef struct
+{
+  real u, v, t;
+  int patch;
+  PatchEval e; // e.P relative to O
+} DescentState;
+
+inline void descent_eval(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
+  DescentState* st)
+{
+  st->u = u;
+  st->v = v;
+  st->patch = find_patch(m, face, u, v);
+  st->e = eval_patch(m, st->patch, u, v);
+  st->e.P += anchor_minus(m->patchAnchor + 6 * st->patch, Ohi, Olo);
+  st->t = sphere_radius(d, st->e.P);
+}
+
+// Tangential part of eq. 4's residual at a state, as a distance: zero where t(u, v) is stationary.
+inline real tangential_residual(const DescentState* st, real3 d)
+{
+  const real3 w = st->e.P - st->t * d;
+  const real lu = length(st->e.Du), lv = length(st->e.Dv);
+  const real a = lu > (real)0 ? dot(w, st->e.Du) / lu : (real)0;
+  const real b = lv > (real)0 ? dot(w, st->e.Dv) / lv : (real)0;
+  return sqrt(a * a + b * b);
+}
+
+// Minimises t(u, v) over the trimmed face from (u, v), then along the edge the last step crossed;
+// mirrors brt::Descend step for step. A step is accepted when it lowers t by a sufficient amount,
+// or, once t no longer changes beyond rounding (float near the minimum), when it lowers the
+// tangential residual.
+Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
+  real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+{
+  Result r;
+  r.t = 0;
+  r.res = 0;
+  r.foot = (real3)(0);
+  r.type = CONTACT_FAILED;
+  r.reason = FAIL_NONE;
+  r.face = -1;
+  r.patch = -1;
+  r.edge = -1;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  const real reversed = m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1;
+#ifdef BRT_DOUBLE
+  const real tiny = (real)1e-14 * scale;
+#else
+  const real tiny = (real)1e-7 * scale;
+#endif
+  const real roundoff = (real)8 * REAL_EPS;
+  DescentState cur;
+  descent_eval(m, face, Ohi, Olo, d, u, v, &cur);
+  if (!(cur.t < REAL_MAX))
+    return r;
+  int crossing = -1;
+  real crossingAt = 0;
+  for (int it = 0; it < 4 * maxIterations; ++it)
+  {
+    ++*iterations;
+    const real b = dot(d, cur.e.P), t = cur.t;
+    const real3 w = cur.e.P - t * d; // S - M
+    const real3 Su = cur.e.Du, Sv = cur.e.Dv;
+    const real g0 = dot(w, Su) / b, g1 = dot(w, Sv) / b;
+    const real dud = dot(d, Su), dvd = dot(d, Sv);
+    const real H00 = (dot(Su, Su) - (real)2 * g0 * dud + dot(w, cur.e.Duu)) / b;
+    const real H01 = (dot(Su, Sv) - g1 * dud - g0 * dvd + dot(w, cur.e.Duv)) / b;
+    const real H11 = (dot(Sv, Sv) - (real)2 * g1 * dvd + dot(w, cur.e.Dvv)) / b;
+    const real G00 = dot(Su, Su) / b, G01 = dot(Su, Sv) / b, G11 = dot(Sv, Sv) / b;
+    // Levenberg-Marquardt: H + lambda G, lambda raised until positive definite.
+    real s0 = 0, s1 = 0;
+    for (real lambda = 0; lambda < (real)1e12;
+         lambda = lambda == (real)0 ? (real)1e-3 : (real)10 * lambda)
+    {
+      const real a00 = H00 + lambda * G00, a01 = H01 + lambda * G01, a11 = H11 + lambda * G11;
+      const real det = a00 * a11 - a01 * a01;
+      if (a00 > (real)0 && det > (real)0)
+      {
+        s0 = -(a11 * g0 - a01 * g1) / det;
+        s1 = -(a00 * g1 - a01 * g0) / det;
+        break;
+      }
+    }
+    const real len = length(s0 * Su + s1 * Sv);
+    const real limit = fmax(t, (real)1e-3 * scale);
+    real f = len > limit ? limit / len : (real)1;
+    const real slope = g0 * s0 + g1 * s1;
+    crossing = -1;
+    if (len * f < tiny || !(slope < (real)0))
+      break; // stationary: a minimum of t on the face
+    const real res0 = tangential_residual(&cur, d);
+    int accepted = 0;
+    for (int k = 0; k < 40; ++k, f *= (real)0.5)
+    {
+      const real un = wrap_param(cur.u + f * s0, fd[0], fd[4]);
+      const real vn = wrap_param(cur.v + f * s1, fd[2], fd[5]);
+      const real uc = clamp(un, fd[0], fd[1]), vc = clamp(vn, fd[2], fd[3]);
+      int seg;
+      real param, dist;
+      const int inside = classify(m, face, (real2)(uc, vc), &seg, &param, &dist);
+      if (!(inside || dist <= fd[6]) || uc != un || vc != vn)
+      {
+        if (crossing < 0)
+        {
+          crossing = seg; // the first (longest) step that left the face: the edge it crossed
+          crossingAt = param;
+        }
+        continue;
+      }
+      DescentState next;
+      descent_eval(m, face, Ohi, Olo, d, uc, vc, &next);
+      if (next.t <= t + (real)1e-4 * f * slope ||
+        (next.t <= t + roundoff * t && tangential_residual(&next, d) < res0))
+      {
+        cur = next;
+        accepted = 1;
+        break;
+      }
+    }
+    if (!accepted || len * f < tiny)
+      break;
+  }
+
+  if (crossing >= 0 && m->trimEdge[crossing] >= 0 &&
+    m->edgeInfo[4 * m->trimEdge[crossing] + 1] > 0)
+  {
+    // Along the edge: minimise t(T) by Newton on t'(T) with line search.
+    const int edge = m->trimEdge[crossing];
+    const real Tlo = fmin(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+    const real Thi = fmax(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+    const real T0 = m->trimRange[2 * crossing], T1 = m->trimRange[2 * crossing + 1];
+    real T = clamp(T0 + crossingAt * (T1 - T0), Tlo, Thi);
+    real3 C, Ct, Ctt;
+    eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+    real t = sphere_radius(d, C);
+    if (t < cur.t)
+    {
+      int atEnd = 0;
+      for (int it = 0; it < 2 * maxEdgeIterations; ++it)
+      {
+        ++*iterations;
+        const real b = dot(d, C);
+        const real3 w = C - t * d;
+        const real g = dot(w, Ct) / b;
+        const real dCt = dot(d, Ct);
+        real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
+        const real metric = dot(Ct, Ct) / b;
+        if (!(h > (real)0))
+          h = metric > (real)0 ? metric : (real)1;
+        real dT = -g / h;
+        const real speed = length(Ct);
+        const real limit = fmax(t, (real)1e-3 * scale);
+        if (fabs(dT) * speed > limit)
+          dT *= limit / (fabs(dT) * speed);
+        if (fabs(dT) * speed < tiny)
+          break;
+        const real res0 = speed > (real)0 ? fabs(dot(w, Ct)) / speed : (real)0;
+        int accepted = 0;
+        for (int k = 0; k < 40; ++k, dT *= (real)0.5)
+        {
+          const real Tn = clamp(T + dT, Tlo, Thi);
+          real3 Cn, Ctn, Cttn;
+          eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
+          const real tn = sphere_radius(d, Cn);
+          const real sn = length(Ctn);
+          const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
+          if (tn <= t + (real)1e-4 * g * (Tn - T) ||
+            (tn <= t + roundoff * t && resn < res0))
+          {
+            atEnd = Tn == Tlo || Tn == Thi;
+            accepted = T != Tn;
+            T = Tn;
+            C = Cn;
+            Ct = Ctn;
+            Ctt = Cttn;
+            t = tn;
+            break;
+          }
+        }
+        if (!accepted)
+          break;
+      }
+      if (!(t > (real)0) || !(t < scale))
+      {
+        r.reason = FAIL_LEFT_MODEL;
+        return r;
+      }
+      const real3 w = C - t * d;
+      const real lt = length(Ct);
+      const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - length(w);
+      r.res = atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
+      if (!(r.res <= newtonTol))
+      {
+        r.reason = FAIL_EDGE_NOT_CONVERGED;
+        return r;
+      }
+      r.type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+      r.face = face;
+      r.edge = edge;
+      r.t = t;
+      r.foot = C;
+      return r;
+    }
+  }
+  // On the face: a minimum of t in its interior (or the best point before a pole, or a point
+  // already below the edge).
+  const real3 w = cur.e.P - cur.t * d;
+  if (-dot(w, cross(cur.e.Du, cur.e.Dv)) * reversed > (real)0)
+  {
+    r.reason = FAIL_LEFT_MODEL; // touches the face from outside
+    return r;
+  }
+  const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - length(w) };
+  r.res = residual3(&cur.e, R);
+  if (!(r.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
+  {
+    r.reason = FAIL_NOT_CONVERGED;
+    return r;
+  }
+  r.type = CONTACT_SURFACE_SURFACE;
+  r.face = face;
+  r.patch = cur.patch;
+  r.t = cur.t;
+  r.foot = cur.e.P;
+  return r;
+}
+
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
   __global const real* patchDomain,
   __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
@@ -829,7 +1082,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   if (gid >= count)
     return;
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
-    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange };
+    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack };
   const Model* m = &mm;
   __global const real* sp = samples + 9 * gid;
   const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
@@ -846,7 +1099,8 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   // an s1 point inside it (t below the found radius) restarts the solve there, at most 3 times.
   Result r;
   {
-    const int solid = faceInfo[FACE_INTS * sampleFace[gid] + 7];
+    const int ownFace = sampleFace[gid];
+    const int solid = faceInfo[FACE_INTS * ownFace + 7];
     int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
       REAL_MAX, 0, 0, &t);
     if (best < 0)
@@ -854,7 +1108,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
       reason = FAIL_NO_OPPOSITE;
       goto done;
     }
-    r = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t, scale,
+    r = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t, scale,
       stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
     if (r.type == CONTACT_FAILED && r.face >= 0)
     {
@@ -863,7 +1117,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
         REAL_MAX, 0, 0, &t);
       if (best >= 0)
       {
-        const Result other = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+        const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
           s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
           &iterations);
         if (other.type != CONTACT_FAILED)
@@ -882,8 +1136,12 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
       Result again;
       again.type = CONTACT_FAILED;
       if (check < 3)
-        again = solve_from(m, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
+        again = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
           scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+      if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
+        // Newton went back to the same sphere or failed: descend on t from the point inside.
+        again = descend(m, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1], scale,
+          newtonTol, maxIterations, maxEdgeIterations, &iterations);
       if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
         r.type = CONTACT_FAILED;

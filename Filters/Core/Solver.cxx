@@ -34,7 +34,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::EdgeNotConverged: return "surface/edge Newton did not converge";
     case FailReason::NoEdge: return "foot point left the face across a degenerated edge";
     case FailReason::Singular: return "singular Jacobian";
-    case FailReason::LeftModel: return "sphere leaves the model (touches a face from outside, or radius not positive or larger than the model)";
+    case FailReason::LeftModel: return "sphere leaves the model (touches a face from outside or only at the sample, or radius not positive or larger than the model)";
     case FailReason::NotMaximal: return "sphere not maximal (contains s1 points; no restart shrank it)";
   }
   return "unknown";
@@ -441,6 +441,26 @@ struct SurfaceSolve
   bool Inward = true;
 };
 
+/// Eq. 4 on the sample's own face has a trivial solution: P = O solves it for every t, and
+/// Newton converges there when it starts near O (typically after crossing the edge next to O
+/// from a neighbour face), stopping at an arbitrary t. Near it lie the osculating spheres: a
+/// foot point P on O's own face close to O gives the face's curvature radius between O and P,
+/// t = |P-O|^2 / (2 d.(P-O)), and an error e in the patches changes t by about e / d.(P-O)
+/// relative: on a round of radius 0.3 patched to 2e-5, spheres 0.2% too small pass as tangent.
+/// So a contact on O's own face counts only where it is deep, d.(P-O) >= t/2 (the normals at O
+/// and P at least 60 degrees apart: a tube's far wall, a bent sheet's other leg), and not
+/// within the patches' accuracy (2x the conversion tolerance) of O. The sphere of a round then
+/// comes from the faces the round is tangent to, or from its far side. Contacts on other faces
+/// near O are real (a sample next to a convex edge, or next to a tangent fillet).
+bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P, double t)
+{
+  if (face != s.Face)
+    return false;
+  const Vec3 w = Sub(P, s.Point);
+  const double slack = 2.0 * m.Tolerance;
+  return Dot(w, w) <= slack * slack || Dot(w, s.Direction) < 0.5 * t;
+}
+
 /// Surface/surface Newton (eq. 4) on `face` from (u, v, t), with trust region and backtracking.
 SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Vec3& O, const Vec3& d, int face, double u, double v, double t, int& iterations)
@@ -606,7 +626,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       r.Reason = FailReason::NotConverged;
       return;
     }
-    if (!ss.Inward)
+    if (!ss.Inward || AtSample(m, s, face, ss.Foot, ss.T))
     {
       r.Reason = FailReason::LeftModel;
       return;
@@ -710,7 +730,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     const SurfaceSolve sn = SurfaceNewton(m, data, opt, O, d, nb, un, vn,
       edgeValid ? t : ss.T, r.Iterations);
     if (!sn.Singular && sn.T > 0.0 && sn.T < data.Scale && sn.Converged(opt) && sn.Inward &&
-      sn.OnFace(m.Faces[nb], opt) &&
+      !AtSample(m, s, nb, sn.Foot, sn.T) && sn.OnFace(m.Faces[nb], opt) &&
       (!(edgeValid && edgeConverged) || sn.T <= t * (1.0 + 1e-12)))
     {
       acceptSurface(nb, sn);
@@ -773,6 +793,16 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     st.E = EvaluatePatch(m.Patches[st.Patch], uu, vv);
     st.T = SphereRadius(O, d, st.E.P);
   };
+  // Tangential part of eq. 4's residual, as a distance: zero where t(u, v) is stationary. Once
+  // t no longer changes beyond rounding, a step that lowers it is accepted (the kernels need this
+  // in float; here it only polishes the last digits).
+  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  auto tangential = [&](const State& st) {
+    const Vec3 w = Sub(st.E.P, Axpy(O, st.T, d));
+    const double lu = std::sqrt(Dot(st.E.Du, st.E.Du)), lv = std::sqrt(Dot(st.E.Dv, st.E.Dv));
+    const double a = lu > 0.0 ? Dot(w, st.E.Du) / lu : 0.0, b = lv > 0.0 ? Dot(w, st.E.Dv) / lv : 0.0;
+    return std::sqrt(a * a + b * b);
+  };
   State cur;
   evaluate(u, v, cur);
   if (!std::isfinite(cur.T))
@@ -818,6 +848,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     crossing = -1;
     if (len * f < tiny || !(slope < 0.0))
       break; // stationary: a minimum of t on the face
+    const double res0 = tangential(cur);
     bool accepted = false;
     for (int k = 0; k < 40; ++k, f *= 0.5)
     {
@@ -837,7 +868,8 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       }
       State next;
       evaluate(uc, vc, next);
-      if (next.T <= t + 1e-4 * f * slope)
+      if (next.T <= t + 1e-4 * f * slope ||
+        (next.T <= t + roundoff * t && tangential(next) < res0))
       {
         cur = next;
         accepted = true;
@@ -919,13 +951,17 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       dT *= limit / (std::fabs(dT) * speed);
     if (std::fabs(dT) * speed < tiny)
       break;
+    const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
     bool accepted = false;
     for (int k = 0; k < 40; ++k, dT *= 0.5)
     {
       const double Tn = std::clamp(T + dT, Tlo, Thi);
       const EdgeEval en = EvaluateEdge(m, edge, Tn);
       const double tn = SphereRadius(O, d, en.C);
-      if (tn <= t + 1e-4 * g * (Tn - T))
+      const double sn = std::sqrt(Dot(en.Ct, en.Ct));
+      const double resn =
+        sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
+      if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
       {
         atEnd = Tn == Tlo || Tn == Thi;
         accepted = T != Tn;

@@ -39,8 +39,8 @@ enum class FailReason : int
   EdgeNotConverged = 3, ///< surface/edge Newton did not reach the tolerance
   NoEdge = 4,           ///< the foot point left the face across a degenerated edge (pole)
   Singular = 5,         ///< singular Jacobian
-  LeftModel = 6,        ///< the sphere touches a face from outside, or its radius is not
-                        ///< positive or larger than the model
+  LeftModel = 6,        ///< the sphere touches a face from outside or only at the sample
+                        ///< itself, or its radius is not positive or larger than the model
   NotMaximal = 7        ///< the sphere found contains s1 points and no restart shrank it
 };
 const char* FailReasonName(FailReason reason);
