@@ -495,11 +495,12 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     P->SolveAs<double>(model, data, options, samples, results, chunk);
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
-  // The kernels have no descent fallback (brt::SolveOne): the few samples whose sphere they could
-  // not prove maximal are finished on the host by the reference, in double, on every core.
+  // The few samples the kernels leave failed (they lack the reference's descent across the edge
+  // nearest O, which needs O's (u, v), and float fails some that double solves) are finished on
+  // the host by the reference, in double, on every core.
   std::vector<size_t> hard;
   for (size_t i = 0; i < samples.size() && HostFinish; ++i)
-    if (results[i].Reason == FailReason::NotMaximal)
+    if (results[i].Type == ContactType::Failed)
       hard.push_back(i);
   const size_t threads =
     std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), hard.size());

@@ -863,24 +863,44 @@ inline real tangential_residual(const DescentState* st, real3 d)
   return sqrt(a * a + b * b);
 }
 
-// Minimises t(u, v) over the trimmed face from (u, v), then along the edge the last step crossed;
-// mirrors brt::Descend step for step. A step is accepted when it lowers t by a sufficient amount,
-// or, once t no longer changes beyond rounding (float near the minimum), when it lowers the
-// tangential residual.
-Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
-  real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+// As edge_point_on_face, with the unit direction (nu, nv) in the face's (u, v) pointing from the
+// edge into the face (brt::EdgePointIntoFace).
+int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, real* v, real* nu,
+  real* nv)
 {
-  Result r;
-  r.t = 0;
-  r.res = 0;
-  r.foot = (real3)(0);
-  r.type = CONTACT_FAILED;
-  r.reason = FAIL_NONE;
-  r.face = -1;
-  r.patch = -1;
-  r.edge = -1;
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      const real T0 = m->trimRange[2 * s], T1 = m->trimRange[2 * s + 1];
+      const real lo = fmin(T0, T1), hi = fmax(T0, T1);
+      if (m->trimEdge[s] != edge || T < lo || T > hi || hi <= lo)
+        continue;
+      real2 d1, d2;
+      const real2 p = seg_point(m->trim + 8 * s, (T - T0) / (T1 - T0), &d1, &d2);
+      const real len = length(d1);
+      if (!(len > (real)0))
+        return 0;
+      *u = p.x;
+      *v = p.y;
+      *nu = -d1.y / len;
+      *nv = d1.x / len;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+// One face's part of the descent (brt::DescendOnFace): minimises t(u, v) over the trimmed face
+// from (u, v). A step is accepted when it lowers t by a sufficient amount, or, once t no longer
+// changes beyond rounding (float near the minimum), when it lowers the tangential residual.
+// *crossing: the trimming segment the last step wanted to cross (-1: a minimum inside).
+DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
+  real v, real scale, int maxIterations, int* crossing, int* iterations)
+{
   __global const real* fd = m->faceDomain + FACE_REALS * face;
-  const real reversed = m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1;
 #ifdef BRT_DOUBLE
   const real tiny = (real)1e-14 * scale;
 #else
@@ -889,10 +909,9 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
   const real roundoff = (real)8 * REAL_EPS;
   DescentState cur;
   descent_eval(m, face, Ohi, Olo, d, u, v, &cur);
+  *crossing = -1;
   if (!(cur.t < REAL_MAX))
-    return r;
-  int crossing = -1;
-  real crossingAt = 0;
+    return cur;
   for (int it = 0; it < 4 * maxIterations; ++it)
   {
     ++*iterations;
@@ -923,7 +942,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     const real limit = fmax(t, (real)1e-3 * scale);
     real f = len > limit ? limit / len : (real)1;
     const real slope = g0 * s0 + g1 * s1;
-    crossing = -1;
+    *crossing = -1;
     if (len * f < tiny || !(slope < (real)0))
       break; // stationary: a minimum of t on the face
     const real res0 = tangential_residual(&cur, d);
@@ -938,11 +957,8 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
       const int inside = classify(m, face, (real2)(uc, vc), &seg, &param, &dist);
       if (!(inside || dist <= fd[6]) || uc != un || vc != vn)
       {
-        if (crossing < 0)
-        {
-          crossing = seg; // the first (longest) step that left the face: the edge it crossed
-          crossingAt = param;
-        }
+        if (*crossing < 0)
+          *crossing = seg; // the first (longest) step that left the face
         continue;
       }
       DescentState next;
@@ -958,109 +974,174 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     if (!accepted || len * f < tiny)
       break;
   }
+  return cur;
+}
 
-  if (crossing >= 0 && m->trimEdge[crossing] >= 0 &&
-    m->edgeInfo[4 * m->trimEdge[crossing] + 1] > 0)
+// The descent fallback (brt::Descend): minimises t over the trimmed face from (u, v); where the
+// minimum lies on the face's boundary, along the nearest edge, and from the edge's minimum into
+// the face across it where t falls that way, up to 4 faces. Mirrors the reference step for step.
+Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
+  real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+{
+  Result best;
+  best.t = 0;
+  best.res = 0;
+  best.foot = (real3)(0);
+  best.type = CONTACT_FAILED;
+  best.reason = FAIL_NONE;
+  best.face = -1;
+  best.patch = -1;
+  best.edge = -1;
+#ifdef BRT_DOUBLE
+  const real tiny = (real)1e-14 * scale;
+#else
+  const real tiny = (real)1e-7 * scale;
+#endif
+  const real roundoff = (real)8 * REAL_EPS;
+  for (int hop = 0; hop < 4; ++hop)
   {
+    int crossing = -1;
+    const DescentState cur =
+      descend_on_face(m, face, Ohi, Olo, d, u, v, scale, maxIterations, &crossing, iterations);
+    // The face's result: a minimum of t inside it (when no edge result is lower).
+    Result fr = best;
+    fr.type = CONTACT_FAILED;
+    fr.reason = FAIL_NONE;
+    if (cur.t < REAL_MAX)
+    {
+      const real3 w = cur.e.P - cur.t * d;
+      const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - length(w) };
+      const real reversed = m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1;
+      fr.res = residual3(&cur.e, R);
+      if (-dot(w, cross(cur.e.Du, cur.e.Dv)) * reversed > (real)0)
+        fr.reason = FAIL_LEFT_MODEL; // touches the face from outside
+      else if (!(fr.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
+        fr.reason = FAIL_NOT_CONVERGED;
+      else
+      {
+        fr.type = CONTACT_SURFACE_SURFACE;
+        fr.face = face;
+        fr.patch = cur.patch;
+        fr.edge = -1;
+        fr.t = cur.t;
+        fr.foot = cur.e.P;
+      }
+    }
+    if (best.type != CONTACT_FAILED && (fr.type == CONTACT_FAILED || !(fr.t < best.t)))
+      fr = best;
+    if (crossing < 0)
+      return fr;
+    // The edge: the trimming segment nearest the last point, else the crossed one.
+    int nearSeg;
+    real nearAt, nearDist;
+    classify(m, face, (real2)(cur.u, cur.v), &nearSeg, &nearAt, &nearDist);
+    int segment = crossing;
+    real at;
+    if (nearSeg >= 0 && m->trimEdge[nearSeg] >= 0)
+    {
+      segment = nearSeg;
+      at = nearAt;
+    }
+    else
+    {
+      real dist;
+      at = project_segment(m->trim + 8 * crossing, (real2)(cur.u, cur.v), &dist);
+    }
+    const int edge = m->trimEdge[segment];
+    if (edge < 0 || m->edgeInfo[4 * edge + 1] == 0)
+      return fr; // a pole: stay at the best point of the face
     // Along the edge: minimise t(T) by Newton on t'(T) with line search.
-    const int edge = m->trimEdge[crossing];
     const real Tlo = fmin(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
     const real Thi = fmax(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
-    const real T0 = m->trimRange[2 * crossing], T1 = m->trimRange[2 * crossing + 1];
-    real T = clamp(T0 + crossingAt * (T1 - T0), Tlo, Thi);
+    const real T0 = m->trimRange[2 * segment], T1 = m->trimRange[2 * segment + 1];
+    real T = clamp(T0 + at * (T1 - T0), Tlo, Thi);
     real3 C, Ct, Ctt;
     eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
     real t = sphere_radius(d, C);
-    if (t < cur.t)
+    int atEnd = 0;
+    for (int it = 0; it < 2 * maxEdgeIterations && t < REAL_MAX; ++it)
     {
-      int atEnd = 0;
-      for (int it = 0; it < 2 * maxEdgeIterations; ++it)
-      {
-        ++*iterations;
-        const real b = dot(d, C);
-        const real3 w = C - t * d;
-        const real g = dot(w, Ct) / b;
-        const real dCt = dot(d, Ct);
-        real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
-        const real metric = dot(Ct, Ct) / b;
-        if (!(h > (real)0))
-          h = metric > (real)0 ? metric : (real)1;
-        real dT = -g / h;
-        const real speed = length(Ct);
-        const real limit = fmax(t, (real)1e-3 * scale);
-        if (fabs(dT) * speed > limit)
-          dT *= limit / (fabs(dT) * speed);
-        if (fabs(dT) * speed < tiny)
-          break;
-        const real res0 = speed > (real)0 ? fabs(dot(w, Ct)) / speed : (real)0;
-        int accepted = 0;
-        for (int k = 0; k < 40; ++k, dT *= (real)0.5)
-        {
-          const real Tn = clamp(T + dT, Tlo, Thi);
-          real3 Cn, Ctn, Cttn;
-          eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
-          const real tn = sphere_radius(d, Cn);
-          const real sn = length(Ctn);
-          const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
-          if (tn <= t + (real)1e-4 * g * (Tn - T) ||
-            (tn <= t + roundoff * t && resn < res0))
-          {
-            atEnd = Tn == Tlo || Tn == Thi;
-            accepted = T != Tn;
-            T = Tn;
-            C = Cn;
-            Ct = Ctn;
-            Ctt = Cttn;
-            t = tn;
-            break;
-          }
-        }
-        if (!accepted)
-          break;
-      }
-      if (!(t > (real)0) || !(t < scale))
-      {
-        r.reason = FAIL_LEFT_MODEL;
-        return r;
-      }
+      ++*iterations;
+      const real b = dot(d, C);
       const real3 w = C - t * d;
-      const real lt = length(Ct);
-      const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - length(w);
-      r.res = atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
-      if (!(r.res <= newtonTol))
+      const real g = dot(w, Ct) / b;
+      const real dCt = dot(d, Ct);
+      real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
+      const real metric = dot(Ct, Ct) / b;
+      if (!(h > (real)0))
+        h = metric > (real)0 ? metric : (real)1;
+      real dT = -g / h;
+      const real speed = length(Ct);
+      const real limit = fmax(t, (real)1e-3 * scale);
+      if (fabs(dT) * speed > limit)
+        dT *= limit / (fabs(dT) * speed);
+      if (fabs(dT) * speed < tiny)
+        break;
+      const real res0 = speed > (real)0 ? fabs(dot(w, Ct)) / speed : (real)0;
+      int accepted = 0;
+      for (int k = 0; k < 40; ++k, dT *= (real)0.5)
       {
-        r.reason = FAIL_EDGE_NOT_CONVERGED;
-        return r;
+        const real Tn = clamp(T + dT, Tlo, Thi);
+        real3 Cn, Ctn, Cttn;
+        eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
+        const real tn = sphere_radius(d, Cn);
+        const real sn = length(Ctn);
+        const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
+        if (tn <= t + (real)1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
+        {
+          atEnd = Tn == Tlo || Tn == Thi;
+          accepted = T != Tn;
+          T = Tn;
+          C = Cn;
+          Ct = Ctn;
+          Ctt = Cttn;
+          t = tn;
+          break;
+        }
       }
-      r.type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
-      r.face = face;
-      r.edge = edge;
-      r.t = t;
-      r.foot = C;
-      return r;
+      if (!accepted)
+        break;
     }
+    if (!(t < cur.t) || !(t < (best.type == CONTACT_FAILED ? scale : best.t)))
+      return fr; // the face point (or the last edge contact) is lower: keep it
+    Result r = best;
+    const real3 w = C - t * d;
+    const real lt = length(Ct);
+    const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - length(w);
+    r.res = atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
+    r.type = CONTACT_FAILED;
+    r.reason = FAIL_NONE;
+    if (!(t > (real)0))
+      r.reason = FAIL_LEFT_MODEL;
+    else if (!(r.res <= newtonTol))
+      r.reason = FAIL_EDGE_NOT_CONVERGED;
+    if (r.reason != FAIL_NONE)
+      return best.type != CONTACT_FAILED ? best : r;
+    r.type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+    r.face = face;
+    r.patch = -1;
+    r.edge = edge;
+    r.t = t;
+    r.foot = C;
+    best = r;
+    // Across the edge, where t falls into the neighbour face (a round's tangent plane).
+    const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+    const int nb = f0 == face ? f1 : f0;
+    real un, vn, nu, nv;
+    if (atEnd || nb < 0 || nb == face || m->faceInfo[FACE_INTS * nb + 1] == 0 ||
+      !edge_point_into_face(m, nb, edge, T, &un, &vn, &nu, &nv))
+      return best;
+    const int pn = find_patch(m, nb, un, vn);
+    PatchEval en = eval_patch(m, pn, un, vn);
+    en.P += anchor_minus(m->patchAnchor + 6 * pn, Ohi, Olo);
+    const real3 wn = en.P - t * d;
+    if (!(dot(wn, en.Du) * nu + dot(wn, en.Dv) * nv < (real)0))
+      return best;
+    face = nb;
+    u = un;
+    v = vn;
   }
-  // On the face: a minimum of t in its interior (or the best point before a pole, or a point
-  // already below the edge).
-  const real3 w = cur.e.P - cur.t * d;
-  if (-dot(w, cross(cur.e.Du, cur.e.Dv)) * reversed > (real)0)
-  {
-    r.reason = FAIL_LEFT_MODEL; // touches the face from outside
-    return r;
-  }
-  const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - length(w) };
-  r.res = residual3(&cur.e, R);
-  if (!(r.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
-  {
-    r.reason = FAIL_NOT_CONVERGED;
-    return r;
-  }
-  r.type = CONTACT_SURFACE_SURFACE;
-  r.face = face;
-  r.patch = cur.patch;
-  r.t = cur.t;
-  r.foot = cur.e.P;
-  return r;
+  return best;
 }
 
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
@@ -1108,6 +1189,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
       reason = FAIL_NO_OPPOSITE;
       goto done;
     }
+    const int first = best;
     r = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t, scale,
       stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
     if (r.type == CONTACT_FAILED && r.face >= 0)
@@ -1123,6 +1205,16 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
         if (other.type != CONTACT_FAILED)
           r = other;
       }
+    }
+    if (r.type == CONTACT_FAILED)
+    {
+      // Newton found no sphere from the best starts: descend on t from the best start. (The
+      // reference also descends on the face across the edge nearest O; the host finish does
+      // that for the samples the kernel leaves failed.)
+      const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
+        s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+      if (a.type != CONTACT_FAILED)
+        r = a;
     }
     for (int check = 0; r.type != CONTACT_FAILED; ++check)
     {

@@ -575,6 +575,35 @@ bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u
   return false;
 }
 
+/// As EdgePointOnFace, with the unit direction (nu, nv) in the face's (u, v) that points from
+/// the edge into the face (the face lies on the left of its trimming loops).
+bool EdgePointIntoFace(const BRepModel& m, int face, int edge, double T, double& u, double& v,
+  double& nu, double& nv)
+{
+  const Face& F = m.Faces[face];
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& loop = m.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      const TrimSegment& ts = m.TrimSegments[s];
+      const double lo = std::min(ts.T0, ts.T1), hi = std::max(ts.T0, ts.T1);
+      if (ts.Edge != edge || T < lo || T > hi || hi <= lo)
+        continue;
+      const auto e = EvaluateCubic<2>(ts.ControlPoints.data(), (T - ts.T0) / (ts.T1 - ts.T0));
+      const double len = std::hypot(e.D1[0], e.D1[1]);
+      if (!(len > 0.0))
+        return false;
+      u = e.P[0];
+      v = e.P[1];
+      nu = -e.D1[1] / len;
+      nv = e.D1[0] / len;
+      return true;
+    }
+  }
+  return false;
+}
+
 /// Steps 4-7 from the s1 point p1 with the initial radius t.
 void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, int p1, double t, SampleResult& r)
@@ -763,52 +792,44 @@ double SphereRadius(const Vec3& O, const Vec3& d, const Vec3& P)
   return b > 0.0 ? 0.5 * Dot(w, w) / b : std::numeric_limits<double>::infinity();
 }
 
-/// The fallback of SolveOne for the hard samples: a descent on t instead of a Newton on eq. 4.
-/// Every stationary point of t(P) over a face is a tangent sphere (grad t = (S-M).S_u / d.(S-O)),
-/// but Newton finds any of them, maxima and saddles too, and may leave the face on the way; the
-/// smallest sphere is the minimum of t over the boundary. This minimises t(u, v) over the
-/// trimmed face from (u, v) by Newton steps on grad t, made positive definite with the first
-/// fundamental form where the Hessian is not, with a backtracking line search that only accepts
-/// a smaller t. Where the step would leave the face, it goes on along the edge it crosses
-/// (minimising t(T) over the edge, stopping at its ends: surface/edge and surface/vertex
-/// contacts). Since t only decreases, it cannot climb back to the sphere it started below.
-SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, int face, double u, double v, int& iterations)
+/// One face's part of Descend: minimises t(u, v) over the trimmed `face` from (u, v) by Newton
+/// steps on grad t, made positive definite with the first fundamental form where the Hessian is
+/// not, with a backtracking line search that only accepts a smaller t (or, once t no longer
+/// changes beyond rounding, a smaller tangential residual). Returns the last point; `crossing`
+/// is the trimming segment the last step wanted to cross (-1: a minimum inside the face).
+struct DescentPoint
 {
-  SampleResult r;
+  double U = 0.0, V = 0.0, T = 0.0;
+  PatchEval E;
+  int Patch = -1;
+};
+DescentPoint DescendOnFace(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, double u, double v, int& crossing, int& iterations)
+{
   const Vec3& O = s.Point;
   const Vec3& d = s.Direction;
   const Face& F = m.Faces[face];
   const double tiny = 1e-14 * data.Scale;
-  struct State
-  {
-    double U, V, T;
-    PatchEval E;
-    int Patch;
-  };
-  auto evaluate = [&](double uu, double vv, State& st) {
+  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  auto evaluate = [&](double uu, double vv, DescentPoint& st) {
     st.U = uu;
     st.V = vv;
     st.Patch = FindPatchFast(m, data, face, uu, vv);
     st.E = EvaluatePatch(m.Patches[st.Patch], uu, vv);
     st.T = SphereRadius(O, d, st.E.P);
   };
-  // Tangential part of eq. 4's residual, as a distance: zero where t(u, v) is stationary. Once
-  // t no longer changes beyond rounding, a step that lowers it is accepted (the kernels need this
-  // in float; here it only polishes the last digits).
-  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
-  auto tangential = [&](const State& st) {
+  // Tangential part of eq. 4's residual, as a distance: zero where t(u, v) is stationary.
+  auto tangential = [&](const DescentPoint& st) {
     const Vec3 w = Sub(st.E.P, Axpy(O, st.T, d));
     const double lu = std::sqrt(Dot(st.E.Du, st.E.Du)), lv = std::sqrt(Dot(st.E.Dv, st.E.Dv));
     const double a = lu > 0.0 ? Dot(w, st.E.Du) / lu : 0.0, b = lv > 0.0 ? Dot(w, st.E.Dv) / lv : 0.0;
     return std::sqrt(a * a + b * b);
   };
-  State cur;
+  DescentPoint cur;
   evaluate(u, v, cur);
+  crossing = -1;
   if (!std::isfinite(cur.T))
-    return r;
-  int crossing = -1;     // trimming segment the last step ran into
-  double crossingAt = 0; // its local parameter
+    return cur;
   for (int it = 0; it < 4 * opt.MaxIterations; ++it)
   {
     ++iterations;
@@ -832,7 +853,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       const double a00 = H[0][0] + lambda * G[0][0], a01 = H[0][1] + lambda * G[0][1],
                    a11 = H[1][1] + lambda * G[1][1];
       const double det = a00 * a11 - a01 * a01;
-      if (a00 > 0.0 && det > 1e-300 * std::fabs(a00 * a11) && det > 0.0)
+      if (a00 > 0.0 && det > 0.0)
       {
         step[0] = -(a11 * g[0] - a01 * g[1]) / det;
         step[1] = -(a00 * g[1] - a01 * g[0]) / det;
@@ -841,7 +862,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     }
     const Vec3 move3 = { step[0] * e.Du[0] + step[1] * e.Dv[0],
       step[0] * e.Du[1] + step[1] * e.Dv[1], step[0] * e.Du[2] + step[1] * e.Dv[2] };
-    double len = std::sqrt(Dot(move3, move3));
+    const double len = std::sqrt(Dot(move3, move3));
     const double limit = std::max(t, 1e-3 * data.Scale);
     double f = len > limit ? limit / len : 1.0;
     const double slope = g[0] * step[0] + g[1] * step[1]; // < 0
@@ -860,13 +881,10 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       if (!(tp.Inside || tp.Distance <= F.UVTolerance) || uc != un || vc != vn)
       {
         if (crossing < 0)
-        {
-          crossing = tp.Segment; // first (longest) step that left the face: the edge it crossed
-          crossingAt = tp.Parameter;
-        }
+          crossing = tp.Segment; // the first (longest) step that left the face
         continue;
       }
-      State next;
+      DescentPoint next;
       evaluate(uc, vc, next);
       if (next.T <= t + 1e-4 * f * slope ||
         (next.T <= t + roundoff * t && tangential(next) < res0))
@@ -876,125 +894,214 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
         break;
       }
     }
-    // No step length decreases t: along the edge the longest step crossed (crossing >= 0), or at
+    // No step length decreases t: along the edge a longer step crossed (crossing >= 0), or at
     // the minimum within rounding. A step cut to nothing because longer ones left the face: the
     // minimum is on that edge.
     if (!accepted || len * f < tiny)
       break;
   }
+  return cur;
+}
 
-  // On the face: a minimum of t in its interior, if the last step did not want to leave it.
-  auto finishOnFace = [&]() {
-    const PatchEval& e = cur.E;
-    const Vec3 w = Sub(e.P, Axpy(O, cur.T, d));
-    const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - std::sqrt(Dot(w, w)) };
-    const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
-      e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
-    if (-Dot(w, n) * (F.Reversed ? -1.0 : 1.0) > 0.0)
+/// The fallback of SolveOne for the hard samples: a descent on t instead of a Newton on eq. 4.
+/// Every stationary point of t(P) over a face is a tangent sphere (grad t = (S-M).S_u / d.(S-O)),
+/// but Newton finds any of them, maxima and saddles too, and may leave the face on the way; the
+/// smallest sphere is the minimum of t over the boundary. This minimises t over the trimmed face
+/// from (u, v) (DescendOnFace). Where the minimum lies on the face's boundary it goes on along
+/// the nearest edge (minimising t(T) over the edge, stopping at its ends: surface/edge and
+/// surface/vertex contacts), and from the edge's minimum into the face across it (a fillet's
+/// tangent plane, a corner's other wall), up to 4 faces. Since t only decreases, it cannot climb
+/// back to the sphere it started below.
+SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, double u, double v, int& iterations)
+{
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const double tiny = 1e-14 * data.Scale;
+  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  SampleResult best; // the best edge contact so far
+  for (int hop = 0; hop < 4; ++hop)
+  {
+    int crossing = -1;
+    const DescentPoint cur = DescendOnFace(m, data, opt, s, face, u, v, crossing, iterations);
+    // On the face: a minimum of t in its interior, if the last step did not want to leave it.
+    auto onFace = [&]() {
+      SampleResult r;
+      const PatchEval& e = cur.E;
+      if (!std::isfinite(cur.T))
+        return r;
+      const Vec3 w = Sub(e.P, Axpy(O, cur.T, d));
+      const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - std::sqrt(Dot(w, w)) };
+      const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
+        e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
+      r.Residual = Residual3(e, R);
+      if (-Dot(w, n) * (m.Faces[face].Reversed ? -1.0 : 1.0) > 0.0)
+        r.Reason = FailReason::LeftModel; // touches the face from outside
+      else if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
+        r.Reason = FailReason::NotConverged;
+      else
+      {
+        r.Type = ContactType::SurfaceSurface;
+        r.OppositeFace = face;
+        r.OppositePatch = cur.Patch;
+        r.Radius = cur.T;
+        r.Thickness = 2.0 * cur.T;
+        r.Center = Axpy(O, cur.T, d);
+        r.Foot = e.P;
+      }
+      // Coming from an edge, the face result counts only where it is valid and smaller.
+      if (best.Type != ContactType::Failed &&
+        (r.Type == ContactType::Failed || !(r.Radius < best.Radius)))
+        return best;
+      return r;
+    };
+    if (crossing < 0)
+      return onFace();
+    // The edge: the trimming segment nearest the last point (the step that crossed may have
+    // been long), else the crossed one.
+    const TrimProjection near = ClassifyPoint(m, face, cur.U, cur.V);
+    int segment = crossing;
+    double at = 0.0;
+    if (near.Segment >= 0 && m.TrimSegments[near.Segment].Edge >= 0)
     {
-      r.Reason = FailReason::LeftModel; // touches the face from outside
-      return;
+      segment = near.Segment;
+      at = near.Parameter;
     }
-    r.Residual = Residual3(e, R);
-    if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
+    else
     {
-      r.Reason = FailReason::NotConverged;
-      return;
+      double dist = 0.0;
+      at = ProjectOnSegment(m.TrimSegments[crossing].ControlPoints, cur.U, cur.V, &dist);
     }
-    r.Type = ContactType::SurfaceSurface;
+    const TrimSegment& seg = m.TrimSegments[segment];
+    if (seg.Edge < 0 || m.Edges[seg.Edge].SegmentCount == 0)
+      return onFace(); // a pole: stay at the best point of the face
+    // Along the edge: minimise t(T) = t(C(T)) by Newton on t'(T), with line search.
+    const int edge = seg.Edge;
+    const Edge& E = m.Edges[edge];
+    const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
+    double T = std::clamp(seg.T0 + at * (seg.T1 - seg.T0), Tlo, Thi);
+    EdgeEval ee = EvaluateEdge(m, edge, T);
+    double t = SphereRadius(O, d, ee.C);
+    bool atEnd = false;
+    for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
+    {
+      ++iterations;
+      const double b = Dot(d, Sub(ee.C, O));
+      const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+      const double g = Dot(w, ee.Ct) / b;
+      const double dCt = Dot(d, ee.Ct);
+      double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
+      const double metric = Dot(ee.Ct, ee.Ct) / b;
+      if (!(h > 0.0))
+        h = metric > 0.0 ? metric : 1.0;
+      double dT = -g / h;
+      const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
+      const double limit = std::max(t, 1e-3 * data.Scale);
+      if (std::fabs(dT) * speed > limit)
+        dT *= limit / (std::fabs(dT) * speed);
+      if (std::fabs(dT) * speed < tiny)
+        break;
+      const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
+      bool accepted = false;
+      for (int k = 0; k < 40; ++k, dT *= 0.5)
+      {
+        const double Tn = std::clamp(T + dT, Tlo, Thi);
+        const EdgeEval en = EvaluateEdge(m, edge, Tn);
+        const double tn = SphereRadius(O, d, en.C);
+        const double sn = std::sqrt(Dot(en.Ct, en.Ct));
+        const double resn =
+          sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
+        if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
+        {
+          atEnd = Tn == Tlo || Tn == Thi;
+          accepted = T != Tn;
+          T = Tn;
+          ee = en;
+          t = tn;
+          break;
+        }
+      }
+      if (!accepted)
+        break;
+    }
+    if (!(t < cur.T) || !(t < (best.Type == ContactType::Failed ? data.Scale : best.Radius)))
+      return onFace(); // the face point (or the last edge contact) is lower: keep it
+    SampleResult r;
+    const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+    const double Re[2] = { Dot(ee.Ct, w), t - std::sqrt(Dot(w, w)) };
+    r.Residual = atEnd ? std::fabs(Re[1]) : Residual2(ee.Ct, Re);
+    if (!(t > 0.0))
+      r.Reason = FailReason::LeftModel;
+    else if (!(r.Residual <= opt.NewtonTolerance))
+      r.Reason = FailReason::EdgeNotConverged;
+    if (r.Reason != FailReason::None)
+      return best.Type != ContactType::Failed ? best : r;
+    r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
     r.OppositeFace = face;
-    r.OppositePatch = cur.Patch;
-    r.Radius = cur.T;
-    r.Thickness = 2.0 * cur.T;
-    r.Center = Axpy(O, cur.T, d);
-    r.Foot = e.P;
-  };
-  if (crossing < 0)
-  {
-    finishOnFace();
-    return r;
+    r.OppositeEdge = edge;
+    r.Radius = t;
+    r.Thickness = 2.0 * t;
+    r.Center = Axpy(O, t, d);
+    r.Foot = ee.C;
+    best = r;
+    // Across the edge: the neighbour face may go lower still (a round's tangent plane).
+    const int nb = E.Faces[0] == face ? E.Faces[1] : E.Faces[0];
+    double un = 0.0, vn = 0.0, nu = 0.0, nv = 0.0;
+    if (atEnd || nb < 0 || nb == face || m.Faces[nb].PatchCount == 0 ||
+      !EdgePointIntoFace(m, nb, edge, T, un, vn, nu, nv))
+      return best;
+    // Only where t falls into that face: grad t . (into the face) < 0.
+    const PatchEval en = EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, un, vn)], un, vn);
+    const Vec3 wn = Sub(en.P, Axpy(O, t, d));
+    if (!(Dot(wn, en.Du) * nu + Dot(wn, en.Dv) * nv < 0.0))
+      return best;
+    face = nb;
+    u = un;
+    v = vn;
   }
-  const TrimSegment& seg = m.TrimSegments[crossing];
-  if (seg.Edge < 0 || m.Edges[seg.Edge].SegmentCount == 0)
-  {
-    finishOnFace(); // a pole: stay at the best point of the face
-    return r;
-  }
-  // Along the edge: minimise t(T) = t(C(T)) by Newton on t'(T), with line search.
+  return best;
+}
+
+/// Descend on the face across the edge nearest the sample O, from near that edge's point
+/// nearest O. On the edge itself t is undefined (the point lies in O's tangent plane), so the
+/// start is moved into the neighbour face, by the offset (1e-6 to 1e-1 of its UV diagonal) that
+/// gives the smallest t.
+SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data,
+  const SolverOptions& opt, const Sample& s, int& iterations)
+{
+  const TrimProjection near = ClassifyPoint(m, s.Face, s.U, s.V);
+  if (near.Segment < 0 || m.TrimSegments[near.Segment].Edge < 0)
+    return SampleResult();
+  const TrimSegment& seg = m.TrimSegments[near.Segment];
   const int edge = seg.Edge;
   const Edge& E = m.Edges[edge];
-  const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
-  double T = std::clamp(seg.T0 + crossingAt * (seg.T1 - seg.T0), Tlo, Thi);
-  EdgeEval ee = EvaluateEdge(m, edge, T);
-  double t = SphereRadius(O, d, ee.C);
-  if (!(t < cur.T))
+  const int nb = E.Faces[0] == s.Face ? E.Faces[1] : E.Faces[0];
+  if (nb < 0 || nb == s.Face || m.Faces[nb].PatchCount == 0)
+    return SampleResult();
+  const Face& N = m.Faces[nb];
+  double u0 = 0.0, v0 = 0.0, nu = 0.0, nv = 0.0;
+  if (!EdgePointIntoFace(m, nb, edge, seg.T0 + near.Parameter * (seg.T1 - seg.T0), u0, v0, nu, nv))
+    return SampleResult();
+  const double diag = std::hypot(N.Domain[1] - N.Domain[0], N.Domain[3] - N.Domain[2]);
+  double bestT = std::numeric_limits<double>::infinity(), bu = 0.0, bv = 0.0;
+  for (double h = 1e-6; h < 0.2; h *= 10.0)
   {
-    finishOnFace(); // the face point is already below the edge: keep it
-    return r;
-  }
-  bool atEnd = false;
-  for (int it = 0; it < 2 * opt.MaxEdgeIterations; ++it)
-  {
-    ++iterations;
-    const double b = Dot(d, Sub(ee.C, O));
-    const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-    const double g = Dot(w, ee.Ct) / b;
-    const double dCt = Dot(d, ee.Ct);
-    double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
-    const double metric = Dot(ee.Ct, ee.Ct) / b;
-    if (!(h > 0.0))
-      h = metric > 0.0 ? metric : 1.0;
-    double dT = -g / h;
-    const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
-    const double limit = std::max(t, 1e-3 * data.Scale);
-    if (std::fabs(dT) * speed > limit)
-      dT *= limit / (std::fabs(dT) * speed);
-    if (std::fabs(dT) * speed < tiny)
-      break;
-    const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
-    bool accepted = false;
-    for (int k = 0; k < 40; ++k, dT *= 0.5)
+    const double u = std::clamp(u0 + h * diag * nu, N.Domain[0], N.Domain[1]);
+    const double v = std::clamp(v0 + h * diag * nv, N.Domain[2], N.Domain[3]);
+    if (!ClassifyPoint(m, nb, u, v).Inside)
+      continue;
+    const double t = SphereRadius(s.Point, s.Direction,
+      EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, u, v)], u, v).P);
+    if (t < bestT)
     {
-      const double Tn = std::clamp(T + dT, Tlo, Thi);
-      const EdgeEval en = EvaluateEdge(m, edge, Tn);
-      const double tn = SphereRadius(O, d, en.C);
-      const double sn = std::sqrt(Dot(en.Ct, en.Ct));
-      const double resn =
-        sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
-      if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
-      {
-        atEnd = Tn == Tlo || Tn == Thi;
-        accepted = T != Tn;
-        T = Tn;
-        ee = en;
-        t = tn;
-        break;
-      }
+      bestT = t;
+      bu = u;
+      bv = v;
     }
-    if (!accepted)
-      break;
   }
-  if (!(t > 0.0) || !(t < data.Scale))
-  {
-    r.Reason = FailReason::LeftModel;
-    return r;
-  }
-  const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-  const double Re[2] = { Dot(ee.Ct, w), t - std::sqrt(Dot(w, w)) };
-  r.Residual = atEnd ? std::fabs(Re[1]) : Residual2(ee.Ct, Re);
-  if (!(r.Residual <= opt.NewtonTolerance))
-  {
-    r.Reason = FailReason::EdgeNotConverged;
-    return r;
-  }
-  r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
-  r.OppositeFace = face;
-  r.OppositeEdge = edge;
-  r.Radius = t;
-  r.Thickness = 2.0 * t;
-  r.Center = Axpy(O, t, d);
-  r.Foot = ee.C;
-  return r;
+  if (!std::isfinite(bestT))
+    return SampleResult();
+  return Descend(m, data, opt, s, nb, bu, bv, iterations);
 }
 
 /// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
@@ -1014,6 +1121,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     r.Reason = FailReason::NoOppositePoint;
     return;
   }
+  const int first = p;
   SolveFrom(m, data, opt, s, p, t, r);
   if (r.Type == ContactType::Failed && r.OppositeFace >= 0)
   {
@@ -1030,6 +1138,21 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       else
         r.Iterations = other.Iterations;
     }
+  }
+  if (r.Type == ContactType::Failed)
+  {
+    // Newton found no sphere from the best starts: descend on t from the best start, and on the
+    // face across the edge nearest O; keep the smaller valid sphere (verified below).
+    int iterations = r.Iterations;
+    const SampleResult a =
+      Descend(m, data, opt, s, data.S1[first].Face, data.S1[first].U, data.S1[first].V, iterations);
+    const SampleResult b = DescendAcrossNearestEdge(m, data, opt, s, iterations);
+    if (b.Type != ContactType::Failed &&
+      (a.Type == ContactType::Failed || b.Radius < a.Radius))
+      r = b;
+    else if (a.Type != ContactType::Failed)
+      r = a;
+    r.Iterations = iterations;
   }
   // Points inside by less than the patches' own accuracy prove nothing (a sphere inscribed in a
   // concave fillet touches its whole arc, and the arc's patches wander by up to the tolerance;
@@ -1050,6 +1173,14 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       // Newton went back to the same sphere or failed: descend on t from the point inside.
       int iterations = again.Iterations;
       again = Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations);
+      if (again.Type == ContactType::Failed || !(again.Radius < r.Radius * (1.0 - 1e-6)))
+      {
+        // A sample next to a convex edge has a small sphere touching the face across that
+        // edge, closer to O than any s1 point: descend there from the edge point nearest O.
+        const SampleResult across = DescendAcrossNearestEdge(m, data, opt, s, iterations);
+        if (across.Type != ContactType::Failed)
+          again = across;
+      }
       again.Iterations = iterations;
     }
     if (check == 3 || again.Type == ContactType::Failed ||
