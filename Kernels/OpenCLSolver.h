@@ -48,8 +48,8 @@ public:
   /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
   size_t DeviceBytes() const;
 
-  /// Whether Solve finishes on the host, with the reference, the samples the kernels could not
-  /// prove maximal (default on). Off, Solve returns the kernels' own results: the tests measure
+  /// Whether Solve finishes on the host, with the reference, the samples the kernels leave
+  /// failed (default on). Off, Solve returns the kernels' own results: the tests measure
   /// the kernels alone that way.
   void SetHostFinish(bool on) { HostFinish = on; }
   bool GetHostFinish() const { return HostFinish; }

@@ -1,5 +1,5 @@
 // BRepThickness: binary dump of a prepared solve (model, solver data, samples), so that the
-// solver can be benchmarked on a machine without OpenCASCADE (Utilities/DeviceBench.cxx).
+// solver can be benchmarked on a machine without OpenCASCADE (brt_thickness_bench built with -DBRT_SOLVER_ONLY=ON).
 // Same-architecture files only; not a storage format.
 #pragma once
 
