@@ -1,5 +1,7 @@
 #include "vtkThicknessFilter.h"
 
+#include "Statistics.h"
+
 #include "BRepFieldData.h"
 #include "OpenCLSolver.h"
 #include "Solver.h"
@@ -38,12 +40,9 @@ vtkCxxSetObjectMacro(vtkThicknessFilter, Controller, vtkMultiProcessController);
 
 namespace
 {
-constexpr int FailReasons = 8; // brt::FailReason values 0..7
-// Residual histogram: log10 |R| from -16 to 0 in quarter decades; the first bin also holds
-// smaller residuals (and 0), the last one larger.
-constexpr double ResidualLow = -16.0, ResidualHigh = 0.0;
-constexpr int ResidualBins = 64;
-constexpr int ContactTypes = 4; // brt::ContactType values 0..3
+// Residual histogram (brt::ThicknessStatistics): log10 |R| from -16 to 0 in quarter decades;
+// the first bin also holds smaller residuals (and 0), the last one larger.
+using Stats = brt::ThicknessStatistics;
 constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string Lower(std::string s)
@@ -66,28 +65,20 @@ ArrayT* NewColumn(vtkTable* t, const char* name)
   return a;
 }
 
-/// Per-vertex area: a third of every adjacent triangle.
+/// Per-vertex area of the triangles of `mesh` (brt::VertexAreas).
 std::vector<double> VertexAreas(vtkPolyData* mesh)
 {
-  std::vector<double> area(mesh->GetNumberOfPoints(), 0.0);
+  std::vector<double> points(3 * static_cast<size_t>(mesh->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+    mesh->GetPoint(i, &points[3 * static_cast<size_t>(i)]);
+  std::vector<int> triangles;
   vtkNew<vtkIdList> ids;
   vtkCellArray* polys = mesh->GetPolys();
   for (polys->InitTraversal(); polys->GetNextCell(ids);)
-  {
-    if (ids->GetNumberOfIds() != 3)
-      continue;
-    double p[3][3];
-    for (int k = 0; k < 3; ++k)
-      mesh->GetPoint(ids->GetId(k), p[k]);
-    const double a[3] = { p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2] };
-    const double b[3] = { p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2] };
-    const double c[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-      a[0] * b[1] - a[1] * b[0] };
-    const double third = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / 6.0;
-    for (int k = 0; k < 3; ++k)
-      area[ids->GetId(k)] += third;
-  }
-  return area;
+    if (ids->GetNumberOfIds() == 3)
+      for (int k = 0; k < 3; ++k)
+        triangles.push_back(static_cast<int>(ids->GetId(k)));
+  return brt::VertexAreas(points, triangles);
 }
 } // namespace
 
@@ -185,48 +176,9 @@ int vtkThicknessFilter::RequestData(
   // --- local statistics ------------------------------------------------------------------------
   const std::vector<brt::SampleResult>& R = I.Results;
   const std::vector<double> area = ok && !empty ? VertexAreas(input) : std::vector<double>();
-  enum Sum
-  {
-    Samples,
-    SolvedArea,
-    AreaThickness,
-    TotalArea,
-    AreaBelow,
-    AreaAbove,
-    SolvingProcesses,
-    PerType,                      // ContactTypes counts
-    PerReason = PerType + ContactTypes, // FailReasons counts
-    SumCount = PerReason + FailReasons
-  };
-  std::vector<double> sums(SumCount, 0.0);
-  std::vector<double> residualHist(ContactTypes * ResidualBins, 0.0);
-  double minmax[2] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
-  sums[SolvingProcesses] = R.empty() ? 0.0 : 1.0;
-  for (size_t i = 0; i < R.size(); ++i)
-  {
-    const brt::SampleResult& r = R[i];
-    sums[Samples] += 1;
-    sums[TotalArea] += area[i];
-    sums[PerType + static_cast<int>(r.Type)] += 1;
-    if (r.Type == brt::ContactType::Failed)
-    {
-      sums[PerReason + static_cast<int>(r.Reason)] += 1;
-      continue;
-    }
-    sums[SolvedArea] += area[i];
-    sums[AreaThickness] += area[i] * r.Thickness;
-    if (this->MinimumThickness > 0.0 && r.Thickness < this->MinimumThickness)
-      sums[AreaBelow] += area[i];
-    if (this->MaximumThickness > 0.0 && r.Thickness > this->MaximumThickness)
-      sums[AreaAbove] += area[i];
-    minmax[0] = std::min(minmax[0], r.Thickness);
-    minmax[1] = std::max(minmax[1], r.Thickness);
-    const double l = r.Residual > 0.0 ? std::log10(r.Residual) : ResidualLow;
-    const int bin = std::clamp(static_cast<int>(std::floor((l - ResidualLow) /
-                                 (ResidualHigh - ResidualLow) * ResidualBins)),
-      0, ResidualBins - 1);
-    residualHist[static_cast<int>(r.Type) * ResidualBins + bin] += 1;
-  }
+  Stats stats = Accumulate(R, area, this->MinimumThickness, this->MaximumThickness);
+  std::vector<double>& sums = stats.Sums;
+  std::vector<double>& residualHist = stats.ResidualHistogram;
   double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
   long long localCount = static_cast<long long>(R.size()), offset = 0;
 
@@ -246,10 +198,10 @@ int vtkThicknessFilter::RequestData(
       static_cast<vtkIdType>(residualHist.size()), vtkCommunicator::SUM_OP);
     residualHist.swap(buffer);
     double v = 0.0;
-    ctrl->AllReduce(&minmax[0], &v, 1, vtkCommunicator::MIN_OP);
-    minmax[0] = v;
-    ctrl->AllReduce(&minmax[1], &v, 1, vtkCommunicator::MAX_OP);
-    minmax[1] = v;
+    ctrl->AllReduce(&stats.Min, &v, 1, vtkCommunicator::MIN_OP);
+    stats.Min = v;
+    ctrl->AllReduce(&stats.Max, &v, 1, vtkCommunicator::MAX_OP);
+    stats.Max = v;
     double t[2];
     ctrl->AllReduce(times, t, 2, vtkCommunicator::MAX_OP);
     times[0] = t[0];
@@ -259,14 +211,10 @@ int vtkThicknessFilter::RequestData(
     for (int p = 0; p < rank; ++p)
       offset += counts[p];
   }
-  const bool anySolved = minmax[1] >= minmax[0];
+  const bool anySolved = stats.AnySolved();
   const int bins = this->HistogramBins;
-  const double histMax = anySolved && minmax[1] > 0.0 ? minmax[1] : 1.0;
-  std::vector<double> areaHist(bins, 0.0);
-  for (size_t i = 0; i < R.size(); ++i)
-    if (R[i].Type != brt::ContactType::Failed)
-      areaHist[std::clamp(static_cast<int>(R[i].Thickness / histMax * bins), 0, bins - 1)] +=
-        area[i];
+  const double histMax = anySolved && stats.Max > 0.0 ? stats.Max : 1.0;
+  std::vector<double> areaHist = brt::AreaHistogram(R, area, bins, histMax);
   if (ctrl)
   {
     std::vector<double> buffer(areaHist.size());
@@ -361,20 +309,20 @@ int vtkThicknessFilter::RequestData(
   medial->GetPointData()->SetActiveScalars("Thickness");
 
   // --- port 2: residual histogram (rows on process 0 only, the others add none) ----------------
-  auto* rLow = NewColumn<vtkDoubleArray>(residuals, "Log10ResidualLower");
+  auto* rLow = NewColumn<vtkDoubleArray>(residuals, "Log10Stats::ResidualLower");
   auto* rHigh = NewColumn<vtkDoubleArray>(residuals, "Log10ResidualUpper");
   auto* rSS = NewColumn<vtkIdTypeArray>(residuals, "SurfaceSurface");
   auto* rSE = NewColumn<vtkIdTypeArray>(residuals, "SurfaceEdge");
   auto* rSV = NewColumn<vtkIdTypeArray>(residuals, "SurfaceVertex");
   if (rank == 0)
-    for (int b = 0; b < ResidualBins; ++b)
+    for (int b = 0; b < Stats::ResidualBins; ++b)
     {
-      const double w = (ResidualHigh - ResidualLow) / ResidualBins;
-      rLow->InsertNextValue(ResidualLow + b * w);
-      rHigh->InsertNextValue(ResidualLow + (b + 1) * w);
-      rSS->InsertNextValue(static_cast<vtkIdType>(residualHist[1 * ResidualBins + b]));
-      rSE->InsertNextValue(static_cast<vtkIdType>(residualHist[2 * ResidualBins + b]));
-      rSV->InsertNextValue(static_cast<vtkIdType>(residualHist[3 * ResidualBins + b]));
+      const double w = (Stats::ResidualHigh - Stats::ResidualLow) / Stats::ResidualBins;
+      rLow->InsertNextValue(Stats::ResidualLow + b * w);
+      rHigh->InsertNextValue(Stats::ResidualLow + (b + 1) * w);
+      rSS->InsertNextValue(static_cast<vtkIdType>(residualHist[1 * Stats::ResidualBins + b]));
+      rSE->InsertNextValue(static_cast<vtkIdType>(residualHist[2 * Stats::ResidualBins + b]));
+      rSV->InsertNextValue(static_cast<vtkIdType>(residualHist[3 * Stats::ResidualBins + b]));
     }
 
   // --- port 3: summary -------------------------------------------------------------------------
@@ -390,33 +338,33 @@ int vtkThicknessFilter::RequestData(
   };
   if (rank == 0)
   {
-    const double solvedArea = sums[SolvedArea];
-    row("Samples", sums[Samples]);
-    row("SurfaceSurface", sums[PerType + 1]);
-    row("SurfaceEdge", sums[PerType + 2]);
-    row("SurfaceVertex", sums[PerType + 3]);
-    row("Failed", sums[PerType + 0]);
+    const double solvedArea = sums[Stats::SolvedArea];
+    row("Samples", sums[Stats::Samples]);
+    row("SurfaceSurface", sums[Stats::PerType + 1]);
+    row("SurfaceEdge", sums[Stats::PerType + 2]);
+    row("SurfaceVertex", sums[Stats::PerType + 3]);
+    row("Failed", sums[Stats::PerType + 0]);
     // One row per failure reason (brt::FailReason 1..7), named for scripts.
-    static const char* const reasonRows[FailReasons] = { "", "FailedNoOppositePoint",
+    static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
       "FailedLeftModel", "FailedNotMaximal" };
-    for (int k = 1; k < FailReasons; ++k)
-      row(reasonRows[k], sums[PerReason + k]);
-    row("ThicknessMin", anySolved ? minmax[0] : NaN);
-    row("ThicknessMax", anySolved ? minmax[1] : NaN);
-    row("ThicknessMean", solvedArea > 0.0 ? sums[AreaThickness] / solvedArea : NaN);
-    row("TotalArea", sums[TotalArea]);
+    for (int k = 1; k < Stats::FailReasons; ++k)
+      row(reasonRows[k], sums[Stats::PerReason + k]);
+    row("ThicknessMin", anySolved ? stats.Min : NaN);
+    row("ThicknessMax", anySolved ? stats.Max : NaN);
+    row("ThicknessMean", stats.Mean());
+    row("TotalArea", sums[Stats::TotalArea]);
     row("SolvedArea", solvedArea);
     row("MinimumThickness", this->MinimumThickness);
     row("AreaShareBelowMinimum",
-      this->MinimumThickness > 0.0 && solvedArea > 0.0 ? sums[AreaBelow] / solvedArea : NaN);
+      this->MinimumThickness > 0.0 && solvedArea > 0.0 ? sums[Stats::AreaBelow] / solvedArea : NaN);
     row("MaximumThickness", this->MaximumThickness);
     row("AreaShareAboveMaximum",
-      this->MaximumThickness > 0.0 && solvedArea > 0.0 ? sums[AreaAbove] / solvedArea : NaN);
+      this->MaximumThickness > 0.0 && solvedArea > 0.0 ? sums[Stats::AreaAbove] / solvedArea : NaN);
     row("S1Points", static_cast<double>(I.S1Points));
     row("PrepareSeconds", times[0]);
     row("SolveSeconds", times[1]);
-    row("SolvingProcesses", sums[SolvingProcesses]);
+    row("SolvingProcesses", sums[Stats::SolvingProcesses]);
     for (int b = 0; b < bins; ++b)
       row("AreaHistogram", solvedArea > 0.0 ? areaHist[b] / solvedArea : 0.0,
         histMax * b / bins, histMax * (b + 1) / bins);
@@ -437,10 +385,10 @@ int vtkThicknessFilter::RequestData(
       "vtkThicknessFilter: %s: %.0f samples on %s: %.0f surface/surface, %.0f surface/edge, %.0f "
       "surface/vertex, %.0f failed; thickness %.4g .. %.4g %s (area-weighted mean %.4g); prepare "
       "%.3f s, solve %.3f s",
-      I.SourceFile.c_str(), sums[Samples], I.DeviceUsed.c_str(), sums[PerType + 1],
-      sums[PerType + 2], sums[PerType + 3], sums[PerType + 0], anySolved ? minmax[0] : NaN,
-      anySolved ? minmax[1] : NaN, I.LengthUnit.c_str(),
-      sums[SolvedArea] > 0.0 ? sums[AreaThickness] / sums[SolvedArea] : NaN, times[0], times[1]);
+      I.SourceFile.c_str(), sums[Stats::Samples], I.DeviceUsed.c_str(), sums[Stats::PerType + 1],
+      sums[Stats::PerType + 2], sums[Stats::PerType + 3], sums[Stats::PerType + 0], anySolved ? stats.Min : NaN,
+      anySolved ? stats.Max : NaN, I.LengthUnit.c_str(),
+      stats.Mean(), times[0], times[1]);
   return 1;
 }
 
