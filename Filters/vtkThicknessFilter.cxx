@@ -30,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -450,24 +451,14 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const size_t n = samples.size();
   I.Results.assign(n, brt::SampleResult());
   const size_t chunk = std::max<size_t>(2048, (n + 49) / 50);
-  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   for (size_t first = 0; first < n; first += chunk)
   {
     const size_t last = std::min(n, first + chunk);
     if (reference)
     {
-      std::vector<std::thread> pool;
-      const size_t per = (last - first + threads - 1) / threads;
-      for (unsigned k = 0; k < threads; ++k)
-      {
-        const size_t a = first + k * per, b = std::min(last, a + per);
-        if (a < b)
-          pool.emplace_back([&, a, b] {
-            brt::SolveReferenceRange(model, data, options, samples, I.Results, a, b);
-          });
-      }
-      for (auto& t : pool)
-        t.join();
+      std::vector<size_t> which(last - first);
+      std::iota(which.begin(), which.end(), first);
+      brt::SolveReferenceParallel(model, data, options, samples, I.Results, which);
     }
     else
     {

@@ -9,7 +9,6 @@
 #include <map>
 #include <mutex>
 #include <sstream>
-#include <thread>
 #include <vector>
 
 namespace brt
@@ -18,6 +17,10 @@ extern const char* const ThicknessKernelSource; // generated from thickness.cl a
 
 namespace
 {
+/// Reals per sample in the kernel's sample buffer (SAMPLE_REALS in thickness.cl): O as hi + lo
+/// parts, the inward normal, (u, v).
+constexpr size_t SampleReals = 11;
+
 std::string Lower(std::string s)
 {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -392,14 +395,14 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
-  const size_t perSample = 14 * sizeof(T) + 7 * sizeof(int);
+  const size_t perSample = (SampleReals + 5) * sizeof(T) + 7 * sizeof(int);
   if (chunk == 0)
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
   chunk = std::min(chunk, samples.size());
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
   cl_kernel k = RT->Kernel;
-  Samples.Allocate(ctx, chunk * 9 * sizeof(T), CL_MEM_READ_ONLY);
+  Samples.Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
   SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
   OutReal.Allocate(ctx, chunk * 5 * sizeof(T), CL_MEM_WRITE_ONLY);
   OutInt.Allocate(ctx, chunk * 6 * sizeof(int), CL_MEM_WRITE_ONLY);
@@ -409,7 +412,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const T newtonTol = static_cast<T>(options.NewtonTolerance);
   const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::SolveOne's verification
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
-  std::vector<T> in(chunk * 9), outR(chunk * 5);
+  std::vector<T> in(chunk * SampleReals), outR(chunk * 5);
   std::vector<int> outI(chunk * 6), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
@@ -424,15 +427,17 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       for (int j = 0; j < 3; ++j)
       {
         const double o = s.Point[j] - c[j];
-        in[9 * i + j] = static_cast<T>(o);
-        in[9 * i + 3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
-        in[9 * i + 6 + j] = static_cast<T>(s.Direction[j]);
+        in[SampleReals * i + j] = static_cast<T>(o);
+        in[SampleReals * i + 3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
+        in[SampleReals * i + 6 + j] = static_cast<T>(s.Direction[j]);
       }
+      in[SampleReals * i + 9] = static_cast<T>(s.U);
+      in[SampleReals * i + 10] = static_cast<T>(s.V);
       faces[i] = s.Face;
     }
     Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
       "clEnqueueWriteBuffer");
-    Check(clEnqueueWriteBuffer(q, Samples.Mem, CL_FALSE, 0, n * 9 * sizeof(T), in.data(), 0, nullptr, nullptr),
+    Check(clEnqueueWriteBuffer(q, Samples.Mem, CL_FALSE, 0, n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
       "clEnqueueWriteBuffer");
     const cl_int count = static_cast<cl_int>(n);
     Check(clSetKernelArg(k, 20, sizeof(cl_mem), &Samples.Mem), "clSetKernelArg");
@@ -502,16 +507,7 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   for (size_t i = 0; i < samples.size() && HostFinish; ++i)
     if (results[i].Type == ContactType::Failed)
       hard.push_back(i);
-  const size_t threads =
-    std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), hard.size());
-  std::vector<std::thread> pool;
-  for (size_t k = 0; k < threads; ++k)
-    pool.emplace_back([&, k] {
-      for (size_t j = k; j < hard.size(); j += threads)
-        SolveReferenceRange(model, data, options, samples, results, hard[j], hard[j] + 1);
-    });
-  for (auto& t : pool)
-    t.join();
+  SolveReferenceParallel(model, data, options, samples, results, hard);
 }
 
 } // namespace brt

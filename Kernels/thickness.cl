@@ -37,6 +37,9 @@ typedef float3 real3;
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid.
 #define FACE_INTS 8
 #define FACE_REALS 7
+// Per sample: O as hi (3) + lo (3) parts relative to the model's centre, the inward normal d (3),
+// and (u, v) on its face.
+#define SAMPLE_REALS 11
 
 typedef struct
 {
@@ -1144,6 +1147,61 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
   return best;
 }
 
+// Descends on the face across the edge nearest O, from just inside that face near the edge's
+// point nearest O (brt::DescendAcrossNearestEdge): a sample next to a convex edge has a sphere
+// of about its distance from the edge, closer to O than any s1 point.
+Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 Ohi, real3 Olo,
+  real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+{
+  Result none;
+  none.t = 0;
+  none.res = 0;
+  none.foot = (real3)(0);
+  none.type = CONTACT_FAILED;
+  none.reason = FAIL_NONE;
+  none.face = -1;
+  none.patch = -1;
+  none.edge = -1;
+  int seg;
+  real param, dist;
+  classify(m, ownFace, uv, &seg, &param, &dist);
+  if (seg < 0 || m->trimEdge[seg] < 0)
+    return none;
+  const int edge = m->trimEdge[seg];
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  const int nb = f0 == ownFace ? f1 : f0;
+  if (nb < 0 || nb == ownFace || m->faceInfo[FACE_INTS * nb + 1] == 0)
+    return none;
+  const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+  real u0, v0, nu, nv;
+  if (!edge_point_into_face(m, nb, edge, T, &u0, &v0, &nu, &nv))
+    return none;
+  __global const real* fd = m->faceDomain + FACE_REALS * nb;
+  const real diag = length((real2)(fd[1] - fd[0], fd[3] - fd[2]));
+  real bestT = REAL_MAX, bu = 0, bv = 0;
+  for (real h = (real)1e-6; h < (real)0.2; h *= (real)10)
+  {
+    const real u = clamp(u0 + h * diag * nu, fd[0], fd[1]);
+    const real v = clamp(v0 + h * diag * nv, fd[2], fd[3]);
+    int sg;
+    real pr, ds;
+    if (!classify(m, nb, (real2)(u, v), &sg, &pr, &ds))
+      continue;
+    DescentState st;
+    descent_eval(m, nb, Ohi, Olo, d, u, v, &st);
+    if (st.t < bestT)
+    {
+      bestT = st.t;
+      bu = u;
+      bv = v;
+    }
+  }
+  if (!(bestT < REAL_MAX))
+    return none;
+  return descend(m, nb, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
+    iterations);
+}
+
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
   __global const real* patchDomain,
   __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
@@ -1152,7 +1210,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global const real* edgeSeg, __global const real* edgeAnchor,
   __global const real* edgeSegRange, __global const real* s1Point, __global const int* s1Face, __global const real* s1UV,
   __global const real* nodeBox, __global const int* nodeInfo,
-  __global const real* samples, // O hi (3), O lo (3), d (3) per sample
+  __global const real* samples, // O hi (3), O lo (3), d (3), u, v per sample
   __global const int* sampleFace, // the face of each sample
   const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
   const int maxIterations, const int maxEdgeIterations,
@@ -1165,10 +1223,11 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
     trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack };
   const Model* m = &mm;
-  __global const real* sp = samples + 9 * gid;
+  __global const real* sp = samples + SAMPLE_REALS * gid;
   const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const real3 d = (real3)(sp[6], sp[7], sp[8]);
+  const real2 ownUV = (real2)(sp[9], sp[10]);
   __global real* oR = outReal + 5 * gid;
   __global int* oI = outInt + 6 * gid;
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
@@ -1208,12 +1267,15 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
     }
     if (r.type == CONTACT_FAILED)
     {
-      // Newton found no sphere from the best starts: descend on t from the best start. (The
-      // reference also descends on the face across the edge nearest O; the host finish does
-      // that for the samples the kernel leaves failed.)
+      // Newton found no sphere from the best starts: descend on t from the best start, and on
+      // the face across the edge nearest O; keep the smaller valid sphere (verified below).
       const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
         s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, &iterations);
-      if (a.type != CONTACT_FAILED)
+      const Result b = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
+        newtonTol, maxIterations, maxEdgeIterations, &iterations);
+      if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
+        r = b;
+      else if (a.type != CONTACT_FAILED)
         r = a;
     }
     for (int check = 0; r.type != CONTACT_FAILED; ++check)
@@ -1231,9 +1293,19 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
         again = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
           scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
       if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
-        // Newton went back to the same sphere or failed: descend on t from the point inside.
+      {
+        // Newton went back to the same sphere or failed: descend on t from the point inside,
+        // else on the face across the edge nearest O.
         again = descend(m, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1], scale,
           newtonTol, maxIterations, maxEdgeIterations, &iterations);
+        if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
+        {
+          const Result across = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
+            newtonTol, maxIterations, maxEdgeIterations, &iterations);
+          if (across.type != CONTACT_FAILED)
+            again = across;
+        }
+      }
       if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
         r.type = CONTACT_FAILED;

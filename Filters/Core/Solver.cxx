@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <thread>
 #include <unordered_map>
 
 namespace brt
@@ -1222,6 +1223,23 @@ void SolveReferenceRange(const BRepModel& model, const SolverData& data,
     else
       SolveOne(model, data, options, samples[i], results[i]);
   }
+}
+
+void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, const std::vector<size_t>& which, unsigned threads)
+{
+  if (threads == 0)
+    threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<size_t>(threads, which.size()));
+  std::vector<std::thread> pool;
+  for (unsigned k = 0; k < threads; ++k)
+    pool.emplace_back([&, k] {
+      for (size_t j = k; j < which.size(); j += threads)
+        SolveReferenceRange(model, data, options, samples, results, which[j], which[j] + 1);
+    });
+  for (auto& t : pool)
+    t.join();
 }
 
 } // namespace brt

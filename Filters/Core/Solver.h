@@ -120,6 +120,13 @@ void SolveReferenceRange(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, size_t first, size_t last);
 
+/// samples[i] for every i in `which`, into results[i] (results sized by the caller), on
+/// `threads` threads (0: one per core), the indices dealt out in turn so that a run of hard
+/// samples spreads over the threads.
+void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, const std::vector<size_t>& which, unsigned threads = 0);
+
 /// Patch of `face` containing (u,v), by binary search on the face's grid breakpoints.
 int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v);
 

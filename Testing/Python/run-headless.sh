@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Runs a command under a private Xvfb. The server picks a free display itself (-displayfd) and
 # reports it once it accepts connections, so concurrent or back-to-back runs cannot race for a
-# display number the way `xvfb-run -a` can.
+# display number the way `xvfb-run -a` can. -noreset: by default Xvfb resets when its last client
+# disconnects, and a connection made during the reset fails ("bad X server connection"), which
+# ParaView's capability probe (a window opened and closed) followed by the render window hit
+# under load.
 #   run-headless.sh COMMAND [ARGS...]
 set -uo pipefail
 tmp=$(mktemp -d)
-Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
+Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset 3>"$tmp/display" 2>"$tmp/xvfb.log" &
 xvfb=$!
 for _ in $(seq 200); do
   [ -s "$tmp/display" ] && break
