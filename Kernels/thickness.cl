@@ -644,6 +644,38 @@ typedef struct
   int type, reason, face, patch, edge;
 } Result;
 
+// A surface/edge contact on a tangent-continuous edge is a tangent contact with the faces on
+// both sides: reported as surface/surface on the first face whose normal at the foot is within
+// 1e-3 rad of the sphere's (brt::TypeTangentEdgeContact). foot and the sphere are relative to O.
+void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
+{
+  if (r->type != CONTACT_SURFACE_EDGE || r->edge < 0)
+    return;
+  const real3 q = r->foot - r->t * d; // foot - M
+  const real lq = length(q);
+  for (int k = 0; k < 2 && lq > (real)0; ++k)
+  {
+    const int f = m->edgeInfo[4 * r->edge + 2 + k];
+    real u, v;
+    if (f < 0 || m->faceInfo[FACE_INTS * f + 1] == 0 || !edge_point_on_face(m, f, r->edge, T, &u, &v))
+      continue;
+    const int patch = find_patch(m, f, u, v);
+    const PatchEval e = eval_patch(m, patch, u, v);
+    const real3 n = cross(e.Du, e.Dv);
+    const real ln = length(n);
+    if (!(ln > (real)0))
+      continue;
+    if (length(cross(n, q)) <= (real)1e-3 * ln * lq)
+    {
+      r->type = CONTACT_SURFACE_SURFACE;
+      r->face = f;
+      r->patch = patch;
+      r->edge = -1;
+      return;
+    }
+  }
+}
+
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
 // v0) with the initial radius t; mirrors brt::SolveFrom.
 Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
@@ -657,6 +689,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   __global const real* trimRange = m->trimRange;
   __global const real* edgeRange = m->edgeRange;
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
+  real edgeT = 0;
   real res = 0;
   real3 foot = (real3)(0);
   // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
@@ -810,6 +843,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
     }
     type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
     foot = C;
+    edgeT = T;
   }
 
 out:;
@@ -822,6 +856,7 @@ out:;
   r.face = oppFace;
   r.patch = oppPatch;
   r.edge = oppEdge;
+  type_tangent_edge_contact(m, edgeT, d, &r);
   return r;
 }
 
@@ -1126,6 +1161,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     r.edge = edge;
     r.t = t;
     r.foot = C;
+    type_tangent_edge_contact(m, T, d, &r);
     best = r;
     // Across the edge, where t falls into the neighbour face (a round's tangent plane).
     const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];

@@ -605,6 +605,47 @@ bool EdgePointIntoFace(const BRepModel& m, int face, int edge, double T, double&
   return false;
 }
 
+/// A surface/edge contact on a tangent-continuous edge (a round meeting its tangent plane) is a
+/// tangent contact with the faces on both sides: the sphere's normal at the foot, (C - M) / t,
+/// is their normal there. Which of the two types Newton, the descent or float rounding reports
+/// there is an accident; such contacts are reported as surface/surface on the first face whose
+/// normal at the foot is within 1e-3 rad of (C - M) / t.
+void TypeTangentEdgeContact(const BRepModel& m, const SolverData& data, const Sample& s,
+  double T, SampleResult& r)
+{
+  if (r.Type != ContactType::SurfaceEdge || r.OppositeEdge < 0)
+    return;
+  const Vec3 M = Axpy(s.Point, r.Radius, s.Direction);
+  const Vec3 q = Sub(r.Foot, M);
+  const double lq = std::sqrt(Dot(q, q));
+  const Edge& E = m.Edges[r.OppositeEdge];
+  for (int k = 0; k < 2 && lq > 0.0; ++k)
+  {
+    const int f = E.Faces[k];
+    if (f < 0 || m.Faces[f].PatchCount == 0)
+      continue;
+    double u = 0.0, v = 0.0;
+    if (!EdgePointOnFace(m, f, r.OppositeEdge, T, u, v))
+      continue;
+    const int patch = FindPatchFast(m, data, f, u, v);
+    const PatchEval e = EvaluatePatch(m.Patches[patch], u, v);
+    const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
+      e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
+    const double ln = std::sqrt(Dot(n, n));
+    if (!(ln > 0.0))
+      continue;
+    const Vec3 c{ n[1] * q[2] - n[2] * q[1], n[2] * q[0] - n[0] * q[2], n[0] * q[1] - n[1] * q[0] };
+    if (std::sqrt(Dot(c, c)) <= 1e-3 * ln * lq)
+    {
+      r.Type = ContactType::SurfaceSurface;
+      r.OppositeFace = f;
+      r.OppositePatch = patch;
+      r.OppositeEdge = -1;
+      return;
+    }
+  }
+}
+
 /// Steps 4-7 from the s1 point p1 with the initial radius t.
 void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, int p1, double t, SampleResult& r)
@@ -783,6 +824,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   r.Thickness = 2.0 * t;
   r.Center = Axpy(O, t, d);
   r.Foot = C;
+  TypeTangentEdgeContact(m, data, s, T, r);
 }
 /// The sphere radius that eq. 1 gives for the boundary point P: t(P) = |P-O|^2 / (2 d.(P-O)),
 /// infinite when P is not in front of O.
@@ -1044,6 +1086,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     r.Thickness = 2.0 * t;
     r.Center = Axpy(O, t, d);
     r.Foot = ee.C;
+    TypeTangentEdgeContact(m, data, s, T, r);
     best = r;
     // Across the edge: the neighbour face may go lower still (a round's tangent plane).
     const int nb = E.Faces[0] == face ? E.Faces[1] : E.Faces[0];
