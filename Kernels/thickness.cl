@@ -524,8 +524,10 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
 }
 
 // (u, v) on `face` of the point at edge parameter T of `edge`, from that face's trimming
-// segments on the edge; 0 if none covers T.
-int edge_point_on_face(const Model* m, int face, int edge, real T, real* u, real* v)
+// segments on the edge, with the unit direction (nu, nv) in (u, v) pointing from the edge into
+// the face (0 where the segment's tangent vanishes); 0 if none covers T (brt::EdgePointIntoFace).
+int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, real* v, real* nu,
+  real* nv)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
   for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
@@ -539,12 +541,21 @@ int edge_point_on_face(const Model* m, int face, int edge, real T, real* u, real
         continue;
       real2 d1, d2;
       const real2 p = seg_point(m->trim + 8 * s, (T - T0) / (T1 - T0), &d1, &d2);
+      const real len = length(d1);
       *u = p.x;
       *v = p.y;
+      *nu = len > (real)0 ? -d1.y / len : (real)0;
+      *nv = len > (real)0 ? d1.x / len : (real)0;
       return 1;
     }
   }
   return 0;
+}
+
+inline int edge_point_on_face(const Model* m, int face, int edge, real T, real* u, real* v)
+{
+  real nu, nv;
+  return edge_point_into_face(m, face, edge, T, u, v, &nu, &nv);
 }
 
 // --- the kernel -----------------------------------------------------------------------------
@@ -899,36 +910,6 @@ inline real tangential_residual(const DescentState* st, real3 d)
   const real a = lu > (real)0 ? dot(w, st->e.Du) / lu : (real)0;
   const real b = lv > (real)0 ? dot(w, st->e.Dv) / lv : (real)0;
   return sqrt(a * a + b * b);
-}
-
-// As edge_point_on_face, with the unit direction (nu, nv) in the face's (u, v) pointing from the
-// edge into the face (brt::EdgePointIntoFace).
-int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, real* v, real* nu,
-  real* nv)
-{
-  __global const int* fi = m->faceInfo + FACE_INTS * face;
-  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
-  {
-    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
-    for (int s = first; s < first + count; ++s)
-    {
-      const real T0 = m->trimRange[2 * s], T1 = m->trimRange[2 * s + 1];
-      const real lo = fmin(T0, T1), hi = fmax(T0, T1);
-      if (m->trimEdge[s] != edge || T < lo || T > hi || hi <= lo)
-        continue;
-      real2 d1, d2;
-      const real2 p = seg_point(m->trim + 8 * s, (T - T0) / (T1 - T0), &d1, &d2);
-      const real len = length(d1);
-      if (!(len > (real)0))
-        return 0;
-      *u = p.x;
-      *v = p.y;
-      *nu = -d1.y / len;
-      *nv = d1.x / len;
-      return 1;
-    }
-  }
-  return 0;
 }
 
 // One face's part of the descent (brt::DescendOnFace): minimises t(u, v) over the trimmed face

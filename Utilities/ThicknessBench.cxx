@@ -73,6 +73,7 @@ int main(int argc, char** argv)
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
   bool reference = true;
+  brt::ConversionOptions conversion;
   for (int i = 1; i < argc; ++i)
   {
     if (!std::strcmp(argv[i], "--device") && i + 1 < argc)
@@ -81,6 +82,8 @@ int main(int argc, char** argv)
       useDouble = true;
     else if (!std::strcmp(argv[i], "--export") && i + 1 < argc)
       exportDir = argv[++i];
+    else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
+      conversion.Tolerance = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--no-reference"))
       reference = false;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
@@ -98,6 +101,7 @@ int main(int argc, char** argv)
   {
     std::fprintf(stderr,
       "usage: %s [--device NAME|cpu|gpu|none] [--double] [--no-reference] [--counts N,...] "
+      "[--tolerance T] "
       "FILE.step...\n",
       argv[0]);
     return 2;
@@ -132,7 +136,7 @@ int main(int argc, char** argv)
       else
       {
 #ifdef BRT_HAVE_OCCT
-        model = brt::ConvertStepFile(file, brt::ConversionOptions());
+        model = brt::ConvertStepFile(file, conversion);
         data = brt::PrepareSolver(model, options);
         all = brt::SamplesFromMesh(model, data);
 #else

@@ -554,30 +554,9 @@ SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const Sol
 }
 
 /// (u, v) on `face` of the point at edge parameter T of `edge`, from that face's trimming
-/// segments on the edge; false if the face has none covering T.
-bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u, double& v)
-{
-  const Face& F = m.Faces[face];
-  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
-  {
-    const TrimLoop& loop = m.Loops[l];
-    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-    {
-      const TrimSegment& ts = m.TrimSegments[s];
-      const double lo = std::min(ts.T0, ts.T1), hi = std::max(ts.T0, ts.T1);
-      if (ts.Edge != edge || T < lo || T > hi || hi <= lo)
-        continue;
-      const auto p = EvaluateCubic<2>(ts.ControlPoints.data(), (T - ts.T0) / (ts.T1 - ts.T0)).P;
-      u = p[0];
-      v = p[1];
-      return true;
-    }
-  }
-  return false;
-}
-
-/// As EdgePointOnFace, with the unit direction (nu, nv) in the face's (u, v) that points from
-/// the edge into the face (the face lies on the left of its trimming loops).
+/// segments on the edge, with the unit direction (nu, nv) in (u, v) that points from the edge
+/// into the face (the face lies on the left of its trimming loops; 0 where the segment's
+/// tangent vanishes); false if the face has no segment covering T.
 bool EdgePointIntoFace(const BRepModel& m, int face, int edge, double T, double& u, double& v,
   double& nu, double& nv)
 {
@@ -593,16 +572,20 @@ bool EdgePointIntoFace(const BRepModel& m, int face, int edge, double T, double&
         continue;
       const auto e = EvaluateCubic<2>(ts.ControlPoints.data(), (T - ts.T0) / (ts.T1 - ts.T0));
       const double len = std::hypot(e.D1[0], e.D1[1]);
-      if (!(len > 0.0))
-        return false;
       u = e.P[0];
       v = e.P[1];
-      nu = -e.D1[1] / len;
-      nv = e.D1[0] / len;
+      nu = len > 0.0 ? -e.D1[1] / len : 0.0;
+      nv = len > 0.0 ? e.D1[0] / len : 0.0;
       return true;
     }
   }
   return false;
+}
+
+bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u, double& v)
+{
+  double nu = 0.0, nv = 0.0;
+  return EdgePointIntoFace(m, face, edge, T, u, v, nu, nv);
 }
 
 /// A surface/edge contact on a tangent-continuous edge (a round meeting its tangent plane) is a
