@@ -687,6 +687,21 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
   }
 }
 
+// A failed result with no reason (yet).
+inline Result no_result(void)
+{
+  Result r;
+  r.t = 0;
+  r.res = 0;
+  r.foot = (real3)(0);
+  r.type = CONTACT_FAILED;
+  r.reason = FAIL_NONE;
+  r.face = -1;
+  r.patch = -1;
+  r.edge = -1;
+  return r;
+}
+
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
 // v0) with the initial radius t; mirrors brt::SolveFrom.
 Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
@@ -872,6 +887,13 @@ out:;
 }
 
 // --- the descent fallback (brt::Descend) ------------------------------------------------------
+// Steps shorter than this fraction of the model size end a descent (rounding).
+#ifdef BRT_DOUBLE
+#define DESCENT_TINY ((real)1e-14)
+#else
+#define DESCENT_TINY ((real)1e-7)
+#endif
+
 inline real wrap_param(real x, real lo, real period)
 {
   return period > (real)0 ? lo + (x - lo) - period * floor((x - lo) / period) : x;
@@ -920,11 +942,7 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
   real v, real scale, int maxIterations, int* crossing, int* iterations)
 {
   __global const real* fd = m->faceDomain + FACE_REALS * face;
-#ifdef BRT_DOUBLE
-  const real tiny = (real)1e-14 * scale;
-#else
-  const real tiny = (real)1e-7 * scale;
-#endif
+  const real tiny = DESCENT_TINY * scale;
   const real roundoff = (real)8 * REAL_EPS;
   DescentState cur;
   descent_eval(m, face, Ohi, Olo, d, u, v, &cur);
@@ -1002,20 +1020,8 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
 Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
   real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
-  Result best;
-  best.t = 0;
-  best.res = 0;
-  best.foot = (real3)(0);
-  best.type = CONTACT_FAILED;
-  best.reason = FAIL_NONE;
-  best.face = -1;
-  best.patch = -1;
-  best.edge = -1;
-#ifdef BRT_DOUBLE
-  const real tiny = (real)1e-14 * scale;
-#else
-  const real tiny = (real)1e-7 * scale;
-#endif
+  Result best = no_result();
+  const real tiny = DESCENT_TINY * scale;
   const real roundoff = (real)8 * REAL_EPS;
   for (int hop = 0; hop < 4; ++hop)
   {
@@ -1170,15 +1176,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
 Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 Ohi, real3 Olo,
   real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
-  Result none;
-  none.t = 0;
-  none.res = 0;
-  none.foot = (real3)(0);
-  none.type = CONTACT_FAILED;
-  none.reason = FAIL_NONE;
-  none.face = -1;
-  none.patch = -1;
-  none.edge = -1;
+  Result none = no_result();
   int seg;
   real param, dist;
   classify(m, ownFace, uv, &seg, &param, &dist);
