@@ -11,5 +11,5 @@ out=${2:-$build/out/$name}
 bash "$root/Utilities/install-deps.sh"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build" -j "$(nproc)"
-xvfb-run -a pvpython "$root/Utilities/brepthickness_batch.py" "$model" --out "$out" \
+bash "$root/Utilities/run-headless.sh" pvpython "$root/Utilities/brepthickness_batch.py" "$model" --out "$out" \
   --plugin "$build/lib/paraview-plugins/BRepThickness/BRepThickness.so"
