@@ -22,21 +22,31 @@ namespace
   throw ContractError("input is not a BRepThickness B-Rep (docs/DataContract.md): " + what);
 }
 
-/// Array `name` with `comps` components from field or point data, as doubles (tuple-major).
-/// `rows` < 0: any number of tuples; else exactly that many.
-std::vector<double> Get(vtkFieldData* fd, const char* name, int comps, vtkIdType rows = -1,
-  bool required = true)
+/// Array `name` of field or point data with `comps` components; null if it is absent and not
+/// required.
+vtkDataArray* Checked(vtkFieldData* fd, const char* name, int comps, bool required = true)
 {
   vtkDataArray* a = fd->GetArray(name);
   if (!a)
   {
     if (required)
       Fail(std::string("no array '") + name + "'");
-    return {};
+    return nullptr;
   }
   if (a->GetNumberOfComponents() != comps)
     Fail(std::string("array '") + name + "' has " + std::to_string(a->GetNumberOfComponents()) +
       " components, expected " + std::to_string(comps));
+  return a;
+}
+
+/// Array `name` with `comps` components from field or point data, as doubles (tuple-major).
+/// `rows` < 0: any number of tuples; else exactly that many.
+std::vector<double> Get(vtkFieldData* fd, const char* name, int comps, vtkIdType rows = -1,
+  bool required = true)
+{
+  vtkDataArray* a = Checked(fd, name, comps, required);
+  if (!a)
+    return {};
   if (rows >= 0 && a->GetNumberOfTuples() != rows)
     Fail(std::string("array '") + name + "' has " + std::to_string(a->GetNumberOfTuples()) +
       " tuples, expected " + std::to_string(rows));
@@ -51,13 +61,7 @@ std::vector<double> Get(vtkFieldData* fd, const char* name, int comps, vtkIdType
 
 vtkIdType Rows(vtkFieldData* fd, const char* name, int comps)
 {
-  vtkDataArray* a = fd->GetArray(name);
-  if (!a)
-    Fail(std::string("no array '") + name + "'");
-  if (a->GetNumberOfComponents() != comps)
-    Fail(std::string("array '") + name + "' has " + std::to_string(a->GetNumberOfComponents()) +
-      " components, expected " + std::to_string(comps));
-  return a->GetNumberOfTuples();
+  return Checked(fd, name, comps)->GetNumberOfTuples();
 }
 
 int Index(double value, int lo, int hi, const char* what, size_t row)
@@ -126,6 +130,9 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
     F.FirstPatch = static_cast<int>(I[3]);
     F.PatchesU = static_cast<int>(I[4]);
     F.PatchesV = static_cast<int>(I[5]);
+    if (F.PatchesU < 0 || F.PatchesV < 0 || (F.PatchesU == 0) != (F.PatchesV == 0))
+      Fail("FaceInfo patch grid of row " + std::to_string(f) + " is " +
+        std::to_string(F.PatchesU) + " x " + std::to_string(F.PatchesV));
     F.PatchCount = F.PatchesU * F.PatchesV;
     Range(F.FirstPatch, F.PatchCount, NP, "FaceInfo patches", f);
     F.FirstLoop = static_cast<int>(I[6]);

@@ -10,7 +10,6 @@
 #include "vtkCommunicator.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -66,21 +65,6 @@ ArrayT* NewColumn(vtkTable* t, const char* name)
   return a;
 }
 
-/// Per-vertex area of the triangles of `mesh` (brt::VertexAreas).
-std::vector<double> VertexAreas(vtkPolyData* mesh)
-{
-  std::vector<double> points(3 * static_cast<size_t>(mesh->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-    mesh->GetPoint(i, &points[3 * static_cast<size_t>(i)]);
-  std::vector<int> triangles;
-  vtkNew<vtkIdList> ids;
-  vtkCellArray* polys = mesh->GetPolys();
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-    if (ids->GetNumberOfIds() == 3)
-      for (int k = 0; k < 3; ++k)
-        triangles.push_back(static_cast<int>(ids->GetId(k)));
-  return brt::VertexAreas(points, triangles);
-}
 } // namespace
 
 struct vtkThicknessFilter::Internals
@@ -89,6 +73,7 @@ struct vtkThicknessFilter::Internals
   // changing the Summary's limits does not solve again.
   std::string Key;
   std::vector<brt::SampleResult> Results;
+  std::vector<double> Areas; ///< per sample (mesh vertex): a third of its triangles' area
   double PrepareSeconds = 0.0, SolveSeconds = 0.0;
   size_t S1Points = 0;
   std::string DeviceUsed;
@@ -155,6 +140,7 @@ int vtkThicknessFilter::RequestData(
     // Nothing upstream (a reader that failed has already said why): empty outputs.
     I.Key.clear();
     I.Results.clear();
+    I.Areas.clear();
   }
   else if (keyStream.str() != I.Key)
   {
@@ -172,11 +158,14 @@ int vtkThicknessFilter::RequestData(
       I.Key = keyStream.str();
   }
   if (!ok)
+  {
     I.Results.clear();
+    I.Areas.clear();
+  }
 
   // --- local statistics ------------------------------------------------------------------------
   const std::vector<brt::SampleResult>& R = I.Results;
-  const std::vector<double> area = ok && !empty ? VertexAreas(input) : std::vector<double>();
+  const std::vector<double>& area = I.Areas;
   Stats stats = Accumulate(R, area, this->MinimumThickness, this->MaximumThickness);
   std::vector<double>& sums = stats.Sums;
   std::vector<double>& residualHist = stats.ResidualHistogram;
@@ -408,6 +397,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const brt::SolverData data = brt::PrepareSolver(model, options);
   const std::vector<brt::Sample> samples = brt::SamplesFromMesh(model, data);
   I.S1Points = data.S1.size();
+  I.Areas = brt::VertexAreas(model.Mesh.Points, model.Mesh.Triangles);
   this->UpdateProgress(0.05);
 
   // Device.
