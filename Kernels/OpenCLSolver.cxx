@@ -500,11 +500,11 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     P->SolveAs<double>(model, data, options, samples, results, chunk);
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
-  // The few samples the kernels leave failed (they lack the reference's descent across the edge
-  // nearest O, which needs O's (u, v), and float fails some that double solves) are finished on
-  // the host by the reference, in double, on every core.
+  // The float kernels fail a few samples that double solves: those are finished on the host by
+  // the reference, in double, on every core. The double kernels run the reference's steps in
+  // the same precision, so solving their failures again would only fail again.
   std::vector<size_t> hard;
-  for (size_t i = 0; i < samples.size() && HostFinish; ++i)
+  for (size_t i = 0; i < samples.size() && HostFinish && !P->RT->Double; ++i)
     if (results[i].Type == ContactType::Failed)
       hard.push_back(i);
   SolveReferenceParallel(model, data, options, samples, results, hard);

@@ -69,9 +69,10 @@ typedef struct
 
 // A foot point on the sample's own face within the patches' accuracy of O is the trivial
 // solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
-// sphere whose radius the patches' accuracy does not fix: no contact (brt::AtSample). P is
-// relative to O.
-inline int at_sample(const Model* m, int sampleFace, int face, real3 P, real3 d, real t)
+// sphere whose radius the patches' accuracy does not fix: no contact
+// (brt::ShallowOwnFaceContact). P is relative to O.
+inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
+  real t)
 {
   return face == sampleFace && (dot(P, P) <= m->slack * m->slack || dot(P, d) < (real)0.5 * t);
 }
@@ -743,7 +744,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         reason = FAIL_NOT_CONVERGED;
         goto out;
       }
-      if (!ss.inward || at_sample(m, sampleFace, face, ss.foot, d, ss.t))
+      if (!ss.inward || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
       {
         reason = FAIL_LEFT_MODEL;
         goto out;
@@ -841,7 +842,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         const SurfaceSolve sn = surface_newton(m, nb, Ohi, Olo, d, un, vn, edgeValid ? t : ss.t,
           scale, stepTol, newtonTol, maxIterations, iterations);
         if (!sn.singular && sn.t > (real)0 && sn.t < scale && ss_converged(&sn, newtonTol) &&
-          sn.inward && !at_sample(m, sampleFace, nb, sn.foot, d, sn.t) &&
+          sn.inward && !shallow_own_face_contact(m, sampleFace, nb, sn.foot, d, sn.t) &&
           ss_on_face(&sn, faceDomain + FACE_REALS * nb, newtonTol) &&
           (!(edgeValid && edgeConverged) || sn.t <= t * (real)(1.0 + 1e-12)))
         {

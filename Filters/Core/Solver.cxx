@@ -453,7 +453,8 @@ struct SurfaceSolve
 /// within the patches' accuracy (2x the conversion tolerance) of O. The sphere of a round then
 /// comes from the faces the round is tangent to, or from its far side. Contacts on other faces
 /// near O are real (a sample next to a convex edge, or next to a tangent fillet).
-bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P, double t)
+bool ShallowOwnFaceContact(
+  const BRepModel& m, const Sample& s, int face, const Vec3& P, double t)
 {
   if (face != s.Face)
     return false;
@@ -680,7 +681,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       r.Reason = FailReason::NotConverged;
       return;
     }
-    if (!ss.Inward || AtSample(m, s, face, ss.Foot, ss.T))
+    if (!ss.Inward || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T))
     {
       r.Reason = FailReason::LeftModel;
       return;
@@ -784,7 +785,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     const SurfaceSolve sn = SurfaceNewton(m, data, opt, O, d, nb, un, vn,
       edgeValid ? t : ss.T, r.Iterations);
     if (!sn.Singular && sn.T > 0.0 && sn.T < data.Scale && sn.Converged(opt) && sn.Inward &&
-      !AtSample(m, s, nb, sn.Foot, sn.T) && sn.OnFace(m.Faces[nb], opt) &&
+      !ShallowOwnFaceContact(m, s, nb, sn.Foot, sn.T) && sn.OnFace(m.Faces[nb], opt) &&
       (!(edgeValid && edgeConverged) || sn.T <= t * (1.0 + 1e-12)))
     {
       acceptSurface(nb, sn);
