@@ -410,7 +410,8 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const T scale = static_cast<T>(data.Scale);
   const T stepTol = static_cast<T>((sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale);
   const T newtonTol = static_cast<T>(options.NewtonTolerance);
-  const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::SolveOne's verification
+  const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::ShallowOwnFaceContact
+  const T clearance = static_cast<T>(options.Clearance < 0.0 ? 2.0 * model.Tolerance : options.Clearance);
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
   std::vector<T> in(chunk * SampleReals), outR(chunk * 5);
   std::vector<int> outI(chunk * 6), faces(chunk);
@@ -447,10 +448,11 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
     Check(clSetKernelArg(k, 24, sizeof(T), &stepTol), "clSetKernelArg");
     Check(clSetKernelArg(k, 25, sizeof(T), &newtonTol), "clSetKernelArg");
     Check(clSetKernelArg(k, 26, sizeof(T), &slack), "clSetKernelArg");
-    Check(clSetKernelArg(k, 27, sizeof(cl_int), &maxIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 28, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 29, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 30, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 27, sizeof(T), &clearance), "clSetKernelArg");
+    Check(clSetKernelArg(k, 28, sizeof(cl_int), &maxIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 29, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+    Check(clSetKernelArg(k, 30, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 31, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),

@@ -10,12 +10,14 @@ typedef double real;
 typedef double2 real2;
 typedef double3 real3;
 #define REAL_MAX DBL_MAX
+#define REAL_MIN DBL_MIN
 #define REAL_EPS DBL_EPSILON
 #else
 typedef float real;
 typedef float2 real2;
 typedef float3 real3;
 #define REAL_MAX FLT_MAX
+#define REAL_MIN FLT_MIN
 #define REAL_EPS FLT_EPSILON
 #endif
 
@@ -65,6 +67,7 @@ typedef struct
   __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
   __global const real* edgeSegRange; // T0, T1 per edge segment
   real slack; // the patches' accuracy: 2x the conversion tolerance (model units)
+  real delta; // the clearance of this pass (brt::SolverOptions::Clearance; 0: eq. 1 exactly)
 } Model;
 
 // A foot point on the sample's own face within the patches' accuracy of O is the trivial
@@ -451,7 +454,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
   PatchEval e = eval_patch(m, patch, u, v);
   e.P += anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo); // now S - O
   real3 w = e.P - t * d;
-  real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - length(w) };
+  real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - m->delta - length(w) }; // eq. 4, clearance
   real res = residual3(&e, R);
   int clamped = 0, capped = 1;
   for (int it = 0; it < maxIterations; ++it)
@@ -499,7 +502,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
       w = e.P - t * d;
       R[0] = dot(e.Du, w);
       R[1] = dot(e.Dv, w);
-      R[2] = t - length(w);
+      R[2] = t - m->delta - length(w);
       res = residual3(&e, R);
       if (res < res0)
         break;
@@ -560,20 +563,16 @@ inline int edge_point_on_face(const Model* m, int face, int edge, real T, real* 
 }
 
 // --- the kernel -----------------------------------------------------------------------------
-// Eq. 1 over the BVH: the s1 point with the smallest t below `bound` (+inf: any), pruning nodes
-// farther than t from M. With a finite bound it finds the s1 points inside that sphere; with
-// ballR > 0 only those inside the ball of radius ballR about O + ballT d (the verification: a
-// depth measured as a distance, as in the reference's Initialise).
+// Eq. 1 with the clearance over the BVH (brt::Initialise): the s1 point with the smallest
+// t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
+// finite bound it finds the s1 points more than delta deep inside that sphere (the verification).
 int initialise(__global const real* s1Point, __global const int* s1Face,
   __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
-  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real ballT, real ballR,
-  real* tOut)
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta, real* tOut)
 {
   int best = -1;
   real t = bound;
   const int bounded = bound < REAL_MAX;
-  const int ball = ballR > (real)0;
-  const real3 ballM = O + ballT * d;
     // Candidates closer to O than this are O itself within rounding (same as the reference's
     // 1e-9 * scale in double; float rounding needs more room).
 #ifdef BRT_DOUBLE
@@ -593,17 +592,11 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const int n = stack[--top];
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
-      if (ball)
-      {
-        const real3 e = fmax(fmax(lo - ballM, (real3)(0)), ballM - hi);
-        if (dot(e, e) >= ballR * ballR)
-          continue;
-      }
       if (best >= 0 || bounded)
       {
         const real3 M = O + t * d;
         const real3 e = fmax(fmax(lo - M, (real3)(0)), M - hi);
-        if (dot(e, e) >= t * t)
+        if (dot(e, e) >= (t - delta) * (t - delta))
           continue;
       }
       const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
@@ -616,15 +609,9 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
             continue;
           const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
+          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
             continue;
-          if (ball)
-          {
-            const real3 q = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - ballM;
-            if (dot(q, q) >= ballR * ballR)
-              continue;
-          }
-          const real tt = (real)0.5 * l2 / dn;
+          const real tt = (real)0.5 * (l2 - delta * delta) / (dn - delta);
           if (tt < t)
           {
             t = tt;
@@ -656,12 +643,12 @@ typedef struct
   int type, reason, face, patch, edge;
 } Result;
 
-// A surface/edge contact on a tangent-continuous edge is a tangent contact with the faces on
-// both sides: reported as surface/surface on the first face whose normal at the foot is within
-// 1e-3 rad of the sphere's (brt::TypeTangentEdgeContact). foot and the sphere are relative to O.
+// A surface/edge or surface/vertex contact where the faces meet tangentially is a tangent
+// contact with them: reported as surface/surface on the first face whose normal at the foot is
+// within 1e-3 rad of the sphere's (brt::TypeTangentEdgeContact). foot is relative to O.
 void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
 {
-  if (r->type != CONTACT_SURFACE_EDGE || r->edge < 0)
+  if ((r->type != CONTACT_SURFACE_EDGE && r->type != CONTACT_SURFACE_VERTEX) || r->edge < 0)
     return;
   const real3 q = r->foot - r->t * d; // foot - M
   const real lq = length(q);
@@ -686,6 +673,15 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
       return;
     }
   }
+}
+
+// t_delta(P) = (|P-O|^2 - delta^2) / (2 (d.(P-O) - delta)) for the boundary point P, given
+// w = P - O: the radius at which the sphere tangent at O holds P delta deep (brt::SphereRadius;
+// delta = 0: eq. 1); REAL_MAX when P is not more than delta in front of O.
+inline real sphere_radius(real3 d, real3 w, real delta)
+{
+  const real b = dot(d, w) - delta;
+  return b > (real)0 ? (real)0.5 * (dot(w, w) - delta * delta) / b : REAL_MAX;
 }
 
 // A failed result with no reason (yet).
@@ -775,7 +771,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       const real3 we = C - t * d;
       const real L = length(we);
       const real lt = length(Ct);
-      const real R0 = dot(Ct, we), R1 = t - L;
+      const real R0 = dot(Ct, we), R1 = t - m->delta - L; // eq. 7 with the clearance
       res = sqrt((lt > (real)0 ? (R0 / lt) * (R0 / lt) : (real)0) + R1 * R1);
       ++*iterations;
       if (L <= (real)0)
@@ -803,15 +799,13 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       {
         T = Tc;
         eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-        const real3 wv = C;
-        const real dn = dot(d, wv);
-        if (dn <= (real)0)
+        t = sphere_radius(d, C, m->delta);
+        if (!(t < REAL_MAX))
         {
           reason = FAIL_LEFT_MODEL;
           goto out;
         }
-        t = (real)0.5 * dot(wv, wv) / dn;
-        res = fabs(t - length(C - t * d));
+        res = fabs(t - m->delta - length(C - t * d));
         atEnd = 1;
         edgeCapped = 0;
         break;
@@ -821,7 +815,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
         const real3 w2 = C - t * d;
         const real l2 = length(Ct);
-        const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - length(w2);
+        const real a = l2 > (real)0 ? dot(Ct, w2) / l2 : (real)0, b = t - m->delta - length(w2);
         res = sqrt(a * a + b * b);
         edgeCapped = 0;
         break;
@@ -900,13 +894,6 @@ inline real wrap_param(real x, real lo, real period)
   return period > (real)0 ? lo + (x - lo) - period * floor((x - lo) / period) : x;
 }
 
-// Eq. 1's radius for the boundary point P, given w = P - O; REAL_MAX when P is not in front of O.
-inline real sphere_radius(real3 d, real3 w)
-{
-  const real b = dot(d, w);
-  return b > (real)0 ? (real)0.5 * dot(w, w) / b : REAL_MAX;
-}
-
 typedef struct
 {
   real u, v, t;
@@ -922,7 +909,7 @@ inline void descent_eval(const Model* m, int face, real3 Ohi, real3 Olo, real3 d
   st->patch = find_patch(m, face, u, v);
   st->e = eval_patch(m, st->patch, u, v);
   st->e.P += anchor_minus(m->patchAnchor + 6 * st->patch, Ohi, Olo);
-  st->t = sphere_radius(d, st->e.P);
+  st->t = sphere_radius(d, st->e.P, m->delta);
 }
 
 // Tangential part of eq. 4's residual at a state, as a distance: zero where t(u, v) is stationary.
@@ -953,7 +940,8 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
   for (int it = 0; it < 4 * maxIterations; ++it)
   {
     ++*iterations;
-    const real b = dot(d, cur.e.P), t = cur.t;
+    // grad t_delta = (S - M).S_u / (d.(S - O) - delta); the Hessian likewise.
+    const real b = dot(d, cur.e.P) - m->delta, t = cur.t;
     const real3 w = cur.e.P - t * d; // S - M
     const real3 Su = cur.e.Du, Sv = cur.e.Dv;
     const real g0 = dot(w, Su) / b, g1 = dot(w, Sv) / b;
@@ -1036,7 +1024,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     if (cur.t < REAL_MAX)
     {
       const real3 w = cur.e.P - cur.t * d;
-      const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - length(w) };
+      const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - m->delta - length(w) };
       const real reversed = m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1;
       fr.res = residual3(&cur.e, R);
       if (-dot(w, cross(cur.e.Du, cur.e.Dv)) * reversed > (real)0)
@@ -1053,6 +1041,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
         fr.foot = cur.e.P;
       }
     }
+    const int faceOk = fr.type != CONTACT_FAILED; // the face point itself is a tangent sphere
     if (best.type != CONTACT_FAILED && (fr.type == CONTACT_FAILED || !(fr.t < best.t)))
       fr = best;
     if (crossing < 0)
@@ -1083,22 +1072,20 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     real T = clamp(T0 + at * (T1 - T0), Tlo, Thi);
     real3 C, Ct, Ctt;
     eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-    real t = sphere_radius(d, C);
+    real t = sphere_radius(d, C, m->delta);
     int atEnd = 0;
     for (int it = 0; it < 2 * maxEdgeIterations && t < REAL_MAX; ++it)
     {
       ++*iterations;
-      const real b = dot(d, C);
+      const real b = dot(d, C) - m->delta;
       const real3 w = C - t * d;
       const real g = dot(w, Ct) / b;
       const real dCt = dot(d, Ct);
-      real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
-      const real metric = dot(Ct, Ct) / b;
-      if (!(h > (real)0))
-        h = metric > (real)0 ? metric : (real)1;
-      real dT = -g / h;
+      const real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
       const real speed = length(Ct);
       const real limit = fmax(t, (real)1e-3 * scale);
+      // Newton where t(T) is convex, else the longest step downhill (see the reference).
+      real dT = h > (real)0 ? -g / h : (g > (real)0 ? (real)-1 : (real)1) * limit / fmax(speed, REAL_MIN);
       if (fabs(dT) * speed > limit)
         dT *= limit / (fabs(dT) * speed);
       if (fabs(dT) * speed < tiny)
@@ -1110,7 +1097,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
         const real Tn = clamp(T + dT, Tlo, Thi);
         real3 Cn, Ctn, Cttn;
         eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
-        const real tn = sphere_radius(d, Cn);
+        const real tn = sphere_radius(d, Cn, m->delta);
         const real sn = length(Ctn);
         const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
         if (tn <= t + (real)1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
@@ -1128,12 +1115,15 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
       if (!accepted)
         break;
     }
-    if (!(t < cur.t) || !(t < (best.type == CONTACT_FAILED ? scale : best.t)))
-      return fr; // the face point (or the last edge contact) is lower: keep it
+    // Keep the face point (or the last edge contact) where it is lower; where the face point
+    // is no tangent sphere (a round's tangent edge), the edge goes on even at the same t.
+    if (!(t < (best.type == CONTACT_FAILED ? scale : best.t)) ||
+      (faceOk && !(t < cur.t)))
+      return fr;
     Result r = best;
     const real3 w = C - t * d;
     const real lt = length(Ct);
-    const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - length(w);
+    const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - m->delta - length(w);
     r.res = atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
     r.type = CONTACT_FAILED;
     r.reason = FAIL_NONE;
@@ -1218,6 +1208,97 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
     iterations);
 }
 
+// One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),
+// steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
+// more than delta inside it restarts the solve there, at most 3 times.
+Result solve_with_clearance(const Model* m, __global const real* s1Point,
+  __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
+  __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d,
+  real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
+  int* iterations)
+{
+  __global const int* faceInfo = m->faceInfo;
+  const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
+  const int solid = faceInfo[FACE_INTS * ownFace + 7];
+  real t;
+  int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+    REAL_MAX, m->delta, &t);
+  Result r = no_result();
+  if (best < 0)
+  {
+    r.reason = FAIL_NO_OPPOSITE;
+    return r;
+  }
+  const int first = best;
+  r = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
+    scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations);
+  if (r.type == CONTACT_FAILED && r.face >= 0)
+  {
+    // That start led nowhere: try the best start on any other face once.
+    best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
+      REAL_MAX, m->delta, &t);
+    if (best >= 0)
+    {
+      const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+        iterations);
+      if (other.type != CONTACT_FAILED)
+        r = other;
+    }
+  }
+  if (r.type == CONTACT_FAILED)
+  {
+    // Newton found no sphere from the best starts: descend on t from the best start, and on
+    // the face across the edge nearest O; keep the smaller valid sphere (verified below).
+    const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
+      s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
+    const Result b = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
+      newtonTol, maxIterations, maxEdgeIterations, iterations);
+    if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
+      r = b;
+    else if (a.type != CONTACT_FAILED)
+      r = a;
+  }
+  for (int check = 0; r.type != CONTACT_FAILED; ++check)
+  {
+    best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+      r.t * (real)(1.0 - 1e-6), m->delta, &t);
+    if (best < 0)
+      break; // no s1 point inside: maximal at the resolution of s1
+    // A point inside proves the true radius is below t(best) < r.t: restart, and the restart
+    // must shrink the sphere.
+    Result again = no_result();
+    if (check < 3)
+      again = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+        iterations);
+    if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
+    {
+      // Newton went back to the same sphere or failed: descend on t from the point inside,
+      // else on the face across the edge nearest O.
+      again = descend(m, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1], scale,
+        newtonTol, maxIterations, maxEdgeIterations, iterations);
+      if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
+      {
+        const Result across = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
+          newtonTol, maxIterations, maxEdgeIterations, iterations);
+        if (across.type != CONTACT_FAILED)
+          again = across;
+      }
+    }
+    if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
+    {
+      r.type = CONTACT_FAILED;
+      r.reason = FAIL_NOT_MAXIMAL;
+      r.patch = -1;
+      r.edge = -1;
+      break;
+    }
+    r = again;
+  }
+  return r;
+}
+
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
   __global const real* patchDomain,
   __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
@@ -1229,7 +1310,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global const real* samples, // O hi (3), O lo (3), d (3), u, v per sample
   __global const int* sampleFace, // the face of each sample
   const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
-  const int maxIterations, const int maxEdgeIterations,
+  const real clearance, const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // t, foot - O (3), residual per sample
   __global int* outInt)   // type, reason, face, patch, edge, iterations per sample
 {
@@ -1237,121 +1318,40 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   if (gid >= count)
     return;
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
-    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack };
-  const Model* m = &mm;
+    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack,
+    clearance };
   __global const real* sp = samples + SAMPLE_REALS * gid;
   const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
-  const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const real3 d = (real3)(sp[6], sp[7], sp[8]);
   const real2 ownUV = (real2)(sp[9], sp[10]);
+  const int ownFace = sampleFace[gid];
+  int iterations = 0;
+  Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
+    Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+  if (r.type == CONTACT_FAILED && clearance > (real)0)
+  {
+    // Failed with the clearance (next to an acute convex edge, say): solve without it
+    // (brt::SolveOne).
+    mm.delta = 0;
+    const Result exact = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo,
+      ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+      &iterations);
+    if (exact.type != CONTACT_FAILED)
+      r = exact;
+  }
+  // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
+  const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
   __global real* oR = outReal + 5 * gid;
   __global int* oI = outInt + 6 * gid;
-  int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
-  int iterations = 0;
-  real t = REAL_MAX, res = 0;
-  real3 foot = (real3)(0);
-
-  // --- initialisation (eq. 1), steps 4-7, then the verification that the sphere is maximal:
-  // an s1 point inside it (t below the found radius) restarts the solve there, at most 3 times.
-  Result r;
-  {
-    const int ownFace = sampleFace[gid];
-    const int solid = faceInfo[FACE_INTS * ownFace + 7];
-    int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      REAL_MAX, 0, 0, &t);
-    if (best < 0)
-    {
-      reason = FAIL_NO_OPPOSITE;
-      goto done;
-    }
-    const int first = best;
-    r = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t, scale,
-      stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
-    if (r.type == CONTACT_FAILED && r.face >= 0)
-    {
-      // That start led nowhere: try the best start on any other face once.
-      best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-        REAL_MAX, 0, 0, &t);
-      if (best >= 0)
-      {
-        const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
-          s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-          &iterations);
-        if (other.type != CONTACT_FAILED)
-          r = other;
-      }
-    }
-    if (r.type == CONTACT_FAILED)
-    {
-      // Newton found no sphere from the best starts: descend on t from the best start, and on
-      // the face across the edge nearest O; keep the smaller valid sphere (verified below).
-      const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
-        s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, &iterations);
-      const Result b = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
-        newtonTol, maxIterations, maxEdgeIterations, &iterations);
-      if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
-        r = b;
-      else if (a.type != CONTACT_FAILED)
-        r = a;
-    }
-    for (int check = 0; r.type != CONTACT_FAILED; ++check)
-    {
-      // Points inside by less than the patches' accuracy (slack, as a distance) prove nothing.
-      best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-        r.t * (real)(1.0 - 1e-6), r.t, r.t - slack, &t);
-      if (best < 0)
-        break; // no s1 point inside: maximal at the resolution of s1
-      // A point inside proves the true radius is below t(best) < r.t: restart, and the
-      // restart must shrink the sphere.
-      Result again;
-      again.type = CONTACT_FAILED;
-      if (check < 3)
-        again = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
-          scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
-      if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
-      {
-        // Newton went back to the same sphere or failed: descend on t from the point inside,
-        // else on the face across the edge nearest O.
-        again = descend(m, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1], scale,
-          newtonTol, maxIterations, maxEdgeIterations, &iterations);
-        if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
-        {
-          const Result across = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
-            newtonTol, maxIterations, maxEdgeIterations, &iterations);
-          if (across.type != CONTACT_FAILED)
-            again = across;
-        }
-      }
-      if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
-      {
-        r.type = CONTACT_FAILED;
-        r.reason = FAIL_NOT_MAXIMAL;
-        r.patch = -1;
-        r.edge = -1;
-        break;
-      }
-      r = again;
-    }
-    t = r.t;
-    res = r.res;
-    foot = r.foot;
-    type = r.type;
-    reason = r.reason;
-    oppFace = r.face;
-    oppPatch = r.patch;
-    oppEdge = r.edge;
-  }
-
-done:
   oR[0] = t;
-  oR[1] = foot.x;
-  oR[2] = foot.y;
-  oR[3] = foot.z;
-  oR[4] = res;
-  oI[0] = type;
-  oI[1] = reason;
-  oI[2] = oppFace;
-  oI[3] = oppPatch;
-  oI[4] = oppEdge;
+  oR[1] = r.foot.x;
+  oR[2] = r.foot.y;
+  oR[3] = r.foot.z;
+  oR[4] = r.res;
+  oI[0] = r.type;
+  oI[1] = r.reason;
+  oI[2] = r.face;
+  oI[3] = r.patch;
+  oI[4] = r.edge;
   oI[5] = iterations;
 }

@@ -57,6 +57,35 @@ inline Vec3 Axpy(const Vec3& o, double t, const Vec3& d)
   return { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
 }
 
+/// The clearance delta, 2x the conversion tolerance: the solver looks for the largest sphere
+/// tangent at O (centre M = O + t d) that no boundary point enters deeper than delta, i.e. it
+/// minimises t_delta(P) = (|P-O|^2 - delta^2) / (2 (d.(P-O) - delta)), the t at which P lies
+/// delta inside the sphere (|P - M| = t - delta), over the patches. For delta = 0 this is eq. 1.
+/// Where the sphere touches a whole arc (an osculating sphere on a round, a spherical corner
+/// blend) t(P) is flat along the arc up to the patches' error e, which it amplifies by
+/// 1 / (1 - cos theta) (theta the angle at M between O and P): minimising t, double and float
+/// picked different noise minima, up to 2% apart. t_delta adds about delta / (1 - cos theta),
+/// which the patches' error (< delta / 2) cannot cancel, so its minimum is the arc point
+/// farthest from O, well defined in both precisions. Near O, t_delta is large (P within delta of
+/// O's tangent plane gives none): the trivial and osculating solutions next to O disappear.
+/// The reported radius is eq. 1's t(P) at the foot point found (ReportRadius): exact wherever
+/// the contact is a strict minimum of t (plates, tubes, shells: 0 bias), within delta^2 / (2 t)
+/// elsewhere.
+inline double Clearance(const BRepModel& m, const SolverOptions& opt)
+{
+  return opt.Clearance < 0.0 ? 2.0 * m.Tolerance : opt.Clearance;
+}
+
+/// t_delta(P) = (|P-O|^2 - delta^2) / (2 (d.(P-O) - delta)), the radius at which the sphere
+/// tangent at O holds the boundary point P delta deep (see Clearance; delta = 0: eq. 1),
+/// infinite when P is not more than delta in front of O.
+double SphereRadius(const Vec3& O, const Vec3& d, const Vec3& P, double delta)
+{
+  const Vec3 w = Sub(P, O);
+  const double b = Dot(d, w) - delta;
+  return b > 0.0 ? 0.5 * (Dot(w, w) - delta * delta) / b : std::numeric_limits<double>::infinity();
+}
+
 // --- BVH -------------------------------------------------------------------------------------
 int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count)
 {
@@ -103,22 +132,16 @@ double BoxDistance2(const BVHNode& n, const Vec3& p)
   return d2;
 }
 
-/// Eq. 1 with the BVH: the s1 point P minimising t = |P-O|^2 / (2 d.(P-O)) over d.(P-O) > 0.
-/// A point gives a smaller t exactly when it lies strictly inside the current sphere (centre
-/// M = O + t d, radius t), so nodes farther than t from M are pruned (the paper's bound 2t is
-/// looser).
-///
-/// With ballR > 0 only points deeper than the verification needs count: points inside the ball of
-/// radius ballR about O + ballT d (the sphere found, shrunk by the patches' accuracy). The depth
-/// must be measured as a distance: near O, t(P) drops steeply for a point barely inside the
-/// sphere (a sample O off the patches by 1e-5 makes its neighbours on a fillet of radius 0.3 give
-/// t 10% below the radius), so a bound on t alone would reject maximal spheres.
-int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, double& bestT,
-  double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1,
-  double ballT = 0.0, double ballR = 0.0)
+/// Eq. 1 with the BVH and the clearance: the s1 point P minimising t_delta(P) over
+/// d.(P-O) > delta, below `bound`. A point gives a smaller t_delta exactly when it lies strictly
+/// inside the current sphere shrunk by delta (centre M = O + t d, radius t - delta), so nodes
+/// farther than that from M are pruned (the paper's bound 2t is looser). With a finite bound
+/// this is also the verification: the s1 points deeper than delta inside the sphere found. (The
+/// depth must be a distance: near O, eq. 1's t drops steeply for a point barely inside the sphere,
+/// and a bound on it rejected maximal spheres on fillets by the thousand.)
+int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, double delta,
+  double& bestT, double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1)
 {
-  const bool ball = ballR > 0.0;
-  const Vec3 ballM = Axpy(s.Point, ballT, s.Direction);
   // Thickness is a property of one solid: in an assembly, the walls of other solids don't count.
   const int solid = m.Faces[s.Face].Solid;
   const double minDist2 = (1e-9 * data.Scale) * (1e-9 * data.Scale);
@@ -133,12 +156,10 @@ int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, doub
   while (top > 0)
   {
     const BVHNode& n = data.Nodes[stack[--top]];
-    if (ball && BoxDistance2(n, ballM) >= ballR * ballR)
-      continue;
     if (std::isfinite(bestT))
     {
       const Vec3 M = Axpy(O, bestT, d);
-      if (BoxDistance2(n, M) >= bestT * bestT)
+      if (BoxDistance2(n, M) >= (bestT - delta) * (bestT - delta))
         continue;
     }
     if (n.Count > 0)
@@ -151,15 +172,9 @@ int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, doub
         const double dn = Dot(d, w), l2 = Dot(w, w);
         // Points in O's tangent plane (its own face, flat around it) give no sphere, nor do
         // points on top of O (an s1 point may coincide with a sample).
-        if (dn <= 1e-6 * std::sqrt(l2) || l2 <= minDist2)
+        if (dn <= delta + 1e-6 * std::sqrt(l2) || l2 <= minDist2)
           continue;
-        if (ball)
-        {
-          const Vec3 q = Sub(data.S1[i].Point, ballM);
-          if (Dot(q, q) >= ballR * ballR)
-            continue;
-        }
-        const double t = 0.5 * l2 / dn;
+        const double t = 0.5 * (l2 - delta * delta) / (dn - delta);
         if (t < bestT)
         {
           bestT = t;
@@ -469,6 +484,7 @@ SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const Sol
 {
   const Face& F = m.Faces[face];
   const double stepTol = 1e-13 * data.Scale;
+  const double delta = Clearance(m, opt);
   SurfaceSolve out;
   int patch = -1;
   bool clamped = false;
@@ -482,7 +498,7 @@ SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const Sol
     w = Sub(e.P, Axpy(O, tt, d));
     R[0] = Dot(e.Du, w);
     R[1] = Dot(e.Dv, w);
-    R[2] = tt - std::sqrt(Dot(w, w));
+    R[2] = tt - delta - std::sqrt(Dot(w, w)); // eq. 4 with the clearance
     res = Residual3(e, R);
   };
   evaluate(u, v, t);
@@ -590,14 +606,17 @@ bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u
 }
 
 /// A surface/edge contact on a tangent-continuous edge (a round meeting its tangent plane) is a
-/// tangent contact with the faces on both sides: the sphere's normal at the foot, (C - M) / t,
+/// tangent contact with the faces on both sides: the sphere's normal at the foot, (C - M) / |C - M|,
 /// is their normal there. Which of the two types Newton, the descent or float rounding reports
 /// there is an accident; such contacts are reported as surface/surface on the first face whose
-/// normal at the foot is within 1e-3 rad of (C - M) / t.
+/// normal at the foot is within 1e-3 rad of the sphere's. Likewise a surface/vertex contact at a
+/// vertex where the faces meet tangentially (a corner blend; with the clearance, the contact of
+/// a sphere touching a whole arc lies at the arc's far end, often such a vertex).
 void TypeTangentEdgeContact(const BRepModel& m, const SolverData& data, const Sample& s,
   double T, SampleResult& r)
 {
-  if (r.Type != ContactType::SurfaceEdge || r.OppositeEdge < 0)
+  if ((r.Type != ContactType::SurfaceEdge && r.Type != ContactType::SurfaceVertex) ||
+    r.OppositeEdge < 0)
     return;
   const Vec3 M = Axpy(s.Point, r.Radius, s.Direction);
   const Vec3 q = Sub(r.Foot, M);
@@ -639,6 +658,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   r.Iterations = iterations;
   const Vec3& O = s.Point;
   const Vec3& d = s.Direction;
+  const double delta = Clearance(m, opt);
   auto acceptSurface = [&](int f, const SurfaceSolve& ss) {
     r.Type = ContactType::SurfaceSurface;
     r.Reason = FailReason::None;
@@ -713,7 +733,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     C = ee.C;
     const Vec3 we = Sub(C, Axpy(O, t, d));
     const double L = std::sqrt(Dot(we, we));
-    const double Re[2] = { Dot(ee.Ct, we), t - L };
+    const double Re[2] = { Dot(ee.Ct, we), t - delta - L }; // eq. 7 with the clearance
     res = Residual2(ee.Ct, Re);
     ++r.Iterations;
     if (L <= 0.0)
@@ -743,16 +763,14 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       // Ran into an end of the edge: the sphere touches that vertex (eq. 1 is exact for it).
       T = Tc;
       C = EvaluateEdge(m, edge, T).C;
-      const Vec3 wv = Sub(C, O);
-      const double dn = Dot(d, wv);
-      if (dn <= 0.0)
+      t = SphereRadius(O, d, C, delta);
+      if (!std::isfinite(t))
       {
         r.Reason = FailReason::LeftModel;
         return;
       }
-      t = 0.5 * Dot(wv, wv) / dn;
       const Vec3 w2 = Sub(C, Axpy(O, t, d));
-      res = std::fabs(t - std::sqrt(Dot(w2, w2)));
+      res = std::fabs(t - delta - std::sqrt(Dot(w2, w2)));
       atEnd = true;
       edgeCapped = false;
       break;
@@ -762,7 +780,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       const EdgeEval e2 = EvaluateEdge(m, edge, T);
       C = e2.C;
       const Vec3 w2 = Sub(C, Axpy(O, t, d));
-      const double R2[2] = { Dot(e2.Ct, w2), t - std::sqrt(Dot(w2, w2)) };
+      const double R2[2] = { Dot(e2.Ct, w2), t - delta - std::sqrt(Dot(w2, w2)) };
       res = Residual2(e2.Ct, R2);
       edgeCapped = false;
       break;
@@ -810,13 +828,14 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   r.Foot = C;
   TypeTangentEdgeContact(m, data, s, T, r);
 }
-/// The sphere radius that eq. 1 gives for the boundary point P: t(P) = |P-O|^2 / (2 d.(P-O)),
-/// infinite when P is not in front of O.
-double SphereRadius(const Vec3& O, const Vec3& d, const Vec3& P)
+/// The reported sphere: eq. 1's t(P) at the foot point P the clearance selected (Clearance).
+void ReportRadius(const Sample& s, SampleResult& r)
 {
-  const Vec3 w = Sub(P, O);
-  const double b = Dot(d, w);
-  return b > 0.0 ? 0.5 * Dot(w, w) / b : std::numeric_limits<double>::infinity();
+  if (r.Type == ContactType::Failed)
+    return;
+  r.Radius = SphereRadius(s.Point, s.Direction, r.Foot, 0.0);
+  r.Thickness = 2.0 * r.Radius;
+  r.Center = Axpy(s.Point, r.Radius, s.Direction);
 }
 
 /// One face's part of Descend: minimises t(u, v) over the trimmed `face` from (u, v) by Newton
@@ -838,12 +857,13 @@ DescentPoint DescendOnFace(const BRepModel& m, const SolverData& data, const Sol
   const Face& F = m.Faces[face];
   const double tiny = 1e-14 * data.Scale;
   const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  const double delta = Clearance(m, opt);
   auto evaluate = [&](double uu, double vv, DescentPoint& st) {
     st.U = uu;
     st.V = vv;
     st.Patch = FindPatchFast(m, data, face, uu, vv);
     st.E = EvaluatePatch(m.Patches[st.Patch], uu, vv);
-    st.T = SphereRadius(O, d, st.E.P);
+    st.T = SphereRadius(O, d, st.E.P, delta);
   };
   // Tangential part of eq. 4's residual, as a distance: zero where t(u, v) is stationary.
   auto tangential = [&](const DescentPoint& st) {
@@ -862,7 +882,8 @@ DescentPoint DescendOnFace(const BRepModel& m, const SolverData& data, const Sol
     ++iterations;
     const PatchEval& e = cur.E;
     const Vec3 w0 = Sub(e.P, O);
-    const double b = Dot(d, w0), t = cur.T;
+    // grad t_delta = (S - M).S_u / (d.(S - O) - delta); the Hessian below likewise.
+    const double b = Dot(d, w0) - delta, t = cur.T;
     const Vec3 w = Sub(e.P, Axpy(O, t, d)); // S - M
     const double g[2] = { Dot(w, e.Du) / b, Dot(w, e.Dv) / b };
     const double du_d = Dot(d, e.Du), dv_d = Dot(d, e.Dv);
@@ -946,19 +967,21 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
   const Vec3& d = s.Direction;
   const double tiny = 1e-14 * data.Scale;
   const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  const double delta = Clearance(m, opt);
   SampleResult best; // the best edge contact so far
   for (int hop = 0; hop < 4; ++hop)
   {
     int crossing = -1;
     const DescentPoint cur = DescendOnFace(m, data, opt, s, face, u, v, crossing, iterations);
     // On the face: a minimum of t in its interior, if the last step did not want to leave it.
+    bool faceOk = false; // the face point itself is a tangent sphere
     auto onFace = [&]() {
       SampleResult r;
       const PatchEval& e = cur.E;
       if (!std::isfinite(cur.T))
         return r;
       const Vec3 w = Sub(e.P, Axpy(O, cur.T, d));
-      const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - std::sqrt(Dot(w, w)) };
+      const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - delta - std::sqrt(Dot(w, w)) };
       const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
         e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
       r.Residual = Residual3(e, R);
@@ -976,6 +999,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
         r.Center = Axpy(O, cur.T, d);
         r.Foot = e.P;
       }
+      faceOk = r.Type != ContactType::Failed;
       // Coming from an edge, the face result counts only where it is valid and smaller.
       if (best.Type != ContactType::Failed &&
         (r.Type == ContactType::Failed || !(r.Radius < best.Radius)))
@@ -1008,22 +1032,22 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
     double T = std::clamp(seg.T0 + at * (seg.T1 - seg.T0), Tlo, Thi);
     EdgeEval ee = EvaluateEdge(m, edge, T);
-    double t = SphereRadius(O, d, ee.C);
+    double t = SphereRadius(O, d, ee.C, delta);
     bool atEnd = false;
     for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
     {
       ++iterations;
-      const double b = Dot(d, Sub(ee.C, O));
+      const double b = Dot(d, Sub(ee.C, O)) - delta;
       const Vec3 w = Sub(ee.C, Axpy(O, t, d));
       const double g = Dot(w, ee.Ct) / b;
       const double dCt = Dot(d, ee.Ct);
-      double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
-      const double metric = Dot(ee.Ct, ee.Ct) / b;
-      if (!(h > 0.0))
-        h = metric > 0.0 ? metric : 1.0;
-      double dT = -g / h;
+      const double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
       const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
       const double limit = std::max(t, 1e-3 * data.Scale);
+      // Newton where t(T) is convex; elsewhere the longest step downhill, cut back by the line
+      // search (where a sphere touches a whole arc, t is flat and concave along it: metric-scaled
+      // gradient steps crawled and ran out of iterations).
+      double dT = h > 0.0 ? -g / h : (g > 0.0 ? -1.0 : 1.0) * limit / std::max(speed, 1e-300);
       if (std::fabs(dT) * speed > limit)
         dT *= limit / (std::fabs(dT) * speed);
       if (std::fabs(dT) * speed < tiny)
@@ -1034,7 +1058,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       {
         const double Tn = std::clamp(T + dT, Tlo, Thi);
         const EdgeEval en = EvaluateEdge(m, edge, Tn);
-        const double tn = SphereRadius(O, d, en.C);
+        const double tn = SphereRadius(O, d, en.C, delta);
         const double sn = std::sqrt(Dot(en.Ct, en.Ct));
         const double resn =
           sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
@@ -1051,11 +1075,16 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       if (!accepted)
         break;
     }
-    if (!(t < cur.T) || !(t < (best.Type == ContactType::Failed ? data.Scale : best.Radius)))
-      return onFace(); // the face point (or the last edge contact) is lower: keep it
+    // Keep the face point (or the last edge contact) where it is lower. Where the face point
+    // is no tangent sphere (t still falls across the boundary: a round's tangent edge), the
+    // edge goes on even at the same t.
+    const SampleResult faceResult = onFace();
+    if (!(t < (best.Type == ContactType::Failed ? data.Scale : best.Radius)) ||
+      (faceOk && !(t < cur.T)))
+      return faceResult;
     SampleResult r;
     const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-    const double Re[2] = { Dot(ee.Ct, w), t - std::sqrt(Dot(w, w)) };
+    const double Re[2] = { Dot(ee.Ct, w), t - delta - std::sqrt(Dot(w, w)) };
     r.Residual = atEnd ? std::fabs(Re[1]) : Residual2(ee.Ct, Re);
     if (!(t > 0.0))
       r.Reason = FailReason::LeftModel;
@@ -1119,7 +1148,7 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
     if (!ClassifyPoint(m, nb, u, v).Inside)
       continue;
     const double t = SphereRadius(s.Point, s.Direction,
-      EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, u, v)], u, v).P);
+      EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, u, v)], u, v).P, Clearance(m, opt));
     if (t < bestT)
     {
       bestT = t;
@@ -1138,12 +1167,13 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
 /// s1 point inside it. Newton may have converged to another stationary (tangent but not
 /// inscribed) sphere; it restarts from that point (at most 3 times), and each restart must shrink
 /// the sphere. A sphere that still contains an s1 point fails as not maximal.
-void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+void SolveWithClearance(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, SampleResult& r)
 {
   r = SampleResult();
+  const double delta = Clearance(m, opt);
   double t = 0.0;
-  int p = Initialise(m, data, s, t);
+  int p = Initialise(m, data, s, delta, t);
   if (p < 0)
   {
     r.Reason = FailReason::NoOppositePoint;
@@ -1155,7 +1185,7 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
   {
     // The start on that face led nowhere (e.g. a convex blend with no tangent sphere): try the
     // best start on any other face once.
-    p = Initialise(m, data, s, t, std::numeric_limits<double>::infinity(), r.OppositeFace);
+    p = Initialise(m, data, s, delta, t, std::numeric_limits<double>::infinity(), r.OppositeFace);
     if (p >= 0)
     {
       SampleResult other;
@@ -1182,13 +1212,11 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
       r = a;
     r.Iterations = iterations;
   }
-  // Points inside by less than the patches' own accuracy prove nothing (a sphere inscribed in a
-  // concave fillet touches its whole arc, and the arc's patches wander by up to the tolerance;
-  // the sample itself lies on the exact surface, up to the tolerance off the patches).
-  const double slack = 2.0 * m.Tolerance;
+  // Points inside by less than the clearance prove nothing (the patches wander by up to the
+  // tolerance, and the sample itself lies on the exact surface, up to the tolerance off them).
   for (int check = 0; r.Type != ContactType::Failed; ++check)
   {
-    p = Initialise(m, data, s, t, r.Radius * (1.0 - 1e-6), -1, r.Radius, r.Radius - slack);
+    p = Initialise(m, data, s, delta, t, r.Radius * (1.0 - 1e-6));
     if (p < 0)
       return; // no s1 point inside: maximal at the resolution of s1
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
@@ -1227,6 +1255,26 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     r = again;
   }
 }
+
+/// SolveWithClearance, and for a sample that fails with a clearance, again without one: within
+/// the clearance of an acute convex edge every sphere the clearance admits has its centre
+/// outside the material; there the exact contact (eq. 1) is the answer.
+void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r)
+{
+  SolveWithClearance(m, data, opt, s, r);
+  if (r.Type != ContactType::Failed || !(Clearance(m, opt) > 0.0))
+    return;
+  SolverOptions exact = opt;
+  exact.Clearance = 0.0;
+  SampleResult again;
+  SolveWithClearance(m, data, exact, s, again);
+  again.Iterations += r.Iterations;
+  if (again.Type != ContactType::Failed)
+    r = again;
+  else
+    r.Iterations = again.Iterations;
+}
 } // namespace
 
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
@@ -1248,7 +1296,10 @@ void SolveReferenceRange(const BRepModel& model, const SolverData& data,
       results[i].Reason = FailReason::NoOppositePoint;
     }
     else
+    {
       SolveOne(model, data, options, samples[i], results[i]);
+      ReportRadius(samples[i], results[i]);
+    }
   }
 }
 

@@ -72,6 +72,11 @@ struct SolverOptions
   double NewtonTolerance = 1e-4;
   int MaxIterations = 50;     ///< surface/surface Newton (eq. 4)
   int MaxEdgeIterations = 50; ///< surface/edge Newton (eq. 7)
+  /// Boundary points less than this deep inside a sphere do not limit it (model units): the
+  /// solver finds the largest sphere tangent at O that nothing enters deeper than the clearance
+  /// (docs/Solver.md). Negative: 2x the model's conversion tolerance. 0: eq. 1 exactly. A sample
+  /// that fails with a clearance is solved again without one.
+  double Clearance = -1.0;
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.
