@@ -1259,10 +1259,13 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     else if (a.type != CONTACT_FAILED)
       r = a;
   }
+  // Points inside by less than the patches' accuracy (slack) prove nothing, whatever the
+  // clearance (brt::SolveWithClearance).
+  const real depth = fmax(m->delta, m->slack);
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      r.t * (real)(1.0 - 1e-6), m->delta, &t);
+      r.t * (real)(1.0 - 1e-6), depth, &t);
     if (best < 0)
       break; // no s1 point inside: maximal at the resolution of s1
     // A point inside proves the true radius is below t(best) < r.t: restart, and the restart

@@ -1212,11 +1212,14 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
       r = a;
     r.Iterations = iterations;
   }
-  // Points inside by less than the clearance prove nothing (the patches wander by up to the
-  // tolerance, and the sample itself lies on the exact surface, up to the tolerance off them).
+  // Points inside by less than the patches' accuracy (2x the tolerance) prove nothing: the
+  // patches wander by up to the tolerance, and the sample itself lies on the exact surface, up
+  // to the tolerance off them. A point is more than `depth` inside the sphere (centre O + t d,
+  // radius t) exactly when its t_depth is below t, whatever clearance found the sphere.
+  const double depth = std::max(delta, 2.0 * m.Tolerance);
   for (int check = 0; r.Type != ContactType::Failed; ++check)
   {
-    p = Initialise(m, data, s, delta, t, r.Radius * (1.0 - 1e-6));
+    p = Initialise(m, data, s, depth, t, r.Radius * (1.0 - 1e-6));
     if (p < 0)
       return; // no s1 point inside: maximal at the resolution of s1
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.

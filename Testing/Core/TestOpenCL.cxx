@@ -119,7 +119,7 @@ TEST_P(KernelVsReference, EveryDataModel)
       refFailed += r.Type == ContactType::Failed;
     EXPECT_LE(refFailed, samples.size() * 30 / 10000) << name;
     EXPECT_LE(clFailed, samples.size() * 30 / 10000) << name;
-    // In float, the figures above include the samples the kernels leave failed (0-0.5%), which
+    // In float, the figures above include the samples the kernels leave failed (0-0.32%), which
     // the host finishes with the reference (double kernels are not finished). The kernels alone: measured 99.73-99.89% agreement in double
     // and 99.23-99.73% in float on the real parts (docs/Solver.md); the bounds sit just above.
     std::vector<SampleResult> alone;
