@@ -566,9 +566,11 @@ inline int edge_point_on_face(const Model* m, int face, int edge, real T, real* 
 // Eq. 1 with the clearance over the BVH (brt::Initialise): the s1 point with the smallest
 // t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
 // finite bound it finds the s1 points more than delta deep inside that sphere (the verification).
+// With useBehind, only points with (P - O).behind < 0 count (the second look).
 int initialise(__global const real* s1Point, __global const int* s1Face,
   __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
-  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta, real* tOut)
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta,
+  int useBehind, real3 behind, real* tOut)
 {
   int best = -1;
   real t = bound;
@@ -609,7 +611,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
             continue;
           const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
+          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist ||
+            (useBehind && !(dot(w, behind) < (real)0)))
             continue;
           const real tt = (real)0.5 * (l2 - delta * delta) / (dn - delta);
           if (tt < t)
@@ -640,6 +643,7 @@ typedef struct
 {
   real t, res;
   real3 foot; // relative to O
+  real2 param; // (u, v) on face for surface/surface, (T, 0) on edge for edge contacts
   int type, reason, face, patch, edge;
 } Result;
 
@@ -670,6 +674,7 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
       r->face = f;
       r->patch = patch;
       r->edge = -1;
+      r->param = (real2)(u, v);
       return;
     }
   }
@@ -691,12 +696,23 @@ inline Result no_result(void)
   r.t = 0;
   r.res = 0;
   r.foot = (real3)(0);
+  r.param = (real2)(0);
   r.type = CONTACT_FAILED;
   r.reason = FAIL_NONE;
   r.face = -1;
   r.patch = -1;
   r.edge = -1;
   return r;
+}
+
+// A surface Newton's result is a valid contact (brt::ValidSurfaceSolve): converged on the face,
+// positive and below the model's size, from inside, no osculating contact near O.
+int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceSolve* sn, real3 d,
+  real scale, real newtonTol)
+{
+  return !sn->singular && sn->t > (real)0 && sn->t < scale && ss_converged(sn, newtonTol) &&
+    sn->inward && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
+    ss_on_face(sn, m->faceDomain + FACE_REALS * face, newtonTol);
 }
 
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
@@ -715,6 +731,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   real edgeT = 0;
   real res = 0;
   real3 foot = (real3)(0);
+  real2 footParam = (real2)(0);
   // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
   {
     __global const real* fd = faceDomain + FACE_REALS * face;
@@ -748,6 +765,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       type = CONTACT_SURFACE_SURFACE;
       oppPatch = ss.patch;
       foot = ss.foot;
+      footParam = (real2)(ss.u, ss.v);
       goto out;
     }
     const int seg = ss.seg;
@@ -835,9 +853,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       {
         const SurfaceSolve sn = surface_newton(m, nb, Ohi, Olo, d, un, vn, edgeValid ? t : ss.t,
           scale, stepTol, newtonTol, maxIterations, iterations);
-        if (!sn.singular && sn.t > (real)0 && sn.t < scale && ss_converged(&sn, newtonTol) &&
-          sn.inward && !shallow_own_face_contact(m, sampleFace, nb, sn.foot, d, sn.t) &&
-          ss_on_face(&sn, faceDomain + FACE_REALS * nb, newtonTol) &&
+        if (valid_surface_solve(m, sampleFace, nb, &sn, d, scale, newtonTol) &&
           (!(edgeValid && edgeConverged) || sn.t <= t * (real)(1.0 + 1e-12)))
         {
           type = CONTACT_SURFACE_SURFACE;
@@ -848,6 +864,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
           t = sn.t;
           res = sn.res;
           foot = sn.foot;
+          footParam = (real2)(sn.u, sn.v);
           goto out;
         }
       }
@@ -865,6 +882,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
     type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
     foot = C;
     edgeT = T;
+    footParam = (real2)(T, 0);
   }
 
 out:;
@@ -872,6 +890,7 @@ out:;
   r.t = t;
   r.res = res;
   r.foot = foot;
+  r.param = footParam;
   r.type = type;
   r.reason = reason;
   r.face = oppFace;
@@ -1003,6 +1022,104 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
   return cur;
 }
 
+// The minimum of t_delta(C(T)) along `edge` from T (brt::MinimiseOnEdge): Newton on t'(T) where
+// t(T) is convex, else the longest step downhill, with line search; stops at the edge's ends.
+typedef struct
+{
+  real T, t;
+  real3 C, Ct; // C relative to O
+  int atEnd;
+} EdgeMinimum;
+
+EdgeMinimum minimise_on_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3 d,
+  real scale, int maxEdgeIterations, int* iterations)
+{
+  const real tiny = DESCENT_TINY * scale;
+  const real roundoff = (real)8 * REAL_EPS;
+  const real Tlo = fmin(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+  const real Thi = fmax(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+  T = clamp(T, Tlo, Thi);
+  real3 C, Ct, Ctt;
+  eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+  real t = sphere_radius(d, C, m->delta);
+  int atEnd = 0;
+  for (int it = 0; it < 2 * maxEdgeIterations && t < REAL_MAX; ++it)
+  {
+    ++*iterations;
+    const real b = dot(d, C) - m->delta;
+    const real3 w = C - t * d;
+    const real g = dot(w, Ct) / b;
+    const real dCt = dot(d, Ct);
+    const real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
+    const real speed = length(Ct);
+    const real limit = fmax(t, (real)1e-3 * scale);
+    real dT = h > (real)0 ? -g / h : (g > (real)0 ? (real)-1 : (real)1) * limit / fmax(speed, REAL_MIN);
+    if (fabs(dT) * speed > limit)
+      dT *= limit / (fabs(dT) * speed);
+    if (fabs(dT) * speed < tiny)
+      break;
+    const real res0 = speed > (real)0 ? fabs(dot(w, Ct)) / speed : (real)0;
+    int accepted = 0;
+    for (int k = 0; k < 40; ++k, dT *= (real)0.5)
+    {
+      const real Tn = clamp(T + dT, Tlo, Thi);
+      real3 Cn, Ctn, Cttn;
+      eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
+      const real tn = sphere_radius(d, Cn, m->delta);
+      const real sn = length(Ctn);
+      const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
+      if (tn <= t + (real)1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
+      {
+        atEnd = Tn == Tlo || Tn == Thi;
+        accepted = T != Tn;
+        T = Tn;
+        C = Cn;
+        Ct = Ctn;
+        Ctt = Cttn;
+        t = tn;
+        break;
+      }
+    }
+    if (!accepted)
+      break;
+  }
+  EdgeMinimum em;
+  em.T = T;
+  em.t = t;
+  em.C = C;
+  em.Ct = Ct;
+  em.atEnd = atEnd;
+  return em;
+}
+
+// The contact at an edge minimum on `face`'s edge (brt::EdgeContact): surface/edge, or
+// surface/vertex at an end (typed surface/surface where the faces meet tangentially); failed
+// where t is not positive or eq. 7's residual is above the tolerance.
+Result edge_contact(const Model* m, int face, int edge, const EdgeMinimum* em, real3 d,
+  real newtonTol)
+{
+  Result r = no_result();
+  const real t = em->t;
+  const real3 w = em->C - t * d;
+  const real lt = length(em->Ct);
+  const real a = lt > (real)0 ? dot(em->Ct, w) / lt : (real)0, bb = t - m->delta - length(w);
+  r.res = em->atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
+  if (!(t > (real)0) || !(t < REAL_MAX))
+    r.reason = FAIL_LEFT_MODEL;
+  else if (!(r.res <= newtonTol))
+    r.reason = FAIL_EDGE_NOT_CONVERGED;
+  if (r.reason != FAIL_NONE)
+    return r;
+  r.type = em->atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+  r.face = face;
+  r.edge = edge;
+  r.t = t;
+  r.foot = em->C;
+  r.param = (real2)(em->T, 0);
+  type_tangent_edge_contact(m, em->T, d, &r);
+  return r;
+}
+
 // The descent fallback (brt::Descend): minimises t over the trimmed face from (u, v); where the
 // minimum lies on the face's boundary, along the nearest edge, and from the edge's minimum into
 // the face across it where t falls that way, up to 4 faces. Mirrors the reference step for step.
@@ -1010,8 +1127,6 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
   real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
   Result best = no_result();
-  const real tiny = DESCENT_TINY * scale;
-  const real roundoff = (real)8 * REAL_EPS;
   for (int hop = 0; hop < 4; ++hop)
   {
     int crossing = -1;
@@ -1039,6 +1154,7 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
         fr.edge = -1;
         fr.t = cur.t;
         fr.foot = cur.e.P;
+        fr.param = (real2)(cur.u, cur.v);
       }
     }
     const int faceOk = fr.type != CONTACT_FAILED; // the face point itself is a tangent sphere
@@ -1065,88 +1181,26 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
     const int edge = m->trimEdge[segment];
     if (edge < 0 || m->edgeInfo[4 * edge + 1] == 0)
       return fr; // a pole: stay at the best point of the face
-    // Along the edge: minimise t(T) by Newton on t'(T) with line search.
-    const real Tlo = fmin(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
-    const real Thi = fmax(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+    // Along the edge: minimise t(T).
     const real T0 = m->trimRange[2 * segment], T1 = m->trimRange[2 * segment + 1];
-    real T = clamp(T0 + at * (T1 - T0), Tlo, Thi);
-    real3 C, Ct, Ctt;
-    eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-    real t = sphere_radius(d, C, m->delta);
-    int atEnd = 0;
-    for (int it = 0; it < 2 * maxEdgeIterations && t < REAL_MAX; ++it)
-    {
-      ++*iterations;
-      const real b = dot(d, C) - m->delta;
-      const real3 w = C - t * d;
-      const real g = dot(w, Ct) / b;
-      const real dCt = dot(d, Ct);
-      const real h = (dot(Ct, Ct) - (real)2 * g * dCt + dot(w, Ctt)) / b;
-      const real speed = length(Ct);
-      const real limit = fmax(t, (real)1e-3 * scale);
-      // Newton where t(T) is convex, else the longest step downhill (see the reference).
-      real dT = h > (real)0 ? -g / h : (g > (real)0 ? (real)-1 : (real)1) * limit / fmax(speed, REAL_MIN);
-      if (fabs(dT) * speed > limit)
-        dT *= limit / (fabs(dT) * speed);
-      if (fabs(dT) * speed < tiny)
-        break;
-      const real res0 = speed > (real)0 ? fabs(dot(w, Ct)) / speed : (real)0;
-      int accepted = 0;
-      for (int k = 0; k < 40; ++k, dT *= (real)0.5)
-      {
-        const real Tn = clamp(T + dT, Tlo, Thi);
-        real3 Cn, Ctn, Cttn;
-        eval_edge(m, edge, Tn, Ohi, Olo, &Cn, &Ctn, &Cttn);
-        const real tn = sphere_radius(d, Cn, m->delta);
-        const real sn = length(Ctn);
-        const real resn = sn > (real)0 ? fabs(dot(Cn - tn * d, Ctn)) / sn : (real)0;
-        if (tn <= t + (real)1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
-        {
-          atEnd = Tn == Tlo || Tn == Thi;
-          accepted = T != Tn;
-          T = Tn;
-          C = Cn;
-          Ct = Ctn;
-          Ctt = Cttn;
-          t = tn;
-          break;
-        }
-      }
-      if (!accepted)
-        break;
-    }
+    const EdgeMinimum em = minimise_on_edge(m, edge, T0 + at * (T1 - T0), Ohi, Olo, d, scale,
+      maxEdgeIterations, iterations);
+    const real t = em.t;
     // Keep the face point (or the last edge contact) where it is lower; where the face point
     // is no tangent sphere (a round's tangent edge), the edge goes on even at the same t.
     if (!(t < (best.type == CONTACT_FAILED ? scale : best.t)) ||
       (faceOk && !(t < cur.t)))
       return fr;
-    Result r = best;
-    const real3 w = C - t * d;
-    const real lt = length(Ct);
-    const real a = lt > (real)0 ? dot(Ct, w) / lt : (real)0, bb = t - m->delta - length(w);
-    r.res = atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
-    r.type = CONTACT_FAILED;
-    r.reason = FAIL_NONE;
-    if (!(t > (real)0))
-      r.reason = FAIL_LEFT_MODEL;
-    else if (!(r.res <= newtonTol))
-      r.reason = FAIL_EDGE_NOT_CONVERGED;
-    if (r.reason != FAIL_NONE)
+    const Result r = edge_contact(m, face, edge, &em, d, newtonTol);
+    if (r.type == CONTACT_FAILED)
       return best.type != CONTACT_FAILED ? best : r;
-    r.type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
-    r.face = face;
-    r.patch = -1;
-    r.edge = edge;
-    r.t = t;
-    r.foot = C;
-    type_tangent_edge_contact(m, T, d, &r);
     best = r;
     // Across the edge, where t falls into the neighbour face (a round's tangent plane).
     const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
     const int nb = f0 == face ? f1 : f0;
     real un, vn, nu, nv;
-    if (atEnd || nb < 0 || nb == face || m->faceInfo[FACE_INTS * nb + 1] == 0 ||
-      !edge_point_into_face(m, nb, edge, T, &un, &vn, &nu, &nv))
+    if (em.atEnd || nb < 0 || nb == face || m->faceInfo[FACE_INTS * nb + 1] == 0 ||
+      !edge_point_into_face(m, nb, edge, em.T, &un, &vn, &nu, &nv))
       return best;
     const int pn = find_patch(m, nb, un, vn);
     PatchEval en = eval_patch(m, pn, un, vn);
@@ -1161,28 +1215,18 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
   return best;
 }
 
-// Descends on the face across the edge nearest O, from just inside that face near the edge's
-// point nearest O (brt::DescendAcrossNearestEdge): a sample next to a convex edge has a sphere
-// of about its distance from the edge, closer to O than any s1 point.
-Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 Ohi, real3 Olo,
+// Descends on `face` from just inside it next to the point T of one of its edges, by the offset
+// (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t (brt::DescendFromEdge).
+Result descend_from_edge(const Model* m, int face, int edge, real T, real3 Ohi, real3 Olo,
   real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
   Result none = no_result();
-  int seg;
-  real param, dist;
-  classify(m, ownFace, uv, &seg, &param, &dist);
-  if (seg < 0 || m->trimEdge[seg] < 0)
+  if (face < 0 || m->faceInfo[FACE_INTS * face + 1] == 0)
     return none;
-  const int edge = m->trimEdge[seg];
-  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
-  const int nb = f0 == ownFace ? f1 : f0;
-  if (nb < 0 || nb == ownFace || m->faceInfo[FACE_INTS * nb + 1] == 0)
-    return none;
-  const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
   real u0, v0, nu, nv;
-  if (!edge_point_into_face(m, nb, edge, T, &u0, &v0, &nu, &nv))
+  if (!edge_point_into_face(m, face, edge, T, &u0, &v0, &nu, &nv))
     return none;
-  __global const real* fd = m->faceDomain + FACE_REALS * nb;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
   const real diag = length((real2)(fd[1] - fd[0], fd[3] - fd[2]));
   real bestT = REAL_MAX, bu = 0, bv = 0;
   for (real h = (real)1e-6; h < (real)0.2; h *= (real)10)
@@ -1191,10 +1235,10 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
     const real v = clamp(v0 + h * diag * nv, fd[2], fd[3]);
     int sg;
     real pr, ds;
-    if (!classify(m, nb, (real2)(u, v), &sg, &pr, &ds))
+    if (!classify(m, face, (real2)(u, v), &sg, &pr, &ds))
       continue;
     DescentState st;
-    descent_eval(m, nb, Ohi, Olo, d, u, v, &st);
+    descent_eval(m, face, Ohi, Olo, d, u, v, &st);
     if (st.t < bestT)
     {
       bestT = st.t;
@@ -1204,8 +1248,110 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
   }
   if (!(bestT < REAL_MAX))
     return none;
-  return descend(m, nb, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
+  return descend(m, face, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
     iterations);
+}
+
+// Descends on the face across the edge nearest O (brt::DescendAcrossNearestEdge): a sample next
+// to a convex edge has a sphere of about its distance from the edge, closer to O than any s1
+// point.
+Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 Ohi, real3 Olo,
+  real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+{
+  int seg;
+  real param, dist;
+  classify(m, ownFace, uv, &seg, &param, &dist);
+  if (seg < 0 || m->trimEdge[seg] < 0)
+    return no_result();
+  const int edge = m->trimEdge[seg];
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  const int nb = f0 == ownFace ? f1 : f0;
+  if (nb == ownFace)
+    return no_result();
+  const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+  return descend_from_edge(m, nb, edge, T, Ohi, Olo, d, scale, newtonTol, maxIterations,
+    maxEdgeIterations, iterations);
+}
+
+// The second look at a verified contact (brt::SecondLook): the other end of an arc; the minimum
+// along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
+// edge contact. The smallest sphere wins (each is inside the verified one).
+void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
+  __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
+  int solid, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol,
+  real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
+{
+  if (r->type == CONTACT_FAILED)
+    return;
+  const real rho = fmax((real)1e-2 * r->t, (real)10 * m->slack);
+  const real a = dot(d, r->foot);
+  const real3 wt = r->foot - a * d;
+  Result c;
+  if (a < (real)1.2 * r->t && dot(wt, wt) > rho * rho)
+  {
+    real t;
+    const int p = initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, Ohi + Olo, d, solid,
+      -1, scale, (real)1.2 * r->t, m->delta, 1, wt, &t);
+    if (p >= 0)
+    {
+      c = descend(m, s1Face[p], Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale, newtonTol,
+        maxIterations, maxEdgeIterations, iterations);
+      if (c.type != CONTACT_FAILED && c.t < r->t)
+        *r = c;
+    }
+  }
+  // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
+  // both sides, from the edge point.
+  if (r->type == CONTACT_SURFACE_SURFACE)
+  {
+    int seg;
+    real param, dist;
+    classify(m, r->face, r->param, &seg, &param, &dist);
+    if (seg >= 0 && m->trimEdge[seg] >= 0)
+    {
+      const int edge = m->trimEdge[seg];
+      const real T =
+        m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+      real3 C, Ct, Ctt;
+      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+      const real3 gap = C - r->foot;
+      if (dot(gap, gap) <= rho * rho)
+      {
+        const EdgeMinimum em =
+          minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
+        c = edge_contact(m, r->face, edge, &em, d, newtonTol);
+        if (c.type != CONTACT_FAILED && c.t < r->t)
+          *r = c;
+      }
+    }
+  }
+  if (r->type != CONTACT_SURFACE_SURFACE && r->edge >= 0)
+  {
+    const int edge = r->edge;
+    const real T = r->param.x, t = r->t;
+    for (int k = 0; k < 2; ++k)
+    {
+      const int f = m->edgeInfo[4 * edge + 2 + k];
+      real u, v;
+      if (f < 0 || (k == 1 && f == m->edgeInfo[4 * edge + 2]) ||
+        m->faceInfo[FACE_INTS * f + 1] == 0 || !edge_point_on_face(m, f, edge, T, &u, &v))
+        continue;
+      const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
+        newtonTol, maxIterations, iterations);
+      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) && ss.t < r->t)
+      {
+        c = no_result();
+        c.type = CONTACT_SURFACE_SURFACE;
+        c.face = f;
+        c.patch = ss.patch;
+        c.t = ss.t;
+        c.res = ss.res;
+        c.foot = ss.foot;
+        c.param = (real2)(ss.u, ss.v);
+        *r = c;
+      }
+    }
+  }
 }
 
 // One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),
@@ -1222,7 +1368,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   const int solid = faceInfo[FACE_INTS * ownFace + 7];
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-    REAL_MAX, m->delta, &t);
+    REAL_MAX, m->delta, 0, (real3)(0), &t);
   Result r = no_result();
   if (best < 0)
   {
@@ -1236,7 +1382,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // That start led nowhere: try the best start on any other face once.
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-      REAL_MAX, m->delta, &t);
+      REAL_MAX, m->delta, 0, (real3)(0), &t);
     if (best >= 0)
     {
       const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
@@ -1265,9 +1411,14 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      r.t * (real)(1.0 - 1e-6), depth, &t);
+      r.t * (real)(1.0 - 1e-6), depth, 0, (real3)(0), &t);
     if (best < 0)
-      break; // no s1 point inside: maximal at the resolution of s1
+    {
+      // no s1 point inside: maximal at the resolution of s1
+      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, Ohi, Olo, d,
+        scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
+      break;
+    }
     // A point inside proves the true radius is below t(best) < r.t: restart, and the restart
     // must shrink the sphere.
     Result again = no_result();

@@ -139,8 +139,11 @@ double BoxDistance2(const BVHNode& n, const Vec3& p)
 /// this is also the verification: the s1 points deeper than delta inside the sphere found. (The
 /// depth must be a distance: near O, eq. 1's t drops steeply for a point barely inside the sphere,
 /// and a bound on it rejected maximal spheres on fillets by the thousand.)
+/// With `behind`, only the points on the side of O opposite to it count, (P - O).behind < 0 (the
+/// second look's other end of an arc).
 int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, double delta,
-  double& bestT, double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1)
+  double& bestT, double bound = std::numeric_limits<double>::infinity(), int excludeFace = -1,
+  const Vec3* behind = nullptr)
 {
   // Thickness is a property of one solid: in an assembly, the walls of other solids don't count.
   const int solid = m.Faces[s.Face].Solid;
@@ -172,7 +175,8 @@ int Initialise(const BRepModel& m, const SolverData& data, const Sample& s, doub
         const double dn = Dot(d, w), l2 = Dot(w, w);
         // Points in O's tangent plane (its own face, flat around it) give no sphere, nor do
         // points on top of O (an s1 point may coincide with a sample).
-        if (dn <= delta + 1e-6 * std::sqrt(l2) || l2 <= minDist2)
+        if (dn <= delta + 1e-6 * std::sqrt(l2) || l2 <= minDist2 ||
+          (behind && !(Dot(w, *behind) < 0.0)))
           continue;
         const double t = 0.5 * (l2 - delta * delta) / (dn - delta);
         if (t < bestT)
@@ -644,9 +648,35 @@ void TypeTangentEdgeContact(const BRepModel& m, const SolverData& data, const Sa
       r.OppositeFace = f;
       r.OppositePatch = patch;
       r.OppositeEdge = -1;
+      r.FootParameter = { u, v };
       return;
     }
   }
+}
+
+/// The surface/surface contact of a surface Newton's result on `face`.
+SampleResult SurfaceContact(const Sample& s, int face, const SurfaceSolve& ss)
+{
+  SampleResult r;
+  r.Type = ContactType::SurfaceSurface;
+  r.OppositeFace = face;
+  r.OppositePatch = ss.Patch;
+  r.Residual = ss.Res;
+  r.Radius = ss.T;
+  r.Thickness = 2.0 * ss.T;
+  r.Center = Axpy(s.Point, ss.T, s.Direction);
+  r.Foot = ss.Foot;
+  r.FootParameter = { ss.U, ss.V };
+  return r;
+}
+
+/// A surface Newton's result is a valid contact: converged on the face, positive and below the
+/// model's size, touching the face from inside, and no osculating contact near O.
+bool ValidSurfaceSolve(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, const SurfaceSolve& ss)
+{
+  return !ss.Singular && ss.T > 0.0 && ss.T < data.Scale && ss.Converged(opt) && ss.Inward &&
+    !ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) && ss.OnFace(m.Faces[face], opt);
 }
 
 /// Steps 4-7 from the s1 point p1 with the initial radius t.
@@ -660,16 +690,9 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   const Vec3& d = s.Direction;
   const double delta = Clearance(m, opt);
   auto acceptSurface = [&](int f, const SurfaceSolve& ss) {
-    r.Type = ContactType::SurfaceSurface;
-    r.Reason = FailReason::None;
-    r.OppositeFace = f;
-    r.OppositePatch = ss.Patch;
-    r.OppositeEdge = -1;
-    r.Residual = ss.Res;
-    r.Radius = ss.T;
-    r.Thickness = 2.0 * ss.T;
-    r.Center = Axpy(O, ss.T, d);
-    r.Foot = ss.Foot;
+    const int its = r.Iterations;
+    r = SurfaceContact(s, f, ss);
+    r.Iterations = its;
   };
   // --- surface/surface Newton (eq. 4), in the opposite face's (u,v) --------------------------
   const int face = data.S1[p1].Face;
@@ -802,8 +825,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   {
     const SurfaceSolve sn = SurfaceNewton(m, data, opt, O, d, nb, un, vn,
       edgeValid ? t : ss.T, r.Iterations);
-    if (!sn.Singular && sn.T > 0.0 && sn.T < data.Scale && sn.Converged(opt) && sn.Inward &&
-      !ShallowOwnFaceContact(m, s, nb, sn.Foot, sn.T) && sn.OnFace(m.Faces[nb], opt) &&
+    if (ValidSurfaceSolve(m, data, opt, s, nb, sn) &&
       (!(edgeValid && edgeConverged) || sn.T <= t * (1.0 + 1e-12)))
     {
       acceptSurface(nb, sn);
@@ -826,6 +848,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
   r.Thickness = 2.0 * t;
   r.Center = Axpy(O, t, d);
   r.Foot = C;
+  r.FootParameter = { T, 0.0 };
   TypeTangentEdgeContact(m, data, s, T, r);
 }
 /// The reported sphere: eq. 1's t(P) at the foot point P the clearance selected (Clearance).
@@ -951,6 +974,107 @@ DescentPoint DescendOnFace(const BRepModel& m, const SolverData& data, const Sol
   return cur;
 }
 
+/// The minimum of t_delta(C(T)) along `edge` from T: Newton on t'(T) where t(T) is convex,
+/// elsewhere the longest step downhill, cut back by a line search (where a sphere touches a whole
+/// arc, t is flat and concave along it: metric-scaled gradient steps crawled and ran out of
+/// iterations); it stops at the edge's ends.
+struct EdgeMinimum
+{
+  double T = 0.0, t = 0.0;
+  EdgeEval E;
+  bool AtEnd = false;
+};
+EdgeMinimum MinimiseOnEdge(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int edge, double T, int& iterations)
+{
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const double tiny = 1e-14 * data.Scale;
+  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
+  const double delta = Clearance(m, opt);
+  const Edge& E = m.Edges[edge];
+  const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
+  T = std::clamp(T, Tlo, Thi);
+  EdgeEval ee = EvaluateEdge(m, edge, T);
+  double t = SphereRadius(O, d, ee.C, delta);
+  bool atEnd = false;
+    for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
+    {
+      ++iterations;
+      const double b = Dot(d, Sub(ee.C, O)) - delta;
+      const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+      const double g = Dot(w, ee.Ct) / b;
+      const double dCt = Dot(d, ee.Ct);
+      const double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
+      const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
+      const double limit = std::max(t, 1e-3 * data.Scale);
+      double dT = h > 0.0 ? -g / h : (g > 0.0 ? -1.0 : 1.0) * limit / std::max(speed, 1e-300);
+      if (std::fabs(dT) * speed > limit)
+        dT *= limit / (std::fabs(dT) * speed);
+      if (std::fabs(dT) * speed < tiny)
+        break;
+      const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
+      bool accepted = false;
+      for (int k = 0; k < 40; ++k, dT *= 0.5)
+      {
+        const double Tn = std::clamp(T + dT, Tlo, Thi);
+        const EdgeEval en = EvaluateEdge(m, edge, Tn);
+        const double tn = SphereRadius(O, d, en.C, delta);
+        const double sn = std::sqrt(Dot(en.Ct, en.Ct));
+        const double resn =
+          sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
+        if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
+        {
+          atEnd = Tn == Tlo || Tn == Thi;
+          accepted = T != Tn;
+          T = Tn;
+          ee = en;
+          t = tn;
+          break;
+        }
+      }
+      if (!accepted)
+        break;
+    }
+  EdgeMinimum em;
+  em.T = T;
+  em.t = t;
+  em.E = ee;
+  em.AtEnd = atEnd;
+  return em;
+}
+
+/// The contact at an edge minimum on `face`'s edge: surface/edge, or surface/vertex at an end of
+/// the edge (typed surface/surface where the faces meet tangentially); failed where t is not
+/// positive or the residual of eq. 7 is above the tolerance.
+SampleResult EdgeContact(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, int edge, const EdgeMinimum& em)
+{
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const double t = em.t;
+  SampleResult r;
+  const Vec3 w = Sub(em.E.C, Axpy(O, t, d));
+  const double Re[2] = { Dot(em.E.Ct, w), t - Clearance(m, opt) - std::sqrt(Dot(w, w)) };
+  r.Residual = em.AtEnd ? std::fabs(Re[1]) : Residual2(em.E.Ct, Re);
+  if (!(t > 0.0) || !std::isfinite(t))
+    r.Reason = FailReason::LeftModel;
+  else if (!(r.Residual <= opt.NewtonTolerance))
+    r.Reason = FailReason::EdgeNotConverged;
+  if (r.Reason != FailReason::None)
+    return r;
+  r.Type = em.AtEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
+  r.OppositeFace = face;
+  r.OppositeEdge = edge;
+  r.Radius = t;
+  r.Thickness = 2.0 * t;
+  r.Center = Axpy(O, t, d);
+  r.Foot = em.E.C;
+  r.FootParameter = { em.T, 0.0 };
+  TypeTangentEdgeContact(m, data, s, em.T, r);
+  return r;
+}
+
 /// The fallback of SolveOne for the hard samples: a descent on t instead of a Newton on eq. 4.
 /// Every stationary point of t(P) over a face is a tangent sphere (grad t = (S-M).S_u / d.(S-O)),
 /// but Newton finds any of them, maxima and saddles too, and may leave the face on the way; the
@@ -965,8 +1089,6 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
 {
   const Vec3& O = s.Point;
   const Vec3& d = s.Direction;
-  const double tiny = 1e-14 * data.Scale;
-  const double roundoff = 8.0 * std::numeric_limits<double>::epsilon();
   const double delta = Clearance(m, opt);
   SampleResult best; // the best edge contact so far
   for (int hop = 0; hop < 4; ++hop)
@@ -998,6 +1120,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
         r.Thickness = 2.0 * cur.T;
         r.Center = Axpy(O, cur.T, d);
         r.Foot = e.P;
+        r.FootParameter = { cur.U, cur.V };
       }
       faceOk = r.Type != ContactType::Failed;
       // Coming from an edge, the face result counts only where it is valid and smaller.
@@ -1026,55 +1149,12 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     const TrimSegment& seg = m.TrimSegments[segment];
     if (seg.Edge < 0 || m.Edges[seg.Edge].SegmentCount == 0)
       return onFace(); // a pole: stay at the best point of the face
-    // Along the edge: minimise t(T) = t(C(T)) by Newton on t'(T), with line search.
+    // Along the edge: minimise t(T) = t(C(T)).
     const int edge = seg.Edge;
     const Edge& E = m.Edges[edge];
-    const double Tlo = std::min(E.T0, E.T1), Thi = std::max(E.T0, E.T1);
-    double T = std::clamp(seg.T0 + at * (seg.T1 - seg.T0), Tlo, Thi);
-    EdgeEval ee = EvaluateEdge(m, edge, T);
-    double t = SphereRadius(O, d, ee.C, delta);
-    bool atEnd = false;
-    for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
-    {
-      ++iterations;
-      const double b = Dot(d, Sub(ee.C, O)) - delta;
-      const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-      const double g = Dot(w, ee.Ct) / b;
-      const double dCt = Dot(d, ee.Ct);
-      const double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
-      const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
-      const double limit = std::max(t, 1e-3 * data.Scale);
-      // Newton where t(T) is convex; elsewhere the longest step downhill, cut back by the line
-      // search (where a sphere touches a whole arc, t is flat and concave along it: metric-scaled
-      // gradient steps crawled and ran out of iterations).
-      double dT = h > 0.0 ? -g / h : (g > 0.0 ? -1.0 : 1.0) * limit / std::max(speed, 1e-300);
-      if (std::fabs(dT) * speed > limit)
-        dT *= limit / (std::fabs(dT) * speed);
-      if (std::fabs(dT) * speed < tiny)
-        break;
-      const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
-      bool accepted = false;
-      for (int k = 0; k < 40; ++k, dT *= 0.5)
-      {
-        const double Tn = std::clamp(T + dT, Tlo, Thi);
-        const EdgeEval en = EvaluateEdge(m, edge, Tn);
-        const double tn = SphereRadius(O, d, en.C, delta);
-        const double sn = std::sqrt(Dot(en.Ct, en.Ct));
-        const double resn =
-          sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
-        if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
-        {
-          atEnd = Tn == Tlo || Tn == Thi;
-          accepted = T != Tn;
-          T = Tn;
-          ee = en;
-          t = tn;
-          break;
-        }
-      }
-      if (!accepted)
-        break;
-    }
+    const EdgeMinimum em =
+      MinimiseOnEdge(m, data, opt, s, edge, seg.T0 + at * (seg.T1 - seg.T0), iterations);
+    const double t = em.t;
     // Keep the face point (or the last edge contact) where it is lower. Where the face point
     // is no tangent sphere (t still falls across the boundary: a round's tangent edge), the
     // edge goes on even at the same t.
@@ -1082,30 +1162,15 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
     if (!(t < (best.Type == ContactType::Failed ? data.Scale : best.Radius)) ||
       (faceOk && !(t < cur.T)))
       return faceResult;
-    SampleResult r;
-    const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-    const double Re[2] = { Dot(ee.Ct, w), t - delta - std::sqrt(Dot(w, w)) };
-    r.Residual = atEnd ? std::fabs(Re[1]) : Residual2(ee.Ct, Re);
-    if (!(t > 0.0))
-      r.Reason = FailReason::LeftModel;
-    else if (!(r.Residual <= opt.NewtonTolerance))
-      r.Reason = FailReason::EdgeNotConverged;
-    if (r.Reason != FailReason::None)
+    const SampleResult r = EdgeContact(m, data, opt, s, face, edge, em);
+    if (r.Type == ContactType::Failed)
       return best.Type != ContactType::Failed ? best : r;
-    r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
-    r.OppositeFace = face;
-    r.OppositeEdge = edge;
-    r.Radius = t;
-    r.Thickness = 2.0 * t;
-    r.Center = Axpy(O, t, d);
-    r.Foot = ee.C;
-    TypeTangentEdgeContact(m, data, s, T, r);
     best = r;
     // Across the edge: the neighbour face may go lower still (a round's tangent plane).
     const int nb = E.Faces[0] == face ? E.Faces[1] : E.Faces[0];
     double un = 0.0, vn = 0.0, nu = 0.0, nv = 0.0;
-    if (atEnd || nb < 0 || nb == face || m.Faces[nb].PatchCount == 0 ||
-      !EdgePointIntoFace(m, nb, edge, T, un, vn, nu, nv))
+    if (em.AtEnd || nb < 0 || nb == face || m.Faces[nb].PatchCount == 0 ||
+      !EdgePointIntoFace(m, nb, edge, em.T, un, vn, nu, nv))
       return best;
     // Only where t falls into that face: grad t . (into the face) < 0.
     const PatchEval en = EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, un, vn)], un, vn);
@@ -1119,25 +1184,18 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
   return best;
 }
 
-/// Descend on the face across the edge nearest the sample O, from near that edge's point
-/// nearest O. On the edge itself t is undefined (the point lies in O's tangent plane), so the
-/// start is moved into the neighbour face, by the offset (1e-6 to 1e-1 of its UV diagonal) that
-/// gives the smallest t.
-SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data,
-  const SolverOptions& opt, const Sample& s, int& iterations)
+/// Descend on `face` from just inside it next to the point T of one of its edges. On the edge
+/// itself t may be undefined (for the edge nearest O, the point lies in O's tangent plane), so the
+/// start is moved into the face, by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the
+/// smallest t.
+SampleResult DescendFromEdge(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, int face, int edge, double T, int& iterations)
 {
-  const TrimProjection near = ClassifyPoint(m, s.Face, s.U, s.V);
-  if (near.Segment < 0 || m.TrimSegments[near.Segment].Edge < 0)
+  if (face < 0 || m.Faces[face].PatchCount == 0)
     return SampleResult();
-  const TrimSegment& seg = m.TrimSegments[near.Segment];
-  const int edge = seg.Edge;
-  const Edge& E = m.Edges[edge];
-  const int nb = E.Faces[0] == s.Face ? E.Faces[1] : E.Faces[0];
-  if (nb < 0 || nb == s.Face || m.Faces[nb].PatchCount == 0)
-    return SampleResult();
-  const Face& N = m.Faces[nb];
+  const Face& N = m.Faces[face];
   double u0 = 0.0, v0 = 0.0, nu = 0.0, nv = 0.0;
-  if (!EdgePointIntoFace(m, nb, edge, seg.T0 + near.Parameter * (seg.T1 - seg.T0), u0, v0, nu, nv))
+  if (!EdgePointIntoFace(m, face, edge, T, u0, v0, nu, nv))
     return SampleResult();
   const double diag = std::hypot(N.Domain[1] - N.Domain[0], N.Domain[3] - N.Domain[2]);
   double bestT = std::numeric_limits<double>::infinity(), bu = 0.0, bv = 0.0;
@@ -1145,10 +1203,10 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
   {
     const double u = std::clamp(u0 + h * diag * nu, N.Domain[0], N.Domain[1]);
     const double v = std::clamp(v0 + h * diag * nv, N.Domain[2], N.Domain[3]);
-    if (!ClassifyPoint(m, nb, u, v).Inside)
+    if (!ClassifyPoint(m, face, u, v).Inside)
       continue;
     const double t = SphereRadius(s.Point, s.Direction,
-      EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, u, v)], u, v).P, Clearance(m, opt));
+      EvaluatePatch(m.Patches[FindPatchFast(m, data, face, u, v)], u, v).P, Clearance(m, opt));
     if (t < bestT)
     {
       bestT = t;
@@ -1158,7 +1216,104 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
   }
   if (!std::isfinite(bestT))
     return SampleResult();
-  return Descend(m, data, opt, s, nb, bu, bv, iterations);
+  return Descend(m, data, opt, s, face, bu, bv, iterations);
+}
+
+/// Descend on the face across the edge nearest the sample O, from near that edge's point nearest
+/// O: a sample next to a convex edge has a sphere of about its distance from the edge, closer to
+/// O than any s1 point.
+SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data,
+  const SolverOptions& opt, const Sample& s, int& iterations)
+{
+  const TrimProjection near = ClassifyPoint(m, s.Face, s.U, s.V);
+  if (near.Segment < 0 || m.TrimSegments[near.Segment].Edge < 0)
+    return SampleResult();
+  const TrimSegment& seg = m.TrimSegments[near.Segment];
+  const Edge& E = m.Edges[seg.Edge];
+  const int nb = E.Faces[0] == s.Face ? E.Faces[1] : E.Faces[0];
+  if (nb == s.Face)
+    return SampleResult();
+  return DescendFromEdge(m, data, opt, s, nb, seg.Edge,
+    seg.T0 + near.Parameter * (seg.T1 - seg.T0), iterations);
+}
+
+/// The second look at a verified contact r (t_delta in r.Radius): other local minima of t_delta
+/// that a path may have missed, where the answer would otherwise depend on rounding.
+/// - The other end of an arc: a sphere touching a whole arc (a round of about its radius) has a
+///   minimum of t_delta at each far end; the first path reaches one. When the contact lies well
+///   off O's normal line (d.(P-O) < 1.2 t), descend again from the best s1 point on the other
+///   side of that line.
+///   (The s1 verification cannot always tell: a sphere overlapping a side wall by 0.03 mm over a
+///   patch narrower than s1's spacing passed it on the ExpansionCard.)
+/// - The edge next to the contact: where faces meet at a tangent edge, with steps and kinks at
+///   the tolerance's scale, the edge and the faces on both sides each have a minimum a few 1e-4
+///   apart. A surface contact within rho (1% of t, at least 20x the conversion tolerance) of its
+///   face's boundary also tries the minimum along that edge; an edge contact tries the surface
+///   Newton on the faces on both sides from the edge point.
+/// Every candidate is a sphere tangent at O smaller than the verified one, hence inside it: no
+/// new verification is needed. The smallest wins.
+void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r)
+{
+  if (r.Type == ContactType::Failed)
+    return;
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const double delta = Clearance(m, opt);
+  const double rho = std::max(1e-2 * r.Radius, 20.0 * m.Tolerance);
+  int iterations = r.Iterations;
+  auto consider = [&](const SampleResult& c) {
+    if (c.Type != ContactType::Failed && c.Radius < r.Radius)
+    {
+      r = c;
+      r.Iterations = iterations;
+    }
+  };
+  const Vec3 w = Sub(r.Foot, O);
+  const double a = Dot(d, w);
+  const Vec3 wt = Axpy(w, -a, d);
+  if (a < 1.2 * r.Radius && Dot(wt, wt) > rho * rho)
+  {
+    double t = 0.0;
+    const int p = Initialise(m, data, s, delta, t, 1.2 * r.Radius, -1, &wt);
+    if (p >= 0)
+      consider(Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations));
+  }
+  // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
+  // both sides, from the edge point.
+  if (r.Type == ContactType::SurfaceSurface)
+  {
+    const TrimProjection near =
+      ClassifyPoint(m, r.OppositeFace, r.FootParameter[0], r.FootParameter[1]);
+    if (near.Segment >= 0 && m.TrimSegments[near.Segment].Edge >= 0)
+    {
+      const TrimSegment& seg = m.TrimSegments[near.Segment];
+      const double T = seg.T0 + near.Parameter * (seg.T1 - seg.T0);
+      const Vec3 gap = Sub(EvaluateEdge(m, seg.Edge, T).C, r.Foot);
+      if (Dot(gap, gap) <= rho * rho)
+        consider(EdgeContact(m, data, opt, s, r.OppositeFace, seg.Edge,
+          MinimiseOnEdge(m, data, opt, s, seg.Edge, T, iterations)));
+    }
+  }
+  if (r.Type != ContactType::SurfaceSurface && r.OppositeEdge >= 0)
+  {
+    const int edge = r.OppositeEdge;
+    const double T = r.FootParameter[0];
+    const double t = r.Radius;
+    const Edge& E = m.Edges[edge];
+    for (int k = 0; k < 2; ++k)
+    {
+      const int f = E.Faces[k];
+      double u = 0.0, v = 0.0;
+      if (f < 0 || (k == 1 && f == E.Faces[0]) || m.Faces[f].PatchCount == 0 ||
+        !EdgePointOnFace(m, f, edge, T, u, v))
+        continue;
+      const SurfaceSolve ss = SurfaceNewton(m, data, opt, O, d, f, u, v, t, iterations);
+      if (ValidSurfaceSolve(m, data, opt, s, f, ss))
+        consider(SurfaceContact(s, f, ss));
+    }
+  }
+  r.Iterations = iterations;
 }
 
 /// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
@@ -1221,7 +1376,10 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
   {
     p = Initialise(m, data, s, depth, t, r.Radius * (1.0 - 1e-6));
     if (p < 0)
-      return; // no s1 point inside: maximal at the resolution of s1
+    {
+      SecondLook(m, data, opt, s, r); // no s1 point inside: maximal at the resolution of s1
+      return;
+    }
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
     SampleResult again;
     again.Iterations = r.Iterations;

@@ -54,6 +54,9 @@ struct SampleResult
   int OppositeFace = -1;
   int OppositePatch = -1; ///< surface/surface contacts
   int OppositeEdge = -1;  ///< surface/edge and surface/vertex contacts
+  /// Where the foot point lies: (u, v) on OppositeFace for surface/surface contacts, (T, 0) on
+  /// OppositeEdge for surface/edge and surface/vertex contacts.
+  std::array<double, 2> FootParameter{};
   ContactType Type = ContactType::Failed;
   FailReason Reason = FailReason::None;
   /// |R| of the last Newton system (eq. 4 or eq. 7) in model units: the tangential equations
