@@ -57,7 +57,7 @@ public:
   };
 
   ///@{
-  /// Spacing of the coarse sample set s1 on the patches, in model units; 0 (default) picks 1/100
+  /// Spacing of the coarse sample set s1 on the patches, in model units; 0 (default) picks 1/300
   /// of the bounding-box diagonal. Smaller is slower and finds thin features more surely.
   vtkSetClampMacro(S1Spacing, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(S1Spacing, double);

@@ -1273,12 +1273,13 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
     maxEdgeIterations, iterations);
 }
 
-// The second look at a verified contact (brt::SecondLook): the other end of an arc; the minimum
+// The second look at a verified contact (brt::SecondLook): the other end of an arc; the face
+// across the edge nearest O where that edge is within t of O; the minimum
 // along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
 // edge contact. The smallest sphere wins (each is inside the verified one).
 void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
-  int solid, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol,
+  int solid, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol,
   real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
   if (r->type == CONTACT_FAILED)
@@ -1298,6 +1299,26 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         maxIterations, maxEdgeIterations, iterations);
       if (c.type != CONTACT_FAILED && c.t < r->t)
         *r = c;
+    }
+  }
+  // O within t of its face's boundary: the face across the nearest edge.
+  {
+    int seg;
+    real param, dist;
+    classify(m, ownFace, ownUV, &seg, &param, &dist);
+    if (seg >= 0 && m->trimEdge[seg] >= 0)
+    {
+      const real T =
+        m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+      real3 C, Ct, Ctt;
+      eval_edge(m, m->trimEdge[seg], T, Ohi, Olo, &C, &Ct, &Ctt);
+      if (dot(C, C) < r->t * r->t)
+      {
+        c = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale, newtonTol,
+          maxIterations, maxEdgeIterations, iterations);
+        if (c.type != CONTACT_FAILED && c.t < r->t)
+          *r = c;
+      }
     }
   }
   // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
@@ -1415,7 +1436,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     if (best < 0)
     {
       // no s1 point inside: maximal at the resolution of s1
-      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, Ohi, Olo, d,
+      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, ownUV, Ohi, Olo, d,
         scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
       break;
     }

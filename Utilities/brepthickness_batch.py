@@ -38,7 +38,7 @@ def parse_args(argv=None):
     ap.add_argument("--precision", choices=("float", "double"), default="float")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
-    ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/100)")
+    ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/300)")
     ap.add_argument("--bins", type=int, default=20, help="bins of the thickness histogram")
     ap.add_argument("--size", type=int, nargs=2, default=(1200, 900), metavar=("W", "H"))
     return ap.parse_args(argv)

@@ -299,7 +299,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   data.Scale = model.Patches.empty() ? 1.0 : std::sqrt(Dot(Sub(hi, lo), Sub(hi, lo)));
   for (int k = 0; k < 3; ++k)
     data.Centre[k] = 0.5 * (lo[k] + hi[k]);
-  const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 100.0;
+  const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 300.0;
 
   // Patch grid breakpoints per face.
   for (size_t f = 0; f < model.Faces.size(); ++f)
@@ -1245,6 +1245,9 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
 ///   side of that line.
 ///   (The s1 verification cannot always tell: a sphere overlapping a side wall by 0.03 mm over a
 ///   patch narrower than s1's spacing passed it on the ExpansionCard.)
+/// - The face across the edge nearest O, where that edge is within t of O: next to a corner the
+///   other wall can be nearer than any s1 point (an L-bracket's sample 0.002 from an edge read
+///   2t = 0.0147 while the wall across that edge allows 0.0042).
 /// - The edge next to the contact: where faces meet at a tangent edge, with steps and kinks at
 ///   the tolerance's scale, the edge and the faces on both sides each have a minimum a few 1e-4
 ///   apart. A surface contact within rho (1% of t, at least 20x the conversion tolerance) of its
@@ -1278,6 +1281,19 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
     const int p = Initialise(m, data, s, delta, t, 1.2 * r.Radius, -1, &wt);
     if (p >= 0)
       consider(Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations));
+  }
+  // O within t of its face's boundary: the face across the nearest edge may come closer than
+  // any s1 point (a sample next to a corner, between two walls).
+  {
+    const TrimProjection own = ClassifyPoint(m, s.Face, s.U, s.V);
+    if (own.Segment >= 0 && m.TrimSegments[own.Segment].Edge >= 0)
+    {
+      const TrimSegment& seg = m.TrimSegments[own.Segment];
+      const Vec3 toEdge =
+        Sub(EvaluateEdge(m, seg.Edge, seg.T0 + own.Parameter * (seg.T1 - seg.T0)).C, O);
+      if (Dot(toEdge, toEdge) < r.Radius * r.Radius)
+        consider(DescendAcrossNearestEdge(m, data, opt, s, iterations));
+    }
   }
   // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
   // both sides, from the edge point.

@@ -67,7 +67,7 @@ struct SampleResult
 
 struct SolverOptions
 {
-  /// Spacing of the coarse sample set s1 on every patch (model units); <= 0 picks 1/100 of the
+  /// Spacing of the coarse sample set s1 on every patch (model units); <= 0 picks 1/300 of the
   /// bounding-box diagonal. Each patch gets between 2x2 and S1MaxPerPatch^2 candidates.
   double S1Spacing = 0.0;
   int S1MaxPerPatch = 64;

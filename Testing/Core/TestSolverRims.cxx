@@ -14,9 +14,16 @@
 #include <TopoDS_Shape.hxx>
 #include <gp_Pnt.hxx>
 
+#include "TestHelpers.h"
+
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <vector>
 
 namespace
 {
@@ -127,5 +134,75 @@ TEST(SolverRims, HolePlateAgainstExactDistance)
 TEST(SolverRims, FilletedLBracketAgainstExactDistance)
 {
   CheckRims("L-bracket", analytic::LBracket(60, 8, 40, 5), 8.0);
+}
+
+/// Every Data/ model, real parts included, against the exact B-Rep: for about 400 samples spread
+/// over the mesh, the reference's sphere (centre M, radius t) must not overlap the solid's
+/// exact faces: t - dist(M, faces) stays within the clearance plus the conversion tolerance
+/// (the sphere is tangent to the patches, which lie within the tolerance of the exact faces, and
+/// the clearance lets boundary points that deep into it). A larger overlap is a sphere that is
+/// not maximal: a wall the s1 verification missed. This is the independent check that the
+/// agreement of the kernels with the reference cannot give.
+TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
+{
+  for (const auto& name : test::DataModels())
+  {
+    std::vector<TopoDS_Face> faces;
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions(), &faces);
+    ASSERT_EQ(faces.size(), m.Faces.size()) << name;
+    // Thickness is a property of one solid: each solid's own faces.
+    int solids = 0;
+    for (const Face& F : m.Faces)
+      solids = std::max(solids, F.Solid + 1);
+    std::vector<TopoDS_Compound> bySolid(static_cast<size_t>(solids) + 1);
+    BRep_Builder b;
+    for (auto& c : bySolid)
+      b.MakeCompound(c);
+    for (size_t f = 0; f < faces.size(); ++f)
+      b.Add(bySolid[static_cast<size_t>(m.Faces[f].Solid + 1)], faces[f]);
+
+    SolverOptions options;
+    const SolverData data = PrepareSolver(m, options);
+    const std::vector<Sample> all = SamplesFromMesh(m, data);
+    const size_t stride = std::max<size_t>(1, all.size() / 400);
+    std::vector<Sample> samples;
+    for (size_t i = 0; i < all.size(); i += stride)
+      samples.push_back(all[i]);
+    std::vector<SampleResult> res;
+    SolveReference(m, data, options, samples, res);
+
+    const double allowed = 2.0 * m.Tolerance + m.Tolerance; // clearance (2x) + patches (1x)
+    size_t solved = 0, overlapping = 0;
+    double worst = 0.0, worstT = 0.0;
+    for (size_t k = 0; k < samples.size(); ++k)
+    {
+      const SampleResult& r = res[k];
+      if (r.Type == ContactType::Failed)
+        continue;
+      ++solved;
+      const TopoDS_Shape& own = bySolid[static_cast<size_t>(m.Faces[samples[k].Face].Solid + 1)];
+      const double overlap = r.Radius - BoundaryDistance(own, r.Center);
+      if (overlap > allowed && overlap > 1e-4 * r.Radius)
+      {
+        ++overlapping;
+        std::printf("[overlap] %s sample %zu: 2t = %.6g, sphere %.3g into the exact faces "
+                    "(%s)\n",
+          name.c_str(), k * stride, r.Thickness, overlap, ContactTypeName(r.Type));
+      }
+      if (overlap > worst)
+      {
+        worst = overlap;
+        worstT = r.Radius;
+      }
+    }
+    std::printf("[exact] %s: %zu of %zu samples solved; %zu (%.2f%%) overlap the exact faces by "
+                "more than %.1e and 1e-4 t; largest overlap %.3g (t = %.4g)\n",
+      name.c_str(), solved, samples.size(), overlapping, 100.0 * overlapping / std::max<size_t>(solved, 1),
+      allowed, worst, worstT);
+    // Measured (docs/Solver.md): 0 on the analytic models; 0.3-1.0% on the real parts with s1 at
+    // 1/300 of the diagonal (1.0-3.4% at 1/100, before the second look more). The bound sits
+    // just above; the rest is an open item, listed above.
+    EXPECT_LE(overlapping * 1000, solved * 15) << name;
+  }
 }
 } // namespace
