@@ -1101,7 +1101,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       SampleResult r;
       const PatchEval& e = cur.E;
       if (!std::isfinite(cur.T))
-        return r;
+        return best; // no sphere on this face: the last edge contact, if any
       const Vec3 w = Sub(e.P, Axpy(O, cur.T, d));
       const double R[3] = { Dot(e.Du, w), Dot(e.Dv, w), cur.T - delta - std::sqrt(Dot(w, w)) };
       const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
