@@ -412,6 +412,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const T newtonTol = static_cast<T>(options.NewtonTolerance);
   const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::ShallowOwnFaceContact
   const T clearance = static_cast<T>(options.Clearance < 0.0 ? 2.0 * model.Tolerance : options.Clearance);
+  const T s1Spacing = static_cast<T>(data.S1Spacing);
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
   std::vector<T> in(chunk * SampleReals), outR(chunk * 5);
   std::vector<int> outI(chunk * 6), faces(chunk);
@@ -453,6 +454,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
     Check(clSetKernelArg(k, 29, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
     Check(clSetKernelArg(k, 30, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
     Check(clSetKernelArg(k, 31, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 32, sizeof(T), &s1Spacing), "clSetKernelArg");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),

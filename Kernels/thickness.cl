@@ -68,6 +68,7 @@ typedef struct
   __global const real* edgeSegRange; // T0, T1 per edge segment
   real slack; // the patches' accuracy: 2x the conversion tolerance (model units)
   real delta; // the clearance of this pass (brt::SolverOptions::Clearance; 0: eq. 1 exactly)
+  real s1Spacing; // the spacing s1 was sampled at (brt::SolverData::S1Spacing)
 } Model;
 
 // A foot point on the sample's own face within the patches' accuracy of O is the trivial
@@ -1274,7 +1275,7 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
 }
 
 // The second look at a verified contact (brt::SecondLook): the other end of an arc; the face
-// across the edge nearest O where that edge is within t of O; the minimum
+// across the edge nearest O where that edge is within t and one s1 spacing of O; the minimum
 // along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
 // edge contact. The smallest sphere wins (each is inside the verified one).
 void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
@@ -1301,7 +1302,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         *r = c;
     }
   }
-  // O within t of its face's boundary: the face across the nearest edge.
+  // O within t and one s1 spacing of its face's boundary: the face across the nearest edge.
   {
     int seg;
     real param, dist;
@@ -1312,7 +1313,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
       real3 C, Ct, Ctt;
       eval_edge(m, m->trimEdge[seg], T, Ohi, Olo, &C, &Ct, &Ctt);
-      if (dot(C, C) < r->t * r->t)
+      const real reach = fmin(r->t, m->s1Spacing);
+      if (dot(C, C) < reach * reach)
       {
         c = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale, newtonTol,
           maxIterations, maxEdgeIterations, iterations);
@@ -1487,14 +1489,15 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
   const real clearance, const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // t, foot - O (3), residual per sample
-  __global int* outInt)   // type, reason, face, patch, edge, iterations per sample
+  __global int* outInt,   // type, reason, face, patch, edge, iterations per sample
+  const real s1Spacing)
 {
   const int gid = get_global_id(0);
   if (gid >= count)
     return;
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
     trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack,
-    clearance };
+    clearance, s1Spacing };
   __global const real* sp = samples + SAMPLE_REALS * gid;
   const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
   const real3 d = (real3)(sp[6], sp[7], sp[8]);

@@ -300,6 +300,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   for (int k = 0; k < 3; ++k)
     data.Centre[k] = 0.5 * (lo[k] + hi[k]);
   const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 300.0;
+  data.S1Spacing = spacing;
 
   // Patch grid breakpoints per face.
   for (size_t f = 0; f < model.Faces.size(); ++f)
@@ -1245,7 +1246,8 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
 ///   side of that line.
 ///   (The s1 verification cannot always tell: a sphere overlapping a side wall by 0.03 mm over a
 ///   patch narrower than s1's spacing passed it on the ExpansionCard.)
-/// - The face across the edge nearest O, where that edge is within t of O: next to a corner the
+/// - The face across the edge nearest O, where that edge is within t and one s1 spacing of O
+///   (farther, s1 covers the wall across): next to a corner the
 ///   other wall can be nearer than any s1 point (an L-bracket's sample 0.002 from an edge read
 ///   2t = 0.0147 while the wall across that edge allows 0.0042).
 /// - The edge next to the contact: where faces meet at a tangent edge, with steps and kinks at
@@ -1282,8 +1284,9 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
     if (p >= 0)
       consider(Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations));
   }
-  // O within t of its face's boundary: the face across the nearest edge may come closer than
-  // any s1 point (a sample next to a corner, between two walls).
+  // O within t of its face's boundary, and within one s1 spacing (farther, s1 covers the wall
+  // across): the face across the nearest edge may come closer than any s1 point (a sample next
+  // to a corner, between two walls).
   {
     const TrimProjection own = ClassifyPoint(m, s.Face, s.U, s.V);
     if (own.Segment >= 0 && m.TrimSegments[own.Segment].Edge >= 0)
@@ -1291,7 +1294,8 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
       const TrimSegment& seg = m.TrimSegments[own.Segment];
       const Vec3 toEdge =
         Sub(EvaluateEdge(m, seg.Edge, seg.T0 + own.Parameter * (seg.T1 - seg.T0)).C, O);
-      if (Dot(toEdge, toEdge) < r.Radius * r.Radius)
+      const double reach = std::min(r.Radius, data.S1Spacing);
+      if (Dot(toEdge, toEdge) < reach * reach)
         consider(DescendAcrossNearestEdge(m, data, opt, s, iterations));
     }
   }

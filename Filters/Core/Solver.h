@@ -105,6 +105,7 @@ struct SolverData
   std::vector<S1Point> S1;
   std::vector<BVHNode> Nodes;
   double Scale = 1.0; ///< bounding-box diagonal of the model
+  double S1Spacing = 0.0; ///< the spacing s1 was sampled at (SolverOptions::S1Spacing or its default)
   std::array<double, 3> Centre{};
   /// Per face: the patch grid breakpoints (NU+1 u values then NV+1 v values), at FaceBreaks[f].
   std::vector<double> Breaks;

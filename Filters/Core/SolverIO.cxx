@@ -50,7 +50,7 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
   Put(out, d.Breaks);
   Put(out, d.FaceBreaks);
   Put(out, samples);
-  const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2] };
+  const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2], d.S1Spacing };
   Put(out, scalars);
 }
 
@@ -76,10 +76,12 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     Get(in, samples);
     std::vector<double> scalars;
     Get(in, scalars);
-    if (scalars.size() != 4)
+    if (scalars.size() != 4 && scalars.size() != 5)
       throw std::runtime_error("corrupt solve file");
     d.Scale = scalars[0];
     d.Centre = { scalars[1], scalars[2], scalars[3] };
+    // Files written before the spacing was kept: the default it had then.
+    d.S1Spacing = scalars.size() == 5 ? scalars[4] : d.Scale / 100.0;
   }
   catch (const std::runtime_error& e)
   {
