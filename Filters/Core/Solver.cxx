@@ -999,44 +999,44 @@ EdgeMinimum MinimiseOnEdge(const BRepModel& m, const SolverData& data, const Sol
   EdgeEval ee = EvaluateEdge(m, edge, T);
   double t = SphereRadius(O, d, ee.C, delta);
   bool atEnd = false;
-    for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
+  for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
+  {
+    ++iterations;
+    const double b = Dot(d, Sub(ee.C, O)) - delta;
+    const Vec3 w = Sub(ee.C, Axpy(O, t, d));
+    const double g = Dot(w, ee.Ct) / b;
+    const double dCt = Dot(d, ee.Ct);
+    const double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
+    const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
+    const double limit = std::max(t, 1e-3 * data.Scale);
+    double dT = h > 0.0 ? -g / h : (g > 0.0 ? -1.0 : 1.0) * limit / std::max(speed, 1e-300);
+    if (std::fabs(dT) * speed > limit)
+      dT *= limit / (std::fabs(dT) * speed);
+    if (std::fabs(dT) * speed < tiny)
+      break;
+    const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
+    bool accepted = false;
+    for (int k = 0; k < 40; ++k, dT *= 0.5)
     {
-      ++iterations;
-      const double b = Dot(d, Sub(ee.C, O)) - delta;
-      const Vec3 w = Sub(ee.C, Axpy(O, t, d));
-      const double g = Dot(w, ee.Ct) / b;
-      const double dCt = Dot(d, ee.Ct);
-      const double h = (Dot(ee.Ct, ee.Ct) - 2.0 * g * dCt + Dot(w, ee.Ctt)) / b;
-      const double speed = std::sqrt(Dot(ee.Ct, ee.Ct));
-      const double limit = std::max(t, 1e-3 * data.Scale);
-      double dT = h > 0.0 ? -g / h : (g > 0.0 ? -1.0 : 1.0) * limit / std::max(speed, 1e-300);
-      if (std::fabs(dT) * speed > limit)
-        dT *= limit / (std::fabs(dT) * speed);
-      if (std::fabs(dT) * speed < tiny)
-        break;
-      const double res0 = speed > 0.0 ? std::fabs(Dot(w, ee.Ct)) / speed : 0.0;
-      bool accepted = false;
-      for (int k = 0; k < 40; ++k, dT *= 0.5)
+      const double Tn = std::clamp(T + dT, Tlo, Thi);
+      const EdgeEval en = EvaluateEdge(m, edge, Tn);
+      const double tn = SphereRadius(O, d, en.C, delta);
+      const double sn = std::sqrt(Dot(en.Ct, en.Ct));
+      const double resn =
+        sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
+      if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
       {
-        const double Tn = std::clamp(T + dT, Tlo, Thi);
-        const EdgeEval en = EvaluateEdge(m, edge, Tn);
-        const double tn = SphereRadius(O, d, en.C, delta);
-        const double sn = std::sqrt(Dot(en.Ct, en.Ct));
-        const double resn =
-          sn > 0.0 ? std::fabs(Dot(Sub(en.C, Axpy(O, tn, d)), en.Ct)) / sn : 0.0;
-        if (tn <= t + 1e-4 * g * (Tn - T) || (tn <= t + roundoff * t && resn < res0))
-        {
-          atEnd = Tn == Tlo || Tn == Thi;
-          accepted = T != Tn;
-          T = Tn;
-          ee = en;
-          t = tn;
-          break;
-        }
-      }
-      if (!accepted)
+        atEnd = Tn == Tlo || Tn == Thi;
+        accepted = T != Tn;
+        T = Tn;
+        ee = en;
+        t = tn;
         break;
+      }
     }
+    if (!accepted)
+      break;
+  }
   EdgeMinimum em;
   em.T = T;
   em.t = t;
