@@ -1286,6 +1286,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
   if (r->type == CONTACT_FAILED)
     return;
   const real rho = fmax((real)1e-2 * r->t, (real)10 * m->slack);
+  // Lower by more than rounding: a tie within it keeps the first contact (brt::SecondLook).
+  const real roundoff = REAL_EPS;
   const real a = dot(d, r->foot);
   const real3 wt = r->foot - a * d;
   Result c;
@@ -1298,7 +1300,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
     {
       c = descend(m, s1Face[p], Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale, newtonTol,
         maxIterations, maxEdgeIterations, iterations);
-      if (c.type != CONTACT_FAILED && c.t < r->t)
+      if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
         *r = c;
     }
   }
@@ -1318,7 +1320,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       {
         c = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale, newtonTol,
           maxIterations, maxEdgeIterations, iterations);
-        if (c.type != CONTACT_FAILED && c.t < r->t)
+        if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
           *r = c;
       }
     }
@@ -1343,7 +1345,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         const EdgeMinimum em =
           minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
         c = edge_contact(m, r->face, edge, &em, d, newtonTol);
-        if (c.type != CONTACT_FAILED && c.t < r->t)
+        if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
           *r = c;
       }
     }
@@ -1361,7 +1363,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         continue;
       const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
         newtonTol, maxIterations, iterations);
-      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) && ss.t < r->t)
+      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) && ss.t < r->t * ((real)1 - roundoff))
       {
         c = no_result();
         c.type = CONTACT_SURFACE_SURFACE;

@@ -1267,8 +1267,11 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
   const double delta = Clearance(m, opt);
   const double rho = std::max(1e-2 * r.Radius, 20.0 * m.Tolerance);
   int iterations = r.Iterations;
+  // Lower by more than rounding: a tie within it keeps the first contact (float rounding otherwise
+  // picks an edge contact next to a face contact of the same sphere, e.g. on a torus's seam).
+  const double roundoff = std::numeric_limits<double>::epsilon();
   auto consider = [&](const SampleResult& c) {
-    if (c.Type != ContactType::Failed && c.Radius < r.Radius)
+    if (c.Type != ContactType::Failed && c.Radius < r.Radius * (1.0 - roundoff))
     {
       r = c;
       r.Iterations = iterations;
