@@ -20,6 +20,9 @@ namespace
 /// Reals per sample in the kernel's sample buffer (SAMPLE_REALS in thickness.cl): O as hi + lo
 /// parts, the inward normal, (u, v).
 constexpr size_t SampleReals = 11;
+/// Reals per sample in the kernel's result buffer (OUT_REALS in thickness.cl): t, foot - O (3),
+/// residual, the foot's parameters (u, v on the face, or T, 0 on the edge).
+constexpr size_t OutReals = 7;
 
 std::string Lower(std::string s)
 {
@@ -395,7 +398,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
-  const size_t perSample = (SampleReals + 5) * sizeof(T) + 7 * sizeof(int);
+  const size_t perSample = (SampleReals + OutReals) * sizeof(T) + 7 * sizeof(int);
   if (chunk == 0)
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
   chunk = std::min(chunk, samples.size());
@@ -404,7 +407,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   cl_kernel k = RT->Kernel;
   Samples.Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
   SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
-  OutReal.Allocate(ctx, chunk * 5 * sizeof(T), CL_MEM_WRITE_ONLY);
+  OutReal.Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_WRITE_ONLY);
   OutInt.Allocate(ctx, chunk * 6 * sizeof(int), CL_MEM_WRITE_ONLY);
   const auto& c = data.Centre;
   const T scale = static_cast<T>(data.Scale);
@@ -414,7 +417,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const T clearance = static_cast<T>(options.Clearance < 0.0 ? 2.0 * model.Tolerance : options.Clearance);
   const T s1Spacing = static_cast<T>(data.S1Spacing);
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
-  std::vector<T> in(chunk * SampleReals), outR(chunk * 5);
+  std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
   std::vector<int> outI(chunk * 6), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
@@ -459,7 +462,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
       "clEnqueueNDRangeKernel");
-    Check(clEnqueueReadBuffer(q, OutReal.Mem, CL_FALSE, 0, n * 5 * sizeof(T), outR.data(), 0, nullptr, nullptr),
+    Check(clEnqueueReadBuffer(q, OutReal.Mem, CL_FALSE, 0, n * OutReals * sizeof(T), outR.data(), 0, nullptr, nullptr),
       "clEnqueueReadBuffer");
     Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * 6 * sizeof(int), outI.data(), 0, nullptr, nullptr),
       "clEnqueueReadBuffer");
@@ -473,17 +476,19 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       r.OppositePatch = outI[6 * i + 3];
       r.OppositeEdge = outI[6 * i + 4];
       r.Iterations = outI[6 * i + 5];
-      r.Residual = static_cast<double>(outR[5 * i + 4]);
+      r.Residual = static_cast<double>(outR[OutReals * i + 4]);
       if (r.Type == ContactType::Failed)
         continue;
-      const double t = static_cast<double>(outR[5 * i]);
+      const double t = static_cast<double>(outR[OutReals * i]);
       r.Radius = t;
       r.Thickness = 2.0 * t;
       for (int j = 0; j < 3; ++j)
       {
         r.Center[j] = s.Point[j] + t * s.Direction[j];
-        r.Foot[j] = s.Point[j] + static_cast<double>(outR[5 * i + 1 + j]);
+        r.Foot[j] = s.Point[j] + static_cast<double>(outR[OutReals * i + 1 + j]);
       }
+      r.FootParameter = { static_cast<double>(outR[OutReals * i + 5]),
+        static_cast<double>(outR[OutReals * i + 6]) };
     }
   }
 }

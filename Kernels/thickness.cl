@@ -42,6 +42,9 @@ typedef float3 real3;
 // Per sample: O as hi (3) + lo (3) parts relative to the model's centre, the inward normal d (3),
 // and (u, v) on its face.
 #define SAMPLE_REALS 11
+// Per result: t, foot - O (3), residual, the foot's parameters (u, v on the face; T, 0 on the
+// edge).
+#define OUT_REALS 7
 
 typedef struct
 {
@@ -1216,18 +1219,28 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
   return best;
 }
 
-// Descends on `face` from just inside it next to the point T of one of its edges, by the offset
-// (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t (brt::DescendFromEdge).
-Result descend_from_edge(const Model* m, int face, int edge, real T, real3 Ohi, real3 Olo,
-  real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+// Descends on the face across the edge nearest O (brt::DescendAcrossNearestEdge; ownSeg and
+// ownParam: O's projection on its own trim, from classify): a sample next to a convex edge has a
+// sphere of about its distance from the edge, closer to O than any s1 point. The start is moved
+// into that face by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t.
+Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real ownParam,
+  real3 Ohi, real3 Olo, real3 d, real scale, real newtonTol, int maxIterations,
+  int maxEdgeIterations, int* iterations)
 {
   Result none = no_result();
-  if (face < 0 || m->faceInfo[FACE_INTS * face + 1] == 0)
+  if (ownSeg < 0 || m->trimEdge[ownSeg] < 0)
     return none;
+  const int edge = m->trimEdge[ownSeg];
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  const int nb = f0 == ownFace ? f1 : f0;
+  if (nb < 0 || nb == ownFace || m->faceInfo[FACE_INTS * nb + 1] == 0)
+    return none;
+  const real T = m->trimRange[2 * ownSeg] +
+    ownParam * (m->trimRange[2 * ownSeg + 1] - m->trimRange[2 * ownSeg]);
   real u0, v0, nu, nv;
-  if (!edge_point_into_face(m, face, edge, T, &u0, &v0, &nu, &nv))
+  if (!edge_point_into_face(m, nb, edge, T, &u0, &v0, &nu, &nv))
     return none;
-  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  __global const real* fd = m->faceDomain + FACE_REALS * nb;
   const real diag = length((real2)(fd[1] - fd[0], fd[3] - fd[2]));
   real bestT = REAL_MAX, bu = 0, bv = 0;
   for (real h = (real)1e-6; h < (real)0.2; h *= (real)10)
@@ -1236,10 +1249,10 @@ Result descend_from_edge(const Model* m, int face, int edge, real T, real3 Ohi, 
     const real v = clamp(v0 + h * diag * nv, fd[2], fd[3]);
     int sg;
     real pr, ds;
-    if (!classify(m, face, (real2)(u, v), &sg, &pr, &ds))
+    if (!classify(m, nb, (real2)(u, v), &sg, &pr, &ds))
       continue;
     DescentState st;
-    descent_eval(m, face, Ohi, Olo, d, u, v, &st);
+    descent_eval(m, nb, Ohi, Olo, d, u, v, &st);
     if (st.t < bestT)
     {
       bestT = st.t;
@@ -1249,29 +1262,8 @@ Result descend_from_edge(const Model* m, int face, int edge, real T, real3 Ohi, 
   }
   if (!(bestT < REAL_MAX))
     return none;
-  return descend(m, face, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
+  return descend(m, nb, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
     iterations);
-}
-
-// Descends on the face across the edge nearest O (brt::DescendAcrossNearestEdge): a sample next
-// to a convex edge has a sphere of about its distance from the edge, closer to O than any s1
-// point.
-Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 Ohi, real3 Olo,
-  real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
-{
-  int seg;
-  real param, dist;
-  classify(m, ownFace, uv, &seg, &param, &dist);
-  if (seg < 0 || m->trimEdge[seg] < 0)
-    return no_result();
-  const int edge = m->trimEdge[seg];
-  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
-  const int nb = f0 == ownFace ? f1 : f0;
-  if (nb == ownFace)
-    return no_result();
-  const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
-  return descend_from_edge(m, nb, edge, T, Ohi, Olo, d, scale, newtonTol, maxIterations,
-    maxEdgeIterations, iterations);
 }
 
 // The second look at a verified contact (brt::SecondLook): the other end of an arc; the face
@@ -1280,7 +1272,8 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 uv, real3 
 // edge contact. The smallest sphere wins (each is inside the verified one).
 void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
-  int solid, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol,
+  int solid, int ownFace, int ownSeg, real ownParam, real3 Ohi, real3 Olo, real3 d, real scale,
+  real stepTol,
   real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
   if (r->type == CONTACT_FAILED)
@@ -1305,24 +1298,19 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
     }
   }
   // O within t and one s1 spacing of its face's boundary: the face across the nearest edge.
+  if (ownSeg >= 0 && m->trimEdge[ownSeg] >= 0)
   {
-    int seg;
-    real param, dist;
-    classify(m, ownFace, ownUV, &seg, &param, &dist);
-    if (seg >= 0 && m->trimEdge[seg] >= 0)
+    const real T = m->trimRange[2 * ownSeg] +
+      ownParam * (m->trimRange[2 * ownSeg + 1] - m->trimRange[2 * ownSeg]);
+    real3 C, Ct, Ctt;
+    eval_edge(m, m->trimEdge[ownSeg], T, Ohi, Olo, &C, &Ct, &Ctt);
+    const real reach = fmin(r->t, m->s1Spacing);
+    if (dot(C, C) < reach * reach)
     {
-      const real T =
-        m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
-      real3 C, Ct, Ctt;
-      eval_edge(m, m->trimEdge[seg], T, Ohi, Olo, &C, &Ct, &Ctt);
-      const real reach = fmin(r->t, m->s1Spacing);
-      if (dot(C, C) < reach * reach)
-      {
-        c = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale, newtonTol,
-          maxIterations, maxEdgeIterations, iterations);
-        if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
-          *r = c;
-      }
+      c = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d, scale,
+        newtonTol, maxIterations, maxEdgeIterations, iterations);
+      if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
+        *r = c;
     }
   }
   // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
@@ -1363,7 +1351,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         continue;
       const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
         newtonTol, maxIterations, iterations);
-      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) && ss.t < r->t * ((real)1 - roundoff))
+      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) &&
+        ss.t < r->t * ((real)1 - roundoff))
       {
         c = no_result();
         c.type = CONTACT_SURFACE_SURFACE;
@@ -1391,6 +1380,10 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const int solid = faceInfo[FACE_INTS * ownFace + 7];
+  // O's projection on its own trim: the edge nearest O, for the descent across it.
+  int ownSeg;
+  real ownParam, ownDist;
+  classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
     REAL_MAX, m->delta, 0, (real3)(0), &t);
@@ -1423,8 +1416,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     // the face across the edge nearest O; keep the smaller valid sphere (verified below).
     const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
       s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
-    const Result b = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
-      newtonTol, maxIterations, maxEdgeIterations, iterations);
+    const Result b = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d,
+      scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
     if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
       r = b;
     else if (a.type != CONTACT_FAILED)
@@ -1440,8 +1433,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     if (best < 0)
     {
       // no s1 point inside: maximal at the resolution of s1
-      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, ownUV, Ohi, Olo, d,
-        scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
+      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, ownSeg, ownParam,
+        Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
       break;
     }
     // A point inside proves the true radius is below t(best) < r.t: restart, and the restart
@@ -1459,8 +1452,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
         newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
-        const Result across = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d, scale,
-          newtonTol, maxIterations, maxEdgeIterations, iterations);
+        const Result across = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo,
+          d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
         if (across.type != CONTACT_FAILED)
           again = across;
       }
@@ -1490,7 +1483,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global const int* sampleFace, // the face of each sample
   const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
   const real clearance, const int maxIterations, const int maxEdgeIterations,
-  __global real* outReal, // t, foot - O (3), residual per sample
+  __global real* outReal, // OUT_REALS per sample
   __global int* outInt,   // type, reason, face, patch, edge, iterations per sample
   const real s1Spacing)
 {
@@ -1521,13 +1514,15 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   }
   // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
   const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
-  __global real* oR = outReal + 5 * gid;
+  __global real* oR = outReal + OUT_REALS * gid;
   __global int* oI = outInt + 6 * gid;
   oR[0] = t;
   oR[1] = r.foot.x;
   oR[2] = r.foot.y;
   oR[3] = r.foot.z;
   oR[4] = r.res;
+  oR[5] = r.param.x;
+  oR[6] = r.param.y;
   oI[0] = r.type;
   oI[1] = r.reason;
   oI[2] = r.face;

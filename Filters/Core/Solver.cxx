@@ -1185,18 +1185,25 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
   return best;
 }
 
-/// Descend on `face` from just inside it next to the point T of one of its edges. On the edge
-/// itself t may be undefined (for the edge nearest O, the point lies in O's tangent plane), so the
-/// start is moved into the face, by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the
-/// smallest t.
-SampleResult DescendFromEdge(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, int face, int edge, double T, int& iterations)
+/// Descend on the face across the edge nearest the sample O (`near`: O's projection on its trim,
+/// from ClassifyPoint), from near that edge's point nearest O: a sample next to a convex edge has
+/// a sphere of about its distance from the edge, closer to O than any s1 point. On the edge itself
+/// t is undefined (the point lies in O's tangent plane), so the start is moved into the neighbour
+/// face, by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t.
+SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data,
+  const SolverOptions& opt, const Sample& s, const TrimProjection& near, int& iterations)
 {
-  if (face < 0 || m.Faces[face].PatchCount == 0)
+  if (near.Segment < 0 || m.TrimSegments[near.Segment].Edge < 0)
     return SampleResult();
-  const Face& N = m.Faces[face];
+  const TrimSegment& seg = m.TrimSegments[near.Segment];
+  const int edge = seg.Edge;
+  const Edge& E = m.Edges[edge];
+  const int nb = E.Faces[0] == s.Face ? E.Faces[1] : E.Faces[0];
+  if (nb < 0 || nb == s.Face || m.Faces[nb].PatchCount == 0)
+    return SampleResult();
+  const Face& N = m.Faces[nb];
   double u0 = 0.0, v0 = 0.0, nu = 0.0, nv = 0.0;
-  if (!EdgePointIntoFace(m, face, edge, T, u0, v0, nu, nv))
+  if (!EdgePointIntoFace(m, nb, edge, seg.T0 + near.Parameter * (seg.T1 - seg.T0), u0, v0, nu, nv))
     return SampleResult();
   const double diag = std::hypot(N.Domain[1] - N.Domain[0], N.Domain[3] - N.Domain[2]);
   double bestT = std::numeric_limits<double>::infinity(), bu = 0.0, bv = 0.0;
@@ -1204,10 +1211,10 @@ SampleResult DescendFromEdge(const BRepModel& m, const SolverData& data, const S
   {
     const double u = std::clamp(u0 + h * diag * nu, N.Domain[0], N.Domain[1]);
     const double v = std::clamp(v0 + h * diag * nv, N.Domain[2], N.Domain[3]);
-    if (!ClassifyPoint(m, face, u, v).Inside)
+    if (!ClassifyPoint(m, nb, u, v).Inside)
       continue;
     const double t = SphereRadius(s.Point, s.Direction,
-      EvaluatePatch(m.Patches[FindPatchFast(m, data, face, u, v)], u, v).P, Clearance(m, opt));
+      EvaluatePatch(m.Patches[FindPatchFast(m, data, nb, u, v)], u, v).P, Clearance(m, opt));
     if (t < bestT)
     {
       bestT = t;
@@ -1217,25 +1224,7 @@ SampleResult DescendFromEdge(const BRepModel& m, const SolverData& data, const S
   }
   if (!std::isfinite(bestT))
     return SampleResult();
-  return Descend(m, data, opt, s, face, bu, bv, iterations);
-}
-
-/// Descend on the face across the edge nearest the sample O, from near that edge's point nearest
-/// O: a sample next to a convex edge has a sphere of about its distance from the edge, closer to
-/// O than any s1 point.
-SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data,
-  const SolverOptions& opt, const Sample& s, int& iterations)
-{
-  const TrimProjection near = ClassifyPoint(m, s.Face, s.U, s.V);
-  if (near.Segment < 0 || m.TrimSegments[near.Segment].Edge < 0)
-    return SampleResult();
-  const TrimSegment& seg = m.TrimSegments[near.Segment];
-  const Edge& E = m.Edges[seg.Edge];
-  const int nb = E.Faces[0] == s.Face ? E.Faces[1] : E.Faces[0];
-  if (nb == s.Face)
-    return SampleResult();
-  return DescendFromEdge(m, data, opt, s, nb, seg.Edge,
-    seg.T0 + near.Parameter * (seg.T1 - seg.T0), iterations);
+  return Descend(m, data, opt, s, nb, bu, bv, iterations);
 }
 
 /// The second look at a verified contact r (t_delta in r.Radius): other local minima of t_delta
@@ -1258,7 +1247,7 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
 /// Every candidate is a sphere tangent at O smaller than the verified one, hence inside it: no
 /// new verification is needed. The smallest wins.
 void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, SampleResult& r)
+  const Sample& s, const TrimProjection& own, SampleResult& r)
 {
   if (r.Type == ContactType::Failed)
     return;
@@ -1290,17 +1279,14 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
   // O within t of its face's boundary, and within one s1 spacing (farther, s1 covers the wall
   // across): the face across the nearest edge may come closer than any s1 point (a sample next
   // to a corner, between two walls).
+  if (own.Segment >= 0 && m.TrimSegments[own.Segment].Edge >= 0)
   {
-    const TrimProjection own = ClassifyPoint(m, s.Face, s.U, s.V);
-    if (own.Segment >= 0 && m.TrimSegments[own.Segment].Edge >= 0)
-    {
-      const TrimSegment& seg = m.TrimSegments[own.Segment];
-      const Vec3 toEdge =
-        Sub(EvaluateEdge(m, seg.Edge, seg.T0 + own.Parameter * (seg.T1 - seg.T0)).C, O);
-      const double reach = std::min(r.Radius, data.S1Spacing);
-      if (Dot(toEdge, toEdge) < reach * reach)
-        consider(DescendAcrossNearestEdge(m, data, opt, s, iterations));
-    }
+    const TrimSegment& seg = m.TrimSegments[own.Segment];
+    const Vec3 toEdge =
+      Sub(EvaluateEdge(m, seg.Edge, seg.T0 + own.Parameter * (seg.T1 - seg.T0)).C, O);
+    const double reach = std::min(r.Radius, data.S1Spacing);
+    if (Dot(toEdge, toEdge) < reach * reach)
+      consider(DescendAcrossNearestEdge(m, data, opt, s, own, iterations));
   }
   // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
   // both sides, from the edge point.
@@ -1350,6 +1336,8 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
 {
   r = SampleResult();
   const double delta = Clearance(m, opt);
+  // O's projection on its own trim: the edge nearest O, for the descent across it.
+  const TrimProjection own = ClassifyPoint(m, s.Face, s.U, s.V);
   double t = 0.0;
   int p = Initialise(m, data, s, delta, t);
   if (p < 0)
@@ -1382,7 +1370,7 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
     int iterations = r.Iterations;
     const SampleResult a =
       Descend(m, data, opt, s, data.S1[first].Face, data.S1[first].U, data.S1[first].V, iterations);
-    const SampleResult b = DescendAcrossNearestEdge(m, data, opt, s, iterations);
+    const SampleResult b = DescendAcrossNearestEdge(m, data, opt, s, own, iterations);
     if (b.Type != ContactType::Failed &&
       (a.Type == ContactType::Failed || b.Radius < a.Radius))
       r = b;
@@ -1400,7 +1388,7 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
     p = Initialise(m, data, s, depth, t, r.Radius * (1.0 - 1e-6));
     if (p < 0)
     {
-      SecondLook(m, data, opt, s, r); // no s1 point inside: maximal at the resolution of s1
+      SecondLook(m, data, opt, s, own, r); // no s1 point inside: maximal at the resolution of s1
       return;
     }
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
@@ -1417,7 +1405,7 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
       {
         // A sample next to a convex edge has a small sphere touching the face across that
         // edge, closer to O than any s1 point: descend there from the edge point nearest O.
-        const SampleResult across = DescendAcrossNearestEdge(m, data, opt, s, iterations);
+        const SampleResult across = DescendAcrossNearestEdge(m, data, opt, s, own, iterations);
         if (across.Type != ContactType::Failed)
           again = across;
       }

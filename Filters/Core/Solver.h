@@ -55,7 +55,9 @@ struct SampleResult
   int OppositePatch = -1; ///< surface/surface contacts
   int OppositeEdge = -1;  ///< surface/edge and surface/vertex contacts
   /// Where the foot point lies: (u, v) on OppositeFace for surface/surface contacts, (T, 0) on
-  /// OppositeEdge for surface/edge and surface/vertex contacts.
+  /// OppositeEdge for surface/edge and surface/vertex contacts. (An edge contact typed
+  /// surface/surface at a tangent edge gets the trimming curve's point at T, a few 1e-3 mm along
+  /// the edge from Foot at most.)
   std::array<double, 2> FootParameter{};
   ContactType Type = ContactType::Failed;
   FailReason Reason = FailReason::None;
