@@ -268,6 +268,24 @@ inline real2 seg_tangent(__global const real* c, real t)
   return (real2)(c[6] - c[0], c[7] - c[1]);
 }
 
+// Squared distance from P to the box of a segment's control points: a lower bound on the
+// squared distance to the curve (convex hull property).
+inline real box_distance2(__global const real* c, real2 P)
+{
+  real u0 = c[0], u1 = c[0], v0 = c[1], v1 = c[1];
+  for (int i = 1; i < 4; ++i)
+  {
+    const real u = c[2 * i], v = c[2 * i + 1];
+    u0 = u < u0 ? u : u0;
+    u1 = u > u1 ? u : u1;
+    v0 = v < v0 ? v : v0;
+    v1 = v > v1 ? v : v1;
+  }
+  const real du = P.x < u0 ? u0 - P.x : (P.x > u1 ? P.x - u1 : (real)0);
+  const real dv = P.y < v0 ? v0 - P.y : (P.y > v1 ? P.y - v1 : (real)0);
+  return du * du + dv * dv;
+}
+
 inline real cross2(real2 a, real2 b)
 {
   return a.x * b.y - a.y * b.x;
@@ -280,25 +298,46 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   real bestD = REAL_MAX;
   int bestSeg = -1, bestLoop = -1;
   real bestT = 0;
+  // Nearest segment, ties to the lowest index; a segment whose control box is farther than the
+  // best distance so far is not projected: first the nearest box, then the others in order.
+  int firstSeg = -1, firstLoop = -1;
+  real firstBound = REAL_MAX;
   for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
   {
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
     {
-      __global const real* c = m->trim + 8 * s;
-      if (!(seg_length(c) > (real)0))
-        continue;
-      real dd;
-      const real t = project_segment(c, P, &dd);
-      if (dd < bestD)
+      const real b = box_distance2(m->trim + 8 * s, P);
+      if (b < firstBound)
       {
-        bestD = dd;
-        bestSeg = s;
-        bestT = t;
-        bestLoop = l;
+        firstBound = b;
+        firstSeg = s;
+        firstLoop = l;
       }
     }
   }
+  for (int pass = 0; pass < 2 && firstSeg >= 0; ++pass)
+    for (int l = pass ? fi[4] : firstLoop; l < (pass ? fi[4] + fi[5] : firstLoop + 1); ++l)
+    {
+      const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+      for (int s = pass ? first : firstSeg; s < (pass ? first + count : firstSeg + 1); ++s)
+      {
+        __global const real* c = m->trim + 8 * s;
+        const real bound = bestD * (real)(1 + 1e-6);
+        if ((pass && s == firstSeg) || box_distance2(c, P) > bound * bound ||
+          !(seg_length(c) > (real)0))
+          continue;
+        real dd;
+        const real t = project_segment(c, P, &dd);
+        if (dd < bestD || (dd == bestD && s < bestSeg))
+        {
+          bestD = dd;
+          bestSeg = s;
+          bestT = t;
+          bestLoop = l;
+        }
+      }
+    }
   *segOut = bestSeg;
   *paramOut = bestT;
   *distOut = bestD;

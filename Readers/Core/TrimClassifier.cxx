@@ -57,6 +57,15 @@ std::array<double, 2> Tangent(const std::array<double, 8>& cp, double t)
   }
   return { cp[6] - cp[0], cp[7] - cp[1] };
 }
+/// Squared distance from (u, v) to the bounding box of the control points (0 inside it): a
+/// lower bound on the squared distance to the curve (convex hull property).
+double BoxDistance2(const std::array<double, 8>& cp, double u, double v)
+{
+  const double u0 = std::min({ cp[0], cp[2], cp[4], cp[6] }), u1 = std::max({ cp[0], cp[2], cp[4], cp[6] });
+  const double v0 = std::min({ cp[1], cp[3], cp[5], cp[7] }), v1 = std::max({ cp[1], cp[3], cp[5], cp[7] });
+  const double du = std::max({ u0 - u, 0.0, u - u1 }), dv = std::max({ v0 - v, 0.0, v - v1 });
+  return du * du + dv * dv;
+}
 } // namespace
 
 double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, double* distance)
@@ -109,7 +118,8 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
   for (double cand : { t, 0.0, 1.0 })
   {
     const auto e = EvaluateCubic<2>(cp.data(), cand);
-    const double d = std::hypot(e.P[0] - u, e.P[1] - v);
+    const double du = e.P[0] - u, dv = e.P[1] - v;
+    const double d = std::sqrt(du * du + dv * dv);
     if (d < best)
     {
       best = d;
@@ -129,25 +139,51 @@ TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double 
   res.Distance = std::numeric_limits<double>::max();
   const Face& f = model.Faces[face];
   int bestLoop = -1;
+  // The nearest segment, ties to the lowest index. A cubic lies in the box of its control
+  // points, so a segment whose box is farther than the best distance so far cannot be nearer
+  // and is not projected: first the segment with the nearest box, then the others in order.
+  auto consider = [&](int l, int s) {
+    const auto& cp = model.TrimSegments[s].ControlPoints;
+    if (Length2(cp) <= 0.0)
+      return;
+    double d = 0.0;
+    const double t = ProjectOnSegment(cp, u, v, &d);
+    if (d < res.Distance || (d == res.Distance && s < res.Segment))
+    {
+      res.Distance = d;
+      res.Segment = s;
+      res.Parameter = t;
+      bestLoop = l;
+    }
+  };
+  int firstLoop = -1, firstSeg = -1;
+  double firstBound = std::numeric_limits<double>::max();
   for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
   {
     const TrimLoop& loop = model.Loops[l];
     for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
     {
-      const auto& cp = model.TrimSegments[s].ControlPoints;
-      if (Length2(cp) <= 0.0)
+      const double b = BoxDistance2(model.TrimSegments[s].ControlPoints, u, v);
+      if (b < firstBound)
       {
-        continue;
+        firstBound = b;
+        firstLoop = l;
+        firstSeg = s;
       }
-      double d = 0.0;
-      const double t = ProjectOnSegment(cp, u, v, &d);
-      if (d < res.Distance)
-      {
-        res.Distance = d;
-        res.Segment = s;
-        res.Parameter = t;
-        bestLoop = l;
-      }
+    }
+  }
+  if (firstSeg >= 0)
+    consider(firstLoop, firstSeg);
+  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      // The margin keeps rounding in the projection from dropping a segment that ties.
+      const double bound = res.Distance * (1.0 + 1e-9);
+      if (s != firstSeg &&
+        !(BoxDistance2(model.TrimSegments[s].ControlPoints, u, v) > bound * bound))
+        consider(l, s);
     }
   }
   if (res.Segment < 0)

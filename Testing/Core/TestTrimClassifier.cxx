@@ -1,9 +1,14 @@
 // The trim test (eq. 6 and the corner rule) on hand-made loops whose inside is known exactly.
 #include "TrimClassifier.h"
 
+#include "BRepConverter.h"
+#include "TestHelpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <random>
 
 namespace
 {
@@ -105,3 +110,52 @@ TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
   }
 }
 } // namespace
+
+// ClassifyPoint skips segments whose control box is farther than the best distance so far; the
+// nearest segment (ties to the lowest index) must be the one a projection on every segment
+// finds. Random points over every face's domain of a real part, inside and outside its trims.
+TEST(TrimClassifier, BoxCullingFindsTheNearestSegment)
+{
+  const BRepModel m =
+    ConvertStepFile(test::DataFile("ExpansionCard_SelfTapping.stp"), ConversionOptions());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-0.1, 1.1);
+  size_t points = 0, mismatches = 0;
+  for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
+  {
+    const Face& F = m.Faces[f];
+    for (int k = 0; k < 40 && F.LoopCount > 0; ++k)
+    {
+      const double u = F.Domain[0] + unit(rng) * (F.Domain[1] - F.Domain[0]);
+      const double v = F.Domain[2] + unit(rng) * (F.Domain[3] - F.Domain[2]);
+      double best = std::numeric_limits<double>::max();
+      int bestSeg = -1;
+      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+        for (int s = m.Loops[l].FirstSegment;
+             s < m.Loops[l].FirstSegment + m.Loops[l].SegmentCount; ++s)
+        {
+          const auto& cp = m.TrimSegments[s].ControlPoints;
+          if (cp[0] == cp[6] && cp[1] == cp[7] && cp[0] == cp[2] && cp[1] == cp[3] &&
+            cp[0] == cp[4] && cp[1] == cp[5])
+            continue; // zero length: ClassifyPoint skips it too
+          double d = 0.0;
+          ProjectOnSegment(cp, u, v, &d);
+          if (d < best)
+          {
+            best = d;
+            bestSeg = s;
+          }
+        }
+      const TrimProjection p = ClassifyPoint(m, f, u, v);
+      ++points;
+      if (p.Segment != bestSeg || p.Distance != best)
+      {
+        ++mismatches;
+        ADD_FAILURE() << "face " << f << " (" << u << ", " << v << "): segment " << p.Segment
+                      << " at " << p.Distance << ", brute force " << bestSeg << " at " << best;
+      }
+    }
+  }
+  EXPECT_GT(points, 1000u);
+  EXPECT_EQ(mismatches, 0u);
+}
