@@ -133,7 +133,7 @@ int vtkThicknessFilter::RequestData(
   std::ostringstream keyStream;
   keyStream.precision(17);
   keyStream << input << ' ' << input->GetMTime() << ' ' << this->S1Spacing << ' '
-            << this->NewtonTolerance << ' ' << this->MaxIterations << ' '
+            << this->Clearance << ' ' << this->NewtonTolerance << ' ' << this->MaxIterations << ' '
             << (this->Device ? this->Device : "") << ' ' << this->Precision;
   if (empty)
   {
@@ -391,6 +391,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   I.SourceFile = model.SourceFile;
   brt::SolverOptions options;
   options.S1Spacing = this->S1Spacing;
+  options.Clearance = this->Clearance;
   options.NewtonTolerance = this->NewtonTolerance;
   options.MaxIterations = this->MaxIterations;
   options.MaxEdgeIterations = this->MaxIterations;
@@ -475,6 +476,7 @@ void vtkThicknessFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "S1Spacing: " << this->S1Spacing << "\n";
+  os << indent << "Clearance: " << this->Clearance << "\n";
   os << indent << "NewtonTolerance: " << this->NewtonTolerance << "\n";
   os << indent << "MaxIterations: " << this->MaxIterations << "\n";
   os << indent << "Device: " << (this->Device ? this->Device : "(none)") << "\n";

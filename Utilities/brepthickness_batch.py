@@ -39,6 +39,9 @@ def parse_args(argv=None):
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
     ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/300)")
+    ap.add_argument("--clearance", type=float, default=-1.0,
+                    help="boundary points less deep than this in a sphere do not limit it "
+                         "(mm; negative: twice --tolerance; 0: the paper's eq. 1)")
     ap.add_argument("--bins", type=int, default=20, help="bins of the thickness histogram")
     ap.add_argument("--size", type=int, nargs=2, default=(1200, 900), metavar=("W", "H"))
     return ap.parse_args(argv)
@@ -134,7 +137,7 @@ def main(argv=None):
     thick = BRepThickness(Input=reader, Device=args.device,
                           Precision="Double" if args.precision == "double" else "Float",
                           MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
-                          S1Spacing=args.s1_spacing, HistogramBins=args.bins)
+                          S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins)
     collect_errors(thick, errors)
     thick.UpdatePipeline()
     if errors:
