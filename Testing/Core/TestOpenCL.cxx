@@ -43,14 +43,36 @@ std::unique_ptr<OpenCLSolver> Device(bool useDouble, std::string* why)
   }
 }
 
-/// Compares kernel and reference results; prints and returns the disagreements. Agreement: the
-/// same contact type and |2t_kernel - 2t_ref| <= rel * max(2t_ref, 1e-3 * scale). The floor
-/// matters only for walls thinner than 1e-3 of the model size, which float resolves to about
-/// 1e-7 of the model size in absolute terms, so a purely relative test would be noise there.
-size_t Compare(const std::string& name, const std::vector<SampleResult>& ref,
-  const std::vector<SampleResult>& cl, double rel, double scale, std::vector<std::string>* listed)
+/// How far `foot` is from the surface of the sphere of `r` (positive: inside).
+double DepthIn(const SampleResult& r, const std::array<double, 3>& foot)
 {
-  size_t bad = 0;
+  const double dx = foot[0] - r.Center[0], dy = foot[1] - r.Center[1], dz = foot[2] - r.Center[2];
+  return r.Radius - std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/// Disagreements between kernel and reference results.
+struct Disagreements
+{
+  size_t Count = 0;      ///< not the same contact type within `rel` (the issue's criterion)
+  size_t Different = 0;  ///< of those, not the same sphere up to the solver's accuracy
+};
+
+/// Compares kernel and reference results; lists the disagreements. Agreement: the same contact
+/// type and |2t_kernel - 2t_ref| <= rel * max(2t_ref, 1e-3 * scale). The floor matters only for
+/// walls thinner than 1e-3 of the model size, which float resolves to about 1e-7 of the model
+/// size in absolute terms, so a purely relative test would be noise there.
+/// A disagreement is an equivalent sphere when both are solved and each one's foot lies within
+/// `accuracy` of the other's sphere: both spheres touch both feet as closely as the solver can
+/// tell (it ignores what lies less than the clearance inside a sphere, on patches within the
+/// conversion tolerance of the faces). Such pairs are ties between two contacts of one sphere
+/// (a vertex and the face next to it, the two far ends of the arc a sphere touches in a round)
+/// whose radii differ by less than the patches' error amplified by the contact's flatness, so
+/// rounding decides which one a path reports; the others are listed as different.
+Disagreements Compare(const std::string& name, const std::vector<SampleResult>& ref,
+  const std::vector<SampleResult>& cl, double rel, double scale, double accuracy,
+  std::vector<std::string>* listed)
+{
+  Disagreements out;
   for (size_t i = 0; i < ref.size(); ++i)
   {
     const bool sameType = ref[i].Type == cl[i].Type;
@@ -59,19 +81,26 @@ size_t Compare(const std::string& name, const std::vector<SampleResult>& ref,
       std::max(ref[i].Thickness, 1e-3 * scale);
     if (bothFailed || (sameType && err <= rel))
       continue;
-    ++bad;
-    char line[512];
+    ++out.Count;
+    const bool solved = ref[i].Type != ContactType::Failed && cl[i].Type != ContactType::Failed;
+    const double inRef = solved ? DepthIn(ref[i], cl[i].Foot) : 0.0;
+    const double inCl = solved ? DepthIn(cl[i], ref[i].Foot) : 0.0;
+    const bool equivalent =
+      solved && std::fabs(inRef) <= accuracy && std::fabs(inCl) <= accuracy;
+    out.Different += !equivalent;
+    char line[640];
     std::snprintf(line, sizeof line,
       "%s sample %zu: reference %s 2t=%.9g (face %d, residual %.1e, %s) | kernel %s 2t=%.9g "
-      "(face %d, residual %.1e, %d it, %s)",
+      "(face %d, residual %.1e, %d it, %s) | %s (kernel foot %.1e inside the reference "
+      "sphere, reference foot %.1e inside the kernel's)",
       name.c_str(), i, ContactTypeName(ref[i].Type), ref[i].Thickness, ref[i].OppositeFace,
       ref[i].Residual, FailReasonName(ref[i].Reason), ContactTypeName(cl[i].Type),
       cl[i].Thickness, cl[i].OppositeFace, cl[i].Residual, cl[i].Iterations,
-      FailReasonName(cl[i].Reason));
+      FailReasonName(cl[i].Reason), equivalent ? "equivalent" : "DIFFERENT", inRef, inCl);
     if (listed)
       listed->push_back(line);
   }
-  return bad;
+  return out;
 }
 
 /// Surface/surface contacts whose foot is not where their FootParameter says on their patch
@@ -118,16 +147,20 @@ TEST_P(KernelVsReference, EveryDataModel)
     cl->Upload(m, data);
     cl->Solve(m, data, options, samples, got, 4096); // several chunks on every model
     std::vector<std::string> listed;
-    const size_t bad = Compare(name, ref, got, 1e-4, data.Scale, &listed);
+    // The solver's accuracy: the clearance (2x the tolerance by default) plus the patches' error.
+    const double accuracy = 3.0 * m.Tolerance;
+    const Disagreements dis = Compare(name, ref, got, 1e-4, data.Scale, accuracy, &listed);
+    const size_t bad = dis.Count;
     EXPECT_EQ(FootParameterMismatches(m, data, ref, 1e-3 * data.Scale), 0u) << name;
     EXPECT_EQ(FootParameterMismatches(m, data, got, 1e-3 * data.Scale), 0u) << name;
     size_t clFailed = 0;
     for (const auto& r : got)
       clFailed += r.Type == ContactType::Failed;
-    std::printf("[kernel vs reference] %s (%s): %zu samples, %zu disagree (%.3f%%), kernel "
-                "failed %.3f%%\n",
+    std::printf("[kernel vs reference] %s (%s): %zu samples, %zu disagree (%.3f%%), of which "
+                "%zu are different spheres (%.3f%%); kernel failed %.3f%%\n",
       name.c_str(), useDouble ? "double" : "float", samples.size(), bad,
-      100.0 * bad / samples.size(), 100.0 * clFailed / samples.size());
+      100.0 * bad / samples.size(), dis.Different, 100.0 * dis.Different / samples.size(),
+      100.0 * clFailed / samples.size());
     for (const auto& l : listed)
       std::printf("[disagreement] %s\n", l.c_str());
     // The target is 99.9% agreement. Measured on PoCL (docs/Solver.md): 100% on every analytic
@@ -135,6 +168,9 @@ TEST_P(KernelVsReference, EveryDataModel)
     // the one below target) and 99.71-99.82% in float. The bounds sit just above those figures
     // so that a regression fails; the gap to 99.9% is an open item, not hidden.
     EXPECT_LE(bad, samples.size() * (useDouble ? 20 : 45) / 10000) << name;
+    // Up to ties between contacts of one sphere (Compare), the 99.9% holds: measured 0-0.013%
+    // different spheres in double and 0.016-0.047% in float on the real parts.
+    EXPECT_LE(dis.Different, samples.size() * 10 / 10000) << name;
     // Failed samples (flagged, never reported as thicknesses): measured at most 0.25% of the
     // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
     // host finish; 0.43% before the clearance, 1.3% before the descent across edges, 5.7% before
@@ -154,11 +190,13 @@ TEST_P(KernelVsReference, EveryDataModel)
     size_t handedBack = 0;
     for (const auto& r : alone)
       handedBack += r.Type == ContactType::Failed;
-    const size_t badAlone = Compare(name, ref, alone, 1e-4, data.Scale, nullptr);
-    std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu left failed "
-                "by the kernels (%.3f%%)\n",
+    const Disagreements disAlone = Compare(name, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
+    const size_t badAlone = disAlone.Count;
+    std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu different spheres "
+                "(%.3f%%), %zu left failed by the kernels (%.3f%%)\n",
       name.c_str(), useDouble ? "double" : "float", badAlone, 100.0 * badAlone / samples.size(),
-      handedBack, 100.0 * handedBack / samples.size());
+      disAlone.Different, 100.0 * disAlone.Different / samples.size(), handedBack,
+      100.0 * handedBack / samples.size());
     EXPECT_LE(badAlone, samples.size() * (useDouble ? 20 : 45) / 10000) << name;
     if (!useDouble)
       test::PrintResidualSummary(name + " (reference)", ref);
