@@ -78,6 +78,14 @@ typedef struct
 // solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
 // sphere whose radius the patches' accuracy does not fix: no contact
 // (brt::ShallowOwnFaceContact). P is relative to O.
+// The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
+// or, on a face other than the sample's, at most the clearance plus the patches' error outside
+// it (brt::FromInside, brt::OutsideSlack).
+inline int from_inside(const Model* m, int sampleFace, int face, real side)
+{
+  return !(side > (face == sampleFace ? (real)0 : m->delta + (real)0.5 * m->slack));
+}
+
 inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
   real t)
 {
@@ -471,7 +479,7 @@ typedef struct
 {
   real u, v, t, res, param, trimDist;
   int patch, singular, clamped, capped, inside, seg;
-  int inward; // the sphere is on the material side of the face at the foot point
+  real side; // (M - P).n_out at the foot point: <= 0 on the material side (from_inside)
   real3 foot; // S - O
 } SurfaceSolve;
 
@@ -565,8 +573,9 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
   out.clamped = clamped;
   out.capped = capped;
   out.inside = classify(m, face, (real2)(u, v), &out.seg, &out.param, &out.trimDist);
-  const real side = -dot(w, cross(e.Du, e.Dv)) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
-  out.inward = !(side > (real)0);
+  const real3 n = cross(e.Du, e.Dv);
+  const real side = -dot(w, n) / length(n) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
+  out.side = side;
   return out;
 }
 
@@ -754,7 +763,7 @@ int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceS
   real scale, real newtonTol)
 {
   return !sn->singular && sn->t > (real)0 && sn->t < scale && ss_converged(sn, newtonTol) &&
-    sn->inward && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
+    from_inside(m, sampleFace, face, sn->side) && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
     ss_on_face(sn, m->faceDomain + FACE_REALS * face, newtonTol);
 }
 
@@ -800,7 +809,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         reason = FAIL_NOT_CONVERGED;
         goto out;
       }
-      if (!ss.inward || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
+      if (!from_inside(m, sampleFace, face, ss.side) || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
       {
         reason = FAIL_LEFT_MODEL;
         goto out;
@@ -1166,8 +1175,8 @@ Result edge_contact(const Model* m, int face, int edge, const EdgeMinimum* em, r
 // The descent fallback (brt::Descend): minimises t over the trimmed face from (u, v); where the
 // minimum lies on the face's boundary, along the nearest edge, and from the edge's minimum into
 // the face across it where t falls that way, up to 4 faces. Mirrors the reference step for step.
-Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, real v,
-  real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
+Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, real3 d, real u,
+  real v, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
   Result best = no_result();
   for (int hop = 0; hop < 4; ++hop)
@@ -1185,7 +1194,8 @@ Result descend(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u, 
       const real R[3] = { dot(cur.e.Du, w), dot(cur.e.Dv, w), cur.t - m->delta - length(w) };
       const real reversed = m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1;
       fr.res = residual3(&cur.e, R);
-      if (-dot(w, cross(cur.e.Du, cur.e.Dv)) * reversed > (real)0)
+      const real3 n = cross(cur.e.Du, cur.e.Dv);
+      if (!from_inside(m, sampleFace, face, -dot(w, n) / length(n) * reversed))
         fr.reason = FAIL_LEFT_MODEL; // touches the face from outside
       else if (!(fr.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
         fr.reason = FAIL_NOT_CONVERGED;
@@ -1301,8 +1311,8 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
   }
   if (!(bestT < REAL_MAX))
     return none;
-  return descend(m, nb, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations, maxEdgeIterations,
-    iterations);
+  return descend(m, ownFace, nb, Ohi, Olo, d, bu, bv, scale, newtonTol, maxIterations,
+    maxEdgeIterations, iterations);
 }
 
 // The second look at a verified contact (brt::SecondLook): the other end of an arc; the face
@@ -1330,8 +1340,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       -1, scale, (real)1.2 * r->t, m->delta, 1, wt, &t);
     if (p >= 0)
     {
-      c = descend(m, s1Face[p], Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale, newtonTol,
-        maxIterations, maxEdgeIterations, iterations);
+      c = descend(m, ownFace, s1Face[p], Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale,
+        newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
         *r = c;
     }
@@ -1453,7 +1463,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // Newton found no sphere from the best starts: descend on t from the best start, and on
     // the face across the edge nearest O; keep the smaller valid sphere (verified below).
-    const Result a = descend(m, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
+    const Result a = descend(m, ownFace, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
       s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
     const Result b = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d,
       scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
@@ -1487,8 +1497,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     {
       // Newton went back to the same sphere or failed: descend on t from the point inside,
       // else on the face across the edge nearest O.
-      again = descend(m, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1], scale,
-        newtonTol, maxIterations, maxEdgeIterations, iterations);
+      again = descend(m, ownFace, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1],
+        scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
         const Result across = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo,

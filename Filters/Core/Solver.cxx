@@ -76,6 +76,19 @@ inline double Clearance(const BRepModel& m, const SolverOptions& opt)
   return opt.Clearance < 0.0 ? 2.0 * m.Tolerance : opt.Clearance;
 }
 
+/// How far the centre of a sphere may lie outside a face it touches (along the face's outward
+/// normal at the foot), other than the sample's own, and still count as touching it from inside
+/// (FromInside): the clearance plus the patches' error. A sample on a convex edge (a mesh vertex
+/// on it) lies within the conversion tolerance of the face across, possibly on its outer side;
+/// its sphere is about the clearance (at the edge the thickness goes to 0), and it touches the
+/// face across from "outside" by up to that much (the FRAMEWORK tile's failed samples: all within
+/// 1e-3 mm of an edge). A sphere touching a face really from outside has its centre t - delta
+/// beyond it: only spheres below twice the clearance plus the tolerance are affected.
+inline double OutsideSlack(const BRepModel& m, const SolverOptions& opt)
+{
+  return Clearance(m, opt) + m.Tolerance;
+}
+
 /// t_delta(P) = (|P-O|^2 - delta^2) / (2 (d.(P-O) - delta)), the radius at which the sphere
 /// tangent at O holds the boundary point P delta deep (see Clearance; delta = 0: eq. 1),
 /// infinite when P is not more than delta in front of O.
@@ -456,10 +469,10 @@ struct SurfaceSolve
   {
     return (Trim.Inside || Trim.Distance <= F.UVTolerance) && (!Clamped || Converged(opt));
   }
-  /// The sphere lies on the material side of the face at the foot point: M - P points against
-  /// the face's outward normal. A stationary sphere touching the face from outside is no
-  /// inscribed sphere (Newton can converge to one).
-  bool Inward = true;
+  /// (M - P).n_out at the foot point (unit outward normal): <= 0 where the sphere lies on the
+  /// material side of the face. A stationary sphere touching the face from outside is no
+  /// inscribed sphere (Newton can converge to one); see FromInside.
+  double Side = 0.0;
 };
 
 /// Eq. 4 on the sample's own face has a trivial solution: P = O solves it for every t, and
@@ -481,6 +494,16 @@ bool ShallowOwnFaceContact(
   const Vec3 w = Sub(P, s.Point);
   const double slack = 2.0 * m.Tolerance;
   return Dot(w, w) <= slack * slack || Dot(w, s.Direction) < 0.5 * t;
+}
+
+/// The sphere touches `face` from inside: its centre lies on the material side of the face at
+/// the foot, side = (M - P).n_out <= 0, or, on a face other than the sample's, at most
+/// OutsideSlack outside it. On the sample's own face a contact from outside is the trivial
+/// solution next to O: no slack there.
+bool FromInside(
+  const BRepModel& m, const SolverOptions& opt, const Sample& s, int face, double side)
+{
+  return !(side > (face == s.Face ? 0.0 : OutsideSlack(m, opt)));
 }
 
 /// Surface/surface Newton (eq. 4) on `face` from (u, v, t), with trust region and backtracking.
@@ -570,8 +593,9 @@ SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const Sol
   out.Trim = ClassifyPoint(m, face, u, v);
   const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
     e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] }; // outward up to the face's orientation
-  const double side = -Dot(w, n) * (F.Reversed ? -1.0 : 1.0); // (M - P) . n_out
-  out.Inward = !(side > 0.0);
+  const double ln = std::sqrt(Dot(n, n));
+  const double side = -Dot(w, n) / ln * (F.Reversed ? -1.0 : 1.0); // (M - P) . n_out
+  out.Side = side;
   return out;
 }
 
@@ -676,7 +700,8 @@ SampleResult SurfaceContact(const Sample& s, int face, const SurfaceSolve& ss)
 bool ValidSurfaceSolve(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, int face, const SurfaceSolve& ss)
 {
-  return !ss.Singular && ss.T > 0.0 && ss.T < data.Scale && ss.Converged(opt) && ss.Inward &&
+  return !ss.Singular && ss.T > 0.0 && ss.T < data.Scale && ss.Converged(opt) &&
+    FromInside(m, opt, s, face, ss.Side) &&
     !ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) && ss.OnFace(m.Faces[face], opt);
 }
 
@@ -725,7 +750,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       r.Reason = FailReason::NotConverged;
       return;
     }
-    if (!ss.Inward || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T))
+    if (!FromInside(m, opt, s, face, ss.Side) || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T))
     {
       r.Reason = FailReason::LeftModel;
       return;
@@ -1108,7 +1133,8 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       const Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
         e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
       r.Residual = Residual3(e, R);
-      if (-Dot(w, n) * (m.Faces[face].Reversed ? -1.0 : 1.0) > 0.0)
+      if (!FromInside(m, opt, s, face,
+            -Dot(w, n) / std::sqrt(Dot(n, n)) * (m.Faces[face].Reversed ? -1.0 : 1.0)))
         r.Reason = FailReason::LeftModel; // touches the face from outside
       else if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
         r.Reason = FailReason::NotConverged;

@@ -61,8 +61,10 @@ std::array<double, 2> Tangent(const std::array<double, 8>& cp, double t)
 /// lower bound on the squared distance to the curve (convex hull property).
 double BoxDistance2(const std::array<double, 8>& cp, double u, double v)
 {
-  const double u0 = std::min({ cp[0], cp[2], cp[4], cp[6] }), u1 = std::max({ cp[0], cp[2], cp[4], cp[6] });
-  const double v0 = std::min({ cp[1], cp[3], cp[5], cp[7] }), v1 = std::max({ cp[1], cp[3], cp[5], cp[7] });
+  const double u0 = std::min({ cp[0], cp[2], cp[4], cp[6] });
+  const double u1 = std::max({ cp[0], cp[2], cp[4], cp[6] });
+  const double v0 = std::min({ cp[1], cp[3], cp[5], cp[7] });
+  const double v1 = std::max({ cp[1], cp[3], cp[5], cp[7] });
   const double du = std::max({ u0 - u, 0.0, u - u1 }), dv = std::max({ v0 - v, 0.0, v - v1 });
   return du * du + dv * dv;
 }

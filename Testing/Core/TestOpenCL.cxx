@@ -171,16 +171,17 @@ TEST_P(KernelVsReference, EveryDataModel)
     // Up to ties between contacts of one sphere (Compare), the 99.9% holds: measured 0-0.013%
     // different spheres in double and 0.016-0.047% in float on the real parts.
     EXPECT_LE(dis.Different, samples.size() * 10 / 10000) << name;
-    // Failed samples (flagged, never reported as thicknesses): measured at most 0.25% of the
+    // Failed samples (flagged, never reported as thicknesses): measured at most 0.18% of the
     // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
-    // host finish; 0.43% before the clearance, 1.3% before the descent across edges, 5.7% before
-    // the descent.
+    // host finish; 0.26% before samples on convex edges could touch the face across from within
+    // the clearance plus the tolerance outside it (OutsideSlack), 0.43% before the clearance,
+    // 1.3% before the descent across edges, 5.7% before the descent.
     size_t refFailed = 0;
     for (const auto& r : ref)
       refFailed += r.Type == ContactType::Failed;
-    EXPECT_LE(refFailed, samples.size() * 30 / 10000) << name;
-    EXPECT_LE(clFailed, samples.size() * 30 / 10000) << name;
-    // In float, the figures above include the samples the kernels leave failed (0-0.26%), which
+    EXPECT_LE(refFailed, samples.size() * 20 / 10000) << name;
+    EXPECT_LE(clFailed, samples.size() * 20 / 10000) << name;
+    // In float, the figures above include the samples the kernels leave failed (0-0.18%), which
     // the host finishes with the reference (double kernels are not finished). The kernels alone:
     // 99.85-99.96% in double and 99.69-99.82% in float on the real parts; same bounds.
     std::vector<SampleResult> alone;
