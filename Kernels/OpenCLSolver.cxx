@@ -348,7 +348,7 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   {
     for (int k = 0; k < 3; ++k)
       s1Point.push_back(static_cast<T>(p.Point[k] - c[k]));
-    s1Face.push_back(p.Face);
+    s1Face.push_back(p.OnEdge ? ~p.Face : p.Face); // edge points: verification only (s1_face)
     s1UV.insert(s1UV.end(), { static_cast<T>(p.U), static_cast<T>(p.V) });
   }
   for (const auto& n : data.Nodes)

@@ -615,6 +615,13 @@ inline int edge_point_on_face(const Model* m, int face, int edge, real T, real* 
 }
 
 // --- the kernel -----------------------------------------------------------------------------
+// The face of s1 point i: edge points (brt::S1Point::OnEdge) are stored as ~face.
+inline int s1_face(__global const int* s1Face, int i)
+{
+  const int f = s1Face[i];
+  return f < 0 ? ~f : f;
+}
+
 // Eq. 1 with the clearance over the BVH (brt::Initialise): the s1 point with the smallest
 // t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
 // finite bound it finds the s1 points more than delta deep inside that sphere (the verification).
@@ -658,8 +665,11 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       {
         for (int i = first; i < first + cnt; ++i)
         {
-          // Walls of other solids don't count; nor does a face already tried.
-          if (faceInfo[FACE_INTS * s1Face[i] + 7] != solid || s1Face[i] == excludeFace)
+          // Walls of other solids don't count; nor does a face already tried. Edge points
+          // (stored as ~face) only verify: they start nothing (brt::AddEdgePoints).
+          const int face = s1_face(s1Face, i);
+          if (faceInfo[FACE_INTS * face + 7] != solid || face == excludeFace ||
+            (s1Face[i] < 0 && !bounded))
             continue;
           const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
@@ -1340,7 +1350,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       -1, scale, (real)1.2 * r->t, m->delta, 1, wt, &t);
     if (p >= 0)
     {
-      c = descend(m, ownFace, s1Face[p], Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale,
+      c = descend(m, ownFace, s1_face(s1Face, p), Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale,
         newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
         *r = c;
@@ -1443,7 +1453,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     return r;
   }
   const int first = best;
-  r = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best], s1UV[2 * best + 1], t,
+  r = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best], s1UV[2 * best + 1], t,
     scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
   {
@@ -1452,7 +1462,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       REAL_MAX, m->delta, 0, (real3)(0), &t);
     if (best >= 0)
     {
-      const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+      const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
         s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
         iterations);
       if (other.type != CONTACT_FAILED)
@@ -1463,7 +1473,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // Newton found no sphere from the best starts: descend on t from the best start, and on
     // the face across the edge nearest O; keep the smaller valid sphere (verified below).
-    const Result a = descend(m, ownFace, s1Face[first], Ohi, Olo, d, s1UV[2 * first],
+    const Result a = descend(m, ownFace, s1_face(s1Face, first), Ohi, Olo, d, s1UV[2 * first],
       s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
     const Result b = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d,
       scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
@@ -1490,14 +1500,14 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     // must shrink the sphere.
     Result again = no_result();
     if (check < 3)
-      again = solve_from(m, ownFace, Ohi, Olo, d, s1Face[best], s1UV[2 * best],
+      again = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
         s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
         iterations);
     if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
     {
       // Newton went back to the same sphere or failed: descend on t from the point inside,
       // else on the face across the edge nearest O.
-      again = descend(m, ownFace, s1Face[best], Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1],
+      again = descend(m, ownFace, s1_face(s1Face, best), Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1],
         scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {

@@ -89,6 +89,9 @@ struct S1Point
 {
   std::array<double, 3> Point{};
   int Face = -1;
+  /// Sampled along an edge (verification only: an edge point never starts a solve, it only
+  /// shows a sphere cut by a corner narrower than the patch grid's spacing).
+  bool OnEdge = false;
   double U = 0.0, V = 0.0;
 };
 

@@ -9,7 +9,10 @@ namespace brt
 {
 namespace
 {
-constexpr std::uint64_t Magic = 0x31564C4F53545242ull; // "BRTSOLV1"
+constexpr std::uint64_t Magic = 0x32564C4F53545242ull; // "BRTSOLV2": S1Point::OnEdge
+constexpr std::uint64_t MagicV1 = 0x31564C4F53545242ull; // "BRTSOLV1": no edge points
+// Version 1 files stay readable because OnEdge took the padding after Face.
+static_assert(sizeof(S1Point) == 48, "S1Point layout changed: bump the solve file version");
 
 template <class T>
 void Put(std::ofstream& out, const std::vector<T>& v)
@@ -59,7 +62,7 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
   std::ifstream in(path, std::ios::binary);
   std::uint64_t magic = 0;
   in.read(reinterpret_cast<char*>(&magic), sizeof magic);
-  if (!in || magic != Magic)
+  if (!in || (magic != Magic && magic != MagicV1))
     throw std::runtime_error("'" + path + "' is not a BRepThickness solve file");
   try
   {
@@ -70,6 +73,9 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     Get(in, m.Edges);
     Get(in, m.EdgeSegments);
     Get(in, d.S1);
+    if (magic == MagicV1)
+      for (S1Point& p : d.S1)
+        p.OnEdge = false; // the byte was padding then
     Get(in, d.Nodes);
     Get(in, d.Breaks);
     Get(in, d.FaceBreaks);

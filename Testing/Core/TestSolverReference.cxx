@@ -1,12 +1,14 @@
 // The double-precision reference against closed forms: plates (0.1 to 50, one of aspect
 // 1:1000), a coaxial tube, spherical and toroidal shells.
 #include "AnalyticShapes.h"
+#include "SolverIO.h"
 #include "SolverTestHelpers.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 namespace
 {
@@ -60,5 +62,56 @@ TEST(SolverReference, ClosedForms)
     EXPECT_LE(worst, 1e-6);
     EXPECT_EQ(failed, 0u);
   }
+}
+} // namespace
+
+namespace
+{
+using namespace brt;
+
+/// PrepareSolver adds points along every edge (verification only), and a solve file keeps them;
+/// a version 1 file (written before the edge points; the flag's byte was padding then) still
+/// reads, with no edge points.
+TEST(SolverData, EdgePointsAndSolveFiles)
+{
+  const BRepModel m = ConvertShape(analytic::HolePlate(80, 6, 10), ConversionOptions());
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  size_t onEdge = 0;
+  for (const S1Point& p : data.S1)
+    onEdge += p.OnEdge;
+  // 15 edges: 12 straight ones of the outer box (4 x 80 + 4 x 80 + 4 x 6 long) and the hole's
+  // 2 circles (2 x 2 pi 10) and seam (6): about 771 mm at a third of the spacing.
+  double length = 4 * 80 + 4 * 80 + 4 * 6 + 2 * 2 * M_PI * 10 + 6;
+  const double expected = length / (data.S1Spacing / 3.0);
+  std::printf("[edge points] %zu of %zu s1 points, %.0f expected\n", onEdge, data.S1.size(), expected);
+  EXPECT_GT(onEdge, 0.95 * expected);
+  EXPECT_LT(onEdge, 1.05 * expected + 30);
+
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  const std::string path = ::testing::TempDir() + "brt_edge_points.brtsolve";
+  WriteSolve(path, m, data, samples);
+  BRepModel m2;
+  SolverData d2;
+  std::vector<Sample> s2;
+  ReadSolve(path, m2, d2, s2);
+  ASSERT_EQ(d2.S1.size(), data.S1.size());
+  size_t onEdge2 = 0;
+  for (const S1Point& p : d2.S1)
+    onEdge2 += p.OnEdge;
+  EXPECT_EQ(onEdge2, onEdge);
+
+  // The same file as version 1: magic "BRTSOLV1", padding bytes whatever they were.
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(7);
+    f.put('1');
+  }
+  ReadSolve(path, m2, d2, s2);
+  onEdge2 = 0;
+  for (const S1Point& p : d2.S1)
+    onEdge2 += p.OnEdge;
+  EXPECT_EQ(onEdge2, 0u);
+  std::remove(path.c_str());
 }
 } // namespace
