@@ -86,6 +86,14 @@ inline int from_inside(const Model* m, int sampleFace, int face, real side)
   return !(side > (face == sampleFace ? (real)0 : m->delta + (real)0.5 * m->slack));
 }
 
+// An edge point (relative to O) within the patches' accuracy of O on an edge of O's own face:
+// the trivial solution C = O (brt::EdgeAtSample).
+inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
+{
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  return (f0 == sampleFace || f1 == sampleFace) && dot(C, C) <= m->slack * m->slack;
+}
+
 inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
   real t)
 {
@@ -941,6 +949,11 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       reason = FAIL_EDGE_NOT_CONVERGED;
       goto out;
     }
+    if (edge_at_sample(m, sampleFace, edge, C))
+    {
+      reason = FAIL_LEFT_MODEL; // the trivial solution C = O
+      goto out;
+    }
     type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
     foot = C;
     edgeT = T;
@@ -1157,8 +1170,8 @@ EdgeMinimum minimise_on_edge(const Model* m, int edge, real T, real3 Ohi, real3 
 // The contact at an edge minimum on `face`'s edge (brt::EdgeContact): surface/edge, or
 // surface/vertex at an end (typed surface/surface where the faces meet tangentially); failed
 // where t is not positive or eq. 7's residual is above the tolerance.
-Result edge_contact(const Model* m, int face, int edge, const EdgeMinimum* em, real3 d,
-  real newtonTol)
+Result edge_contact(const Model* m, int sampleFace, int face, int edge, const EdgeMinimum* em,
+  real3 d, real newtonTol)
 {
   Result r = no_result();
   const real t = em->t;
@@ -1166,8 +1179,8 @@ Result edge_contact(const Model* m, int face, int edge, const EdgeMinimum* em, r
   const real lt = length(em->Ct);
   const real a = lt > (real)0 ? dot(em->Ct, w) / lt : (real)0, bb = t - m->delta - length(w);
   r.res = em->atEnd ? fabs(bb) : sqrt(a * a + bb * bb);
-  if (!(t > (real)0) || !(t < REAL_MAX))
-    r.reason = FAIL_LEFT_MODEL;
+  if (!(t > (real)0) || !(t < REAL_MAX) || edge_at_sample(m, sampleFace, edge, em->C))
+    r.reason = FAIL_LEFT_MODEL; // (or the trivial solution C = O)
   else if (!(r.res <= newtonTol))
     r.reason = FAIL_EDGE_NOT_CONVERGED;
   if (r.reason != FAIL_NONE)
@@ -1207,6 +1220,8 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
       const real3 n = cross(cur.e.Du, cur.e.Dv);
       if (!from_inside(m, sampleFace, face, -dot(w, n) / length(n) * reversed))
         fr.reason = FAIL_LEFT_MODEL; // touches the face from outside
+      else if (face == sampleFace && dot(cur.e.P, cur.e.P) <= m->slack * m->slack)
+        fr.reason = FAIL_LEFT_MODEL; // the trivial solution P = O (brt::AtSample)
       else if (!(fr.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
         fr.reason = FAIL_NOT_CONVERGED;
       else
@@ -1254,7 +1269,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
     if (!(t < (best.type == CONTACT_FAILED ? scale : best.t)) ||
       (faceOk && !(t < cur.t)))
       return fr;
-    const Result r = edge_contact(m, face, edge, &em, d, newtonTol);
+    const Result r = edge_contact(m, sampleFace, face, edge, &em, d, newtonTol);
     if (r.type == CONTACT_FAILED)
       return best.type != CONTACT_FAILED ? best : r;
     best = r;
@@ -1391,7 +1406,7 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       {
         const EdgeMinimum em =
           minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
-        c = edge_contact(m, r->face, edge, &em, d, newtonTol);
+        c = edge_contact(m, ownFace, r->face, edge, &em, d, newtonTol);
         if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
           *r = c;
       }

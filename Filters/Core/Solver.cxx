@@ -482,6 +482,25 @@ struct SurfaceSolve
   double Side = 0.0;
 };
 
+/// P on O's own face within the patches' accuracy (2x the conversion tolerance) of O: the
+/// trivial solution P = O of eq. 4, whatever t comes with it (in float, d.(P-O) is rounding
+/// there, and the descent's t with it).
+bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P)
+{
+  const Vec3 w = Sub(P, s.Point);
+  const double slack = 2.0 * m.Tolerance;
+  return face == s.Face && Dot(w, w) <= slack * slack;
+}
+
+/// The same for an edge of O's own face: an edge point within that accuracy of O (a sample on
+/// or next to an edge) is the trivial solution again, with t = |C-O|^2 / (2 d.(C-O)) of rounding
+/// (2t = 0.025 mm at 1.3e-4 mm from O on the FRAMEWORK tile; 2.990 for 3.000 on the hinge).
+bool EdgeAtSample(const BRepModel& m, const Sample& s, int edge, const Vec3& C)
+{
+  const Edge& E = m.Edges[edge];
+  return (E.Faces[0] == s.Face || E.Faces[1] == s.Face) && AtSample(m, s, s.Face, C);
+}
+
 /// Eq. 4 on the sample's own face has a trivial solution: P = O solves it for every t, and
 /// Newton converges there when it starts near O (typically after crossing the edge next to O
 /// from a neighbour face), stopping at an arbitrary t. Near it lie the osculating spheres: a
@@ -499,8 +518,7 @@ bool ShallowOwnFaceContact(
   if (face != s.Face)
     return false;
   const Vec3 w = Sub(P, s.Point);
-  const double slack = 2.0 * m.Tolerance;
-  return Dot(w, w) <= slack * slack || Dot(w, s.Direction) < 0.5 * t;
+  return AtSample(m, s, face, P) || Dot(w, s.Direction) < 0.5 * t;
 }
 
 /// The sphere touches `face` from inside: its centre lies on the material side of the face at
@@ -913,6 +931,11 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     r.Reason = FailReason::EdgeNotConverged;
     return;
   }
+  if (EdgeAtSample(m, s, edge, C))
+  {
+    r.Reason = FailReason::LeftModel; // the trivial solution C = O
+    return;
+  }
   r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
   r.Radius = t;
   r.Thickness = 2.0 * t;
@@ -1127,8 +1150,8 @@ SampleResult EdgeContact(const BRepModel& m, const SolverData& data, const Solve
   const Vec3 w = Sub(em.E.C, Axpy(O, t, d));
   const double Re[2] = { Dot(em.E.Ct, w), t - Clearance(m, opt) - std::sqrt(Dot(w, w)) };
   r.Residual = em.AtEnd ? std::fabs(Re[1]) : Residual2(em.E.Ct, Re);
-  if (!(t > 0.0) || !std::isfinite(t))
-    r.Reason = FailReason::LeftModel;
+  if (!(t > 0.0) || !std::isfinite(t) || EdgeAtSample(m, s, edge, em.E.C))
+    r.Reason = FailReason::LeftModel; // (or the trivial solution C = O)
   else if (!(r.Residual <= opt.NewtonTolerance))
     r.Reason = FailReason::EdgeNotConverged;
   if (r.Reason != FailReason::None)
@@ -1180,6 +1203,8 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       if (!FromInside(m, opt, s, face,
             -Dot(w, n) / std::sqrt(Dot(n, n)) * (m.Faces[face].Reversed ? -1.0 : 1.0)))
         r.Reason = FailReason::LeftModel; // touches the face from outside
+      else if (AtSample(m, s, face, e.P))
+        r.Reason = FailReason::LeftModel; // the trivial solution P = O
       else if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
         r.Reason = FailReason::NotConverged;
       else

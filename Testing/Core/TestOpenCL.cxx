@@ -67,11 +67,20 @@ struct Disagreements
 /// conversion tolerance of the faces). Such pairs are ties between two contacts of one sphere
 /// (a vertex and the face next to it, the two far ends of the arc a sphere touches in a round)
 /// whose radii differ by less than the patches' error amplified by the contact's flatness, so
-/// rounding decides which one a path reports; the others are listed as different.
-Disagreements Compare(const std::string& name, const std::vector<SampleResult>& ref,
-  const std::vector<SampleResult>& cl, double rel, double scale, double accuracy,
-  std::vector<std::string>* listed)
+/// rounding decides which one a path reports; the others are listed as different. Every sphere
+/// tangent at O passes through O, so a foot next to O proves nothing (closer than 10x that
+/// accuracy and a tenth of the smaller radius): such pairs count as different.
+Disagreements Compare(const std::string& name, const std::vector<Sample>& samples,
+  const std::vector<SampleResult>& ref, const std::vector<SampleResult>& cl, double rel,
+  double scale, double accuracy, std::vector<std::string>* listed)
 {
+  auto awayFromO = [&](size_t i, const std::array<double, 3>& foot) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+      d2 += (foot[k] - samples[i].Point[k]) * (foot[k] - samples[i].Point[k]);
+    const double near = std::min(10.0 * accuracy, 0.1 * std::min(ref[i].Radius, cl[i].Radius));
+    return d2 > near * near;
+  };
   Disagreements out;
   for (size_t i = 0; i < ref.size(); ++i)
   {
@@ -85,8 +94,8 @@ Disagreements Compare(const std::string& name, const std::vector<SampleResult>& 
     const bool solved = ref[i].Type != ContactType::Failed && cl[i].Type != ContactType::Failed;
     const double inRef = solved ? DepthIn(ref[i], cl[i].Foot) : 0.0;
     const double inCl = solved ? DepthIn(cl[i], ref[i].Foot) : 0.0;
-    const bool equivalent =
-      solved && std::fabs(inRef) <= accuracy && std::fabs(inCl) <= accuracy;
+    const bool equivalent = solved && std::fabs(inRef) <= accuracy &&
+      std::fabs(inCl) <= accuracy && awayFromO(i, ref[i].Foot) && awayFromO(i, cl[i].Foot);
     out.Different += !equivalent;
     char line[640];
     std::snprintf(line, sizeof line,
@@ -124,6 +133,31 @@ size_t FootParameterMismatches(const BRepModel& m, const SolverData& data,
   return bad;
 }
 
+/// Solved samples whose foot is the sample itself: on its own face within the patches' accuracy
+/// (2x the tolerance) of O, the trivial solution P = O of eq. 4 with whatever t came with it
+/// (a float descent once reported 2t = 3.5e-6 mm there, on a 0.6 mm wall).
+size_t AtTheSample(const BRepModel& m, const std::vector<Sample>& samples,
+  const std::vector<SampleResult>& res)
+{
+  size_t bad = 0;
+  for (size_t i = 0; i < res.size(); ++i)
+  {
+    if (res[i].Type == ContactType::Failed || res[i].OppositeFace != samples[i].Face)
+      continue;
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+      d2 += (res[i].Foot[k] - samples[i].Point[k]) * (res[i].Foot[k] - samples[i].Point[k]);
+    if (d2 <= 4.0 * m.Tolerance * m.Tolerance)
+    {
+      ++bad;
+      std::printf("[at the sample] sample %zu: %s 2t=%.6g face %d edge %d, foot %.2e from O\n", i,
+        ContactTypeName(res[i].Type), res[i].Thickness, res[i].OppositeFace, res[i].OppositeEdge,
+        std::sqrt(d2));
+    }
+  }
+  return bad;
+}
+
 class KernelVsReference : public ::testing::TestWithParam<bool>
 {
 };
@@ -149,10 +183,12 @@ TEST_P(KernelVsReference, EveryDataModel)
     std::vector<std::string> listed;
     // The solver's accuracy: the clearance (2x the tolerance by default) plus the patches' error.
     const double accuracy = 3.0 * m.Tolerance;
-    const Disagreements dis = Compare(name, ref, got, 1e-4, data.Scale, accuracy, &listed);
+    const Disagreements dis = Compare(name, samples, ref, got, 1e-4, data.Scale, accuracy, &listed);
     const size_t bad = dis.Count;
     EXPECT_EQ(FootParameterMismatches(m, data, ref, 1e-3 * data.Scale), 0u) << name;
     EXPECT_EQ(FootParameterMismatches(m, data, got, 1e-3 * data.Scale), 0u) << name;
+    EXPECT_EQ(AtTheSample(m, samples, ref), 0u) << name;
+    EXPECT_EQ(AtTheSample(m, samples, got), 0u) << name;
     size_t clFailed = 0;
     for (const auto& r : got)
       clFailed += r.Type == ContactType::Failed;
@@ -168,8 +204,8 @@ TEST_P(KernelVsReference, EveryDataModel)
     // the one below target) and 99.71-99.82% in float. The bounds sit just above those figures
     // so that a regression fails; the gap to 99.9% is an open item, not hidden.
     EXPECT_LE(bad, samples.size() * (useDouble ? 20 : 45) / 10000) << name;
-    // Up to ties between contacts of one sphere (Compare), the 99.9% holds: measured 0-0.013%
-    // different spheres in double and 0.016-0.047% in float on the real parts.
+    // Up to ties between contacts of one sphere (Compare), the 99.9% holds: measured 0.003-0.009%
+    // different spheres in double and 0.011-0.068% in float on the real parts.
     EXPECT_LE(dis.Different, samples.size() * 10 / 10000) << name;
     // Failed samples (flagged, never reported as thicknesses): measured at most 0.18% of the
     // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
@@ -191,7 +227,8 @@ TEST_P(KernelVsReference, EveryDataModel)
     size_t handedBack = 0;
     for (const auto& r : alone)
       handedBack += r.Type == ContactType::Failed;
-    const Disagreements disAlone = Compare(name, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
+    const Disagreements disAlone = Compare(name, samples, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
+    EXPECT_EQ(AtTheSample(m, samples, alone), 0u) << name;
     const size_t badAlone = disAlone.Count;
     std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu different spheres "
                 "(%.3f%%), %zu left failed by the kernels (%.3f%%)\n",
