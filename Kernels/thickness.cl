@@ -94,6 +94,14 @@ inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
   return (f0 == sampleFace || f1 == sampleFace) && dot(C, C) <= m->slack * m->slack;
 }
 
+// A foot (relative to O) within the patches' accuracy of O on a face whose normal n there is
+// within 1e-3 rad of O's: the trivial solution across a tangent edge (brt::TangentAtSample).
+inline int tangent_at_sample(const Model* m, real3 P, real3 n, real3 d)
+{
+  const real3 c = cross(n, d);
+  return dot(P, P) <= m->slack * m->slack && dot(c, c) <= (real)1e-6 * dot(n, n);
+}
+
 inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
   real t)
 {
@@ -488,6 +496,7 @@ typedef struct
   real u, v, t, res, param, trimDist;
   int patch, singular, clamped, capped, inside, seg;
   real side; // (M - P).n_out at the foot point: <= 0 on the material side (from_inside)
+  real3 normal; // the patch normal at the foot (not unit)
   real3 foot; // S - O
 } SurfaceSolve;
 
@@ -584,6 +593,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
   const real3 n = cross(e.Du, e.Dv);
   const real side = -dot(w, n) / length(n) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
   out.side = side;
+  out.normal = n;
   return out;
 }
 
@@ -781,7 +791,8 @@ int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceS
   real scale, real newtonTol)
 {
   return !sn->singular && sn->t > (real)0 && sn->t < scale && ss_converged(sn, newtonTol) &&
-    from_inside(m, sampleFace, face, sn->side) && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
+    from_inside(m, sampleFace, face, sn->side) &&
+    !tangent_at_sample(m, sn->foot, sn->normal, d) && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
     ss_on_face(sn, m->faceDomain + FACE_REALS * face, newtonTol);
 }
 
@@ -827,7 +838,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         reason = FAIL_NOT_CONVERGED;
         goto out;
       }
-      if (!from_inside(m, sampleFace, face, ss.side) || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
+      if (!from_inside(m, sampleFace, face, ss.side) ||
+        tangent_at_sample(m, ss.foot, ss.normal, d) || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
       {
         reason = FAIL_LEFT_MODEL;
         goto out;
@@ -1220,7 +1232,8 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
       const real3 n = cross(cur.e.Du, cur.e.Dv);
       if (!from_inside(m, sampleFace, face, -dot(w, n) / length(n) * reversed))
         fr.reason = FAIL_LEFT_MODEL; // touches the face from outside
-      else if (face == sampleFace && dot(cur.e.P, cur.e.P) <= m->slack * m->slack)
+      else if ((face == sampleFace && dot(cur.e.P, cur.e.P) <= m->slack * m->slack) ||
+        tangent_at_sample(m, cur.e.P, n, d))
         fr.reason = FAIL_LEFT_MODEL; // the trivial solution P = O (brt::AtSample)
       else if (!(fr.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
         fr.reason = FAIL_NOT_CONVERGED;

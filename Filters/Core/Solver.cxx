@@ -480,6 +480,7 @@ struct SurfaceSolve
   /// material side of the face. A stationary sphere touching the face from outside is no
   /// inscribed sphere (Newton can converge to one); see FromInside.
   double Side = 0.0;
+  Vec3 Normal{}; ///< the patch normal at the foot (not unit; outward up to the face's orientation)
 };
 
 /// P on O's own face within the patches' accuracy (2x the conversion tolerance) of O: the
@@ -499,6 +500,22 @@ bool EdgeAtSample(const BRepModel& m, const Sample& s, int edge, const Vec3& C)
 {
   const Edge& E = m.Edges[edge];
   return (E.Faces[0] == s.Face || E.Faces[1] == s.Face) && AtSample(m, s, s.Face, C);
+}
+
+/// A foot within the patches' accuracy of O on a face that continues O's tangent plane there
+/// (its normal within 1e-3 rad of O's, the face across a tangent edge next to O): the trivial
+/// solution again, whichever face it is on (a hinge sample on the tangent edge of a 1.5 mm bore
+/// read 2t = 2.990 or, in float, 0.333 for 3.000 from a foot 5.7e-5 mm from O). At a sharp
+/// convex edge the face across stands at an angle and its contacts are real.
+bool TangentAtSample(const BRepModel& m, const Sample& s, const Vec3& P, const Vec3& n)
+{
+  const Vec3 w = Sub(P, s.Point);
+  const double slack = 2.0 * m.Tolerance;
+  if (!(Dot(w, w) <= slack * slack))
+    return false;
+  const Vec3& d = s.Direction;
+  const Vec3 c{ n[1] * d[2] - n[2] * d[1], n[2] * d[0] - n[0] * d[2], n[0] * d[1] - n[1] * d[0] };
+  return Dot(c, c) <= 1e-6 * Dot(n, n);
 }
 
 /// Eq. 4 on the sample's own face has a trivial solution: P = O solves it for every t, and
@@ -621,6 +638,7 @@ SurfaceSolve SurfaceNewton(const BRepModel& m, const SolverData& data, const Sol
   const double ln = std::sqrt(Dot(n, n));
   const double side = -Dot(w, n) / ln * (F.Reversed ? -1.0 : 1.0); // (M - P) . n_out
   out.Side = side;
+  out.Normal = n;
   return out;
 }
 
@@ -764,7 +782,8 @@ bool ValidSurfaceSolve(const BRepModel& m, const SolverData& data, const SolverO
 {
   return !ss.Singular && ss.T > 0.0 && ss.T < data.Scale && ss.Converged(opt) &&
     FromInside(m, opt, s, face, ss.Side) &&
-    !ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) && ss.OnFace(m.Faces[face], opt);
+    !ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) &&
+    !TangentAtSample(m, s, ss.Foot, ss.Normal) && ss.OnFace(m.Faces[face], opt);
 }
 
 /// Steps 4-7 from the s1 point p1 with the initial radius t.
@@ -812,7 +831,8 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       r.Reason = FailReason::NotConverged;
       return;
     }
-    if (!FromInside(m, opt, s, face, ss.Side) || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T))
+    if (!FromInside(m, opt, s, face, ss.Side) || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) ||
+      TangentAtSample(m, s, ss.Foot, ss.Normal))
     {
       r.Reason = FailReason::LeftModel;
       return;
@@ -1203,7 +1223,7 @@ SampleResult Descend(const BRepModel& m, const SolverData& data, const SolverOpt
       if (!FromInside(m, opt, s, face,
             -Dot(w, n) / std::sqrt(Dot(n, n)) * (m.Faces[face].Reversed ? -1.0 : 1.0)))
         r.Reason = FailReason::LeftModel; // touches the face from outside
-      else if (AtSample(m, s, face, e.P))
+      else if (AtSample(m, s, face, e.P) || TangentAtSample(m, s, e.P, n))
         r.Reason = FailReason::LeftModel; // the trivial solution P = O
       else if (!(r.Residual <= opt.NewtonTolerance) || !(cur.T > 0.0) || !(cur.T < data.Scale))
         r.Reason = FailReason::NotConverged;
