@@ -74,10 +74,6 @@ typedef struct
   real s1Spacing; // the spacing s1 was sampled at (brt::SolverData::S1Spacing)
 } Model;
 
-// A foot point on the sample's own face within the patches' accuracy of O is the trivial
-// solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
-// sphere whose radius the patches' accuracy does not fix: no contact
-// (brt::ShallowOwnFaceContact). P is relative to O.
 // The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
 // or, on a face other than the sample's, at most the clearance plus the patches' error outside
 // it (brt::FromInside, brt::OutsideSlack).
@@ -86,26 +82,43 @@ inline int from_inside(const Model* m, int sampleFace, int face, real side)
   return !(side > (face == sampleFace ? (real)0 : m->delta + (real)0.5 * m->slack));
 }
 
-// An edge point (relative to O) within the patches' accuracy of O on an edge of O's own face:
-// the trivial solution C = O (brt::EdgeAtSample).
+// A point P (relative to O) within the patches' accuracy of O (brt::NearSample).
+inline int near_sample(const Model* m, real3 P)
+{
+  return dot(P, P) <= m->slack * m->slack;
+}
+
+// A foot on the sample's own face next to O: the trivial solution P = O of eq. 4
+// (brt::AtSample).
+inline int at_sample(const Model* m, int sampleFace, int face, real3 P)
+{
+  return face == sampleFace && near_sample(m, P);
+}
+
+// An edge point next to O on an edge of O's own face: the trivial solution C = O
+// (brt::EdgeAtSample).
 inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
 {
   const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
-  return (f0 == sampleFace || f1 == sampleFace) && dot(C, C) <= m->slack * m->slack;
+  return (f0 == sampleFace || f1 == sampleFace) && near_sample(m, C);
 }
 
-// A foot (relative to O) within the patches' accuracy of O on a face whose normal n there is
-// within 1e-3 rad of O's: the trivial solution across a tangent edge (brt::TangentAtSample).
+// A foot next to O on a face whose normal n there is within 1e-3 rad of O's: the trivial
+// solution across a tangent edge (brt::TangentAtSample).
 inline int tangent_at_sample(const Model* m, real3 P, real3 n, real3 d)
 {
   const real3 c = cross(n, d);
-  return dot(P, P) <= m->slack * m->slack && dot(c, c) <= (real)1e-6 * dot(n, n);
+  return near_sample(m, P) && dot(c, c) <= (real)1e-6 * dot(n, n);
 }
 
+// A foot point on the sample's own face within the patches' accuracy of O is the trivial
+// solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
+// sphere whose radius the patches' accuracy does not fix: no contact
+// (brt::ShallowOwnFaceContact). P is relative to O.
 inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
   real t)
 {
-  return face == sampleFace && (dot(P, P) <= m->slack * m->slack || dot(P, d) < (real)0.5 * t);
+  return at_sample(m, sampleFace, face, P) || (face == sampleFace && dot(P, d) < (real)0.5 * t);
 }
 
 // A - O for an anchor A and the sample O, both split into hi + lo parts: the difference of two
@@ -315,6 +328,24 @@ inline real cross2(real2 a, real2 b)
   return a.x * b.y - a.y * b.x;
 }
 
+// Segment s of loop l, projected, replaces the best so far where nearer (ties: lower index).
+inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, int* bestSeg,
+  real* bestT, int* bestLoop)
+{
+  __global const real* c = m->trim + 8 * s;
+  if (!(seg_length(c) > (real)0))
+    return;
+  real dd;
+  const real t = project_segment(c, P, &dd);
+  if (dd < *bestD || (dd == *bestD && s < *bestSeg))
+  {
+    *bestD = dd;
+    *bestSeg = s;
+    *bestT = t;
+    *bestLoop = l;
+  }
+}
+
 // Point-in-face test on the cubic trimming segments (same steps as brt::ClassifyPoint).
 int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
 {
@@ -340,28 +371,18 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
       }
     }
   }
-  for (int pass = 0; pass < 2 && firstSeg >= 0; ++pass)
-    for (int l = pass ? fi[4] : firstLoop; l < (pass ? fi[4] + fi[5] : firstLoop + 1); ++l)
+  if (firstSeg >= 0)
+    nearer_segment(m, firstLoop, firstSeg, P, &bestD, &bestSeg, &bestT, &bestLoop);
+  for (int l = fi[4]; l < fi[4] + fi[5] && firstSeg >= 0; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
     {
-      const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
-      for (int s = pass ? first : firstSeg; s < (pass ? first + count : firstSeg + 1); ++s)
-      {
-        __global const real* c = m->trim + 8 * s;
-        const real bound = bestD * (real)(1 + 1e-6);
-        if ((pass && s == firstSeg) || box_distance2(c, P) > bound * bound ||
-          !(seg_length(c) > (real)0))
-          continue;
-        real dd;
-        const real t = project_segment(c, P, &dd);
-        if (dd < bestD || (dd == bestD && s < bestSeg))
-        {
-          bestD = dd;
-          bestSeg = s;
-          bestT = t;
-          bestLoop = l;
-        }
-      }
+      const real bound = bestD * (real)(1 + 1e-6); // rounding must not drop a tie
+      if (s != firstSeg && !(box_distance2(m->trim + 8 * s, P) > bound * bound))
+        nearer_segment(m, l, s, P, &bestD, &bestSeg, &bestT, &bestLoop);
     }
+  }
   *segOut = bestSeg;
   *paramOut = bestT;
   *distOut = bestD;
@@ -791,8 +812,8 @@ int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceS
   real scale, real newtonTol)
 {
   return !sn->singular && sn->t > (real)0 && sn->t < scale && ss_converged(sn, newtonTol) &&
-    from_inside(m, sampleFace, face, sn->side) &&
-    !tangent_at_sample(m, sn->foot, sn->normal, d) && !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
+    from_inside(m, sampleFace, face, sn->side) && !tangent_at_sample(m, sn->foot, sn->normal, d) &&
+    !shallow_own_face_contact(m, sampleFace, face, sn->foot, d, sn->t) &&
     ss_on_face(sn, m->faceDomain + FACE_REALS * face, newtonTol);
 }
 
@@ -839,7 +860,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
         goto out;
       }
       if (!from_inside(m, sampleFace, face, ss.side) ||
-        tangent_at_sample(m, ss.foot, ss.normal, d) || shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
+        tangent_at_sample(m, ss.foot, ss.normal, d) ||
+        shallow_own_face_contact(m, sampleFace, face, ss.foot, d, ss.t))
       {
         reason = FAIL_LEFT_MODEL;
         goto out;
@@ -1232,9 +1254,8 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
       const real3 n = cross(cur.e.Du, cur.e.Dv);
       if (!from_inside(m, sampleFace, face, -dot(w, n) / length(n) * reversed))
         fr.reason = FAIL_LEFT_MODEL; // touches the face from outside
-      else if ((face == sampleFace && dot(cur.e.P, cur.e.P) <= m->slack * m->slack) ||
-        tangent_at_sample(m, cur.e.P, n, d))
-        fr.reason = FAIL_LEFT_MODEL; // the trivial solution P = O (brt::AtSample)
+      else if (at_sample(m, sampleFace, face, cur.e.P) || tangent_at_sample(m, cur.e.P, n, d))
+        fr.reason = FAIL_LEFT_MODEL; // the trivial solution P = O
       else if (!(fr.res <= newtonTol) || !(cur.t > (real)0) || !(cur.t < scale))
         fr.reason = FAIL_NOT_CONVERGED;
       else
@@ -1378,8 +1399,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       -1, scale, (real)1.2 * r->t, m->delta, 1, wt, &t);
     if (p >= 0)
     {
-      c = descend(m, ownFace, s1_face(s1Face, p), Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1], scale,
-        newtonTol, maxIterations, maxEdgeIterations, iterations);
+      c = descend(m, ownFace, s1_face(s1Face, p), Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1],
+        scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
         *r = c;
     }
@@ -1481,8 +1502,9 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     return r;
   }
   const int first = best;
-  r = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best], s1UV[2 * best + 1], t,
-    scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations);
+  r = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
+    s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+    iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
   {
     // That start led nowhere: try the best start on any other face once.
@@ -1490,9 +1512,9 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       REAL_MAX, m->delta, 0, (real3)(0), &t);
     if (best >= 0)
     {
-      const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
-        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-        iterations);
+      const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best),
+        s1UV[2 * best], s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations,
+        maxEdgeIterations, iterations);
       if (other.type != CONTACT_FAILED)
         r = other;
     }
@@ -1535,8 +1557,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     {
       // Newton went back to the same sphere or failed: descend on t from the point inside,
       // else on the face across the edge nearest O.
-      again = descend(m, ownFace, s1_face(s1Face, best), Ohi, Olo, d, s1UV[2 * best], s1UV[2 * best + 1],
-        scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
+      again = descend(m, ownFace, s1_face(s1Face, best), Ohi, Olo, d, s1UV[2 * best],
+        s1UV[2 * best + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
         const Result across = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo,

@@ -483,14 +483,19 @@ struct SurfaceSolve
   Vec3 Normal{}; ///< the patch normal at the foot (not unit; outward up to the face's orientation)
 };
 
-/// P on O's own face within the patches' accuracy (2x the conversion tolerance) of O: the
-/// trivial solution P = O of eq. 4, whatever t comes with it (in float, d.(P-O) is rounding
-/// there, and the descent's t with it).
-bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P)
+/// P within the patches' accuracy (2x the conversion tolerance) of O.
+bool NearSample(const BRepModel& m, const Sample& s, const Vec3& P)
 {
   const Vec3 w = Sub(P, s.Point);
   const double slack = 2.0 * m.Tolerance;
-  return face == s.Face && Dot(w, w) <= slack * slack;
+  return Dot(w, w) <= slack * slack;
+}
+
+/// P on O's own face next to O: the trivial solution P = O of eq. 4, whatever t comes with it
+/// (in float, d.(P-O) is rounding there, and the descent's t with it).
+bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P)
+{
+  return face == s.Face && NearSample(m, s, P);
 }
 
 /// The same for an edge of O's own face: an edge point within that accuracy of O (a sample on
@@ -499,7 +504,7 @@ bool AtSample(const BRepModel& m, const Sample& s, int face, const Vec3& P)
 bool EdgeAtSample(const BRepModel& m, const Sample& s, int edge, const Vec3& C)
 {
   const Edge& E = m.Edges[edge];
-  return (E.Faces[0] == s.Face || E.Faces[1] == s.Face) && AtSample(m, s, s.Face, C);
+  return (E.Faces[0] == s.Face || E.Faces[1] == s.Face) && NearSample(m, s, C);
 }
 
 /// A foot within the patches' accuracy of O on a face that continues O's tangent plane there
@@ -509,9 +514,7 @@ bool EdgeAtSample(const BRepModel& m, const Sample& s, int edge, const Vec3& C)
 /// convex edge the face across stands at an angle and its contacts are real.
 bool TangentAtSample(const BRepModel& m, const Sample& s, const Vec3& P, const Vec3& n)
 {
-  const Vec3 w = Sub(P, s.Point);
-  const double slack = 2.0 * m.Tolerance;
-  if (!(Dot(w, w) <= slack * slack))
+  if (!NearSample(m, s, P))
     return false;
   const Vec3& d = s.Direction;
   const Vec3 c{ n[1] * d[2] - n[2] * d[1], n[2] * d[0] - n[0] * d[2], n[0] * d[1] - n[1] * d[0] };
@@ -831,8 +834,8 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
       r.Reason = FailReason::NotConverged;
       return;
     }
-    if (!FromInside(m, opt, s, face, ss.Side) || ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) ||
-      TangentAtSample(m, s, ss.Foot, ss.Normal))
+    if (!FromInside(m, opt, s, face, ss.Side) ||
+      ShallowOwnFaceContact(m, s, face, ss.Foot, ss.T) || TangentAtSample(m, s, ss.Foot, ss.Normal))
     {
       r.Reason = FailReason::LeftModel;
       return;

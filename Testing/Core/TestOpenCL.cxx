@@ -244,7 +244,8 @@ TEST_P(KernelVsReference, EveryDataModel)
     size_t handedBack = 0;
     for (const auto& r : alone)
       handedBack += r.Type == ContactType::Failed;
-    const Disagreements disAlone = Compare(name, samples, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
+    const Disagreements disAlone =
+      Compare(name, samples, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
     EXPECT_EQ(AtTheSample(m, data, samples, alone), 0u) << name;
     const size_t badAlone = disAlone.Count;
     std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu different spheres "

@@ -84,7 +84,8 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   // 2 circles (2 x 2 pi 10) and seam (6): about 771 mm at a third of the spacing.
   double length = 4 * 80 + 4 * 80 + 4 * 6 + 2 * 2 * M_PI * 10 + 6;
   const double expected = length / (data.S1Spacing / 3.0);
-  std::printf("[edge points] %zu of %zu s1 points, %.0f expected\n", onEdge, data.S1.size(), expected);
+  std::printf(
+    "[edge points] %zu of %zu s1 points, %.0f expected\n", onEdge, data.S1.size(), expected);
   EXPECT_GT(onEdge, 0.95 * expected);
   EXPECT_LT(onEdge, 1.05 * expected + 30);
 

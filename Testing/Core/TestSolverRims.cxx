@@ -214,8 +214,8 @@ TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
 TEST(SolverExact, CornerNarrowerThanTheGrid)
 {
   std::vector<TopoDS_Face> faces;
-  const BRepModel m =
-    ConvertStepFile(test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
+  const BRepModel m = ConvertStepFile(
+    test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
   TopoDS_Compound all;
   BRep_Builder b;
   b.MakeCompound(all);
@@ -233,8 +233,8 @@ TEST(SolverExact, CornerNarrowerThanTheGrid)
   {
     ASSERT_NE(res[k].Type, ContactType::Failed) << k;
     const double overlap = res[k].Radius - BoundaryDistance(all, res[k].Center);
-    std::printf("[corner] sample %zu: 2t = %.6g, %.3g into the exact faces\n", k == 0 ? 37264u : 38352u,
-      res[k].Thickness, overlap);
+    std::printf("[corner] sample %u: 2t = %.6g, %.3g into the exact faces\n",
+      k == 0 ? 37264u : 38352u, res[k].Thickness, overlap);
     EXPECT_LE(overlap, allowed) << k;
   }
 }
