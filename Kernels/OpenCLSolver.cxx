@@ -212,7 +212,7 @@ struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
   // Model buffers, in the kernel's argument order (0..19), then the chunk buffers.
-  static constexpr int ModelBuffers = 20;
+  static constexpr int ModelBuffers = 21; // the last is kernel argument 33
   Buffer Model[ModelBuffers];
   Buffer Samples, SampleFace, OutReal, OutInt;
 
@@ -381,6 +381,10 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   Model[17].Write(ctx, q, s1UV);
   Model[18].Write(ctx, q, nodeBox);
   Model[19].Write(ctx, q, nodeInfo);
+  // (SolverData built without BuildVertices: no vertices, rather than reads past the buffer.)
+  Model[20].Write(ctx, q,
+    data.VertexInfo.size() >= 2 * m.Edges.size() ? data.VertexInfo
+                                                  : std::vector<int>(2 * m.Edges.size(), -1));
   Check(clFinish(q), "clFinish");
 }
 
@@ -421,8 +425,9 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   std::vector<int> outI(chunk * 6), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
-  for (cl_uint a = 0; a < ModelBuffers; ++a)
+  for (cl_uint a = 0; a + 1 < ModelBuffers; ++a)
     Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, 33, sizeof(cl_mem), &Model[ModelBuffers - 1].Mem), "clSetKernelArg");
   for (size_t first = 0; first < samples.size(); first += chunk)
   {
     const size_t n = std::min(chunk, samples.size() - first);

@@ -69,6 +69,8 @@ typedef struct
   __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
   __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
   __global const real* edgeSegRange; // T0, T1 per edge segment
+  __global const int* vertexInfo;   // per edge end: its vertex's record (-1: none); a record
+                                    // is a count then the ends 2 * edge + k (brt::SolverData)
   real slack; // the patches' accuracy: 2x the conversion tolerance (model units)
   real delta; // the clearance of this pass (brt::SolverOptions::Clearance; 0: eq. 1 exactly)
   real s1Spacing; // the spacing s1 was sampled at (brt::SolverData::S1Spacing)
@@ -1378,6 +1380,63 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
 // across the edge nearest O where that edge is within t and one s1 spacing of O; the minimum
 // along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
 // edge contact. The smallest sphere wins (each is inside the verified one).
+// The other edges and faces at the vertex where `edge` ends at T, from a vertex contact of
+// radius t: their minima next to the vertex replace *r where lower (brt::AroundVertex).
+void around_vertex(const Model* m, int ownFace, int edge, real T, real t, real3 Ohi, real3 Olo,
+  real3 d, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
+  int* iterations, Result* r)
+{
+  const real roundoff = REAL_EPS;
+  const int end = fabs(T - m->edgeRange[2 * edge + 1]) < fabs(T - m->edgeRange[2 * edge]) ? 1 : 0;
+  const int record = m->vertexInfo[2 * edge + end];
+  if (record < 0)
+    return;
+  int tried[8] = { m->edgeInfo[4 * edge + 2], m->edgeInfo[4 * edge + 3], -1, -1, -1, -1, -1, -1 };
+  int triedCount = 2;
+  const int n = m->vertexInfo[record];
+  for (int i = 1; i <= n; ++i)
+  {
+    const int e = m->vertexInfo[record + i] / 2;
+    if (e == edge)
+      continue;
+    const real Te = m->edgeRange[2 * e + m->vertexInfo[record + i] % 2];
+    const EdgeMinimum em =
+      minimise_on_edge(m, e, Te, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
+    Result c = edge_contact(m, ownFace, m->edgeInfo[4 * e + 2], e, &em, d, newtonTol);
+    if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
+      *r = c;
+    for (int k = 0; k < 2; ++k)
+    {
+      const int f = m->edgeInfo[4 * e + 2 + k];
+      int seen = f < 0 || m->faceInfo[FACE_INTS * f + 1] == 0;
+      for (int j = 0; j < triedCount && !seen; ++j)
+        seen = tried[j] == f;
+      if (seen)
+        continue;
+      if (triedCount < 8)
+        tried[triedCount++] = f;
+      real u, v;
+      if (!edge_point_on_face(m, f, e, Te, &u, &v))
+        continue;
+      const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
+        newtonTol, maxIterations, iterations);
+      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) &&
+        ss.t < r->t * ((real)1 - roundoff))
+      {
+        c = no_result();
+        c.type = CONTACT_SURFACE_SURFACE;
+        c.face = f;
+        c.patch = ss.patch;
+        c.t = ss.t;
+        c.res = ss.res;
+        c.foot = ss.foot;
+        c.param = (real2)(ss.u, ss.v);
+        *r = c;
+      }
+    }
+  }
+}
+
 void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   int solid, int ownFace, int ownSeg, real ownParam, real3 Ohi, real3 Olo, real3 d, real scale,
@@ -1446,6 +1505,9 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       }
     }
   }
+  // The vertex of a vertex contact, before the faces beside its edge may replace it.
+  const int vertexEdge = r->type == CONTACT_SURFACE_VERTEX ? r->edge : -1;
+  const real vertexT = r->param.x, vertexRadius = r->t;
   if (r->type != CONTACT_SURFACE_SURFACE && r->edge >= 0)
   {
     const int edge = r->edge;
@@ -1474,6 +1536,9 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
       }
     }
   }
+  if (vertexEdge >= 0)
+    around_vertex(m, ownFace, vertexEdge, vertexT, vertexRadius, Ohi, Olo, d, scale, stepTol,
+      newtonTol, maxIterations, maxEdgeIterations, iterations, r);
 }
 
 // One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),
@@ -1594,13 +1659,13 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   const real clearance, const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // OUT_REALS per sample
   __global int* outInt,   // type, reason, face, patch, edge, iterations per sample
-  const real s1Spacing)
+  const real s1Spacing, __global const int* vertexInfo)
 {
   const int gid = get_global_id(0);
   if (gid >= count)
     return;
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
-    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, slack,
+    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,
     clearance, s1Spacing };
   __global const real* sp = samples + SAMPLE_REALS * gid;
   const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);

@@ -115,7 +115,16 @@ struct SolverData
   /// Per face: the patch grid breakpoints (NU+1 u values then NV+1 v values), at FaceBreaks[f].
   std::vector<double> Breaks;
   std::vector<int> FaceBreaks;
+  /// Vertices: edge ends that meet (within 10x the conversion tolerance), not stored in solve
+  /// files (BuildVertices derives them from the model). VertexInfo[2 e + k] is the record of the
+  /// vertex at edge e's end k (0: T0, 1: T1), -1 where the edge has no segments; a record at
+  /// offset r holds its end count n at VertexInfo[r], then n ends, each 2 * edge + k. The OpenCL
+  /// kernels get the same array.
+  std::vector<int> VertexInfo;
 };
+
+/// Fills data.VertexInfo from the model's edges (PrepareSolver and ReadSolve call it).
+void BuildVertices(const BRepModel& model, SolverData& data);
 
 SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options);
 
