@@ -359,6 +359,11 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
       nodeBox.push_back(static_cast<T>(n.Max[k] - c[k]));
     nodeInfo.insert(nodeInfo.end(), { n.First, n.Count, n.Right });
   }
+  // (SolverData built without BuildVertices: no vertices, rather than reads past the buffer.
+  // Kept until the clFinish below: the writes do not block.)
+  const std::vector<int> vertexInfo = data.VertexInfo.size() >= 2 * m.Edges.size()
+    ? data.VertexInfo
+    : std::vector<int>(2 * m.Edges.size(), -1);
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
   Model[0].Write(ctx, q, patches);
@@ -381,10 +386,7 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   Model[17].Write(ctx, q, s1UV);
   Model[18].Write(ctx, q, nodeBox);
   Model[19].Write(ctx, q, nodeInfo);
-  // (SolverData built without BuildVertices: no vertices, rather than reads past the buffer.)
-  Model[20].Write(ctx, q,
-    data.VertexInfo.size() >= 2 * m.Edges.size() ? data.VertexInfo
-                                                  : std::vector<int>(2 * m.Edges.size(), -1));
+  Model[20].Write(ctx, q, vertexInfo);
   Check(clFinish(q), "clFinish");
 }
 

@@ -1153,7 +1153,7 @@ EdgeMinimum minimise_on_edge(const Model* m, int edge, real T, real3 Ohi, real3 
   real3 C, Ct, Ctt;
   eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
   real t = sphere_radius(d, C, m->delta);
-  int atEnd = 0;
+  int atEnd = T == Tlo || T == Thi; // (a start at an end that no step leaves is that vertex)
   for (int it = 0; it < 2 * maxEdgeIterations && t < REAL_MAX; ++it)
   {
     ++*iterations;
@@ -1380,29 +1380,58 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
 // across the edge nearest O where that edge is within t and one s1 spacing of O; the minimum
 // along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
 // edge contact. The smallest sphere wins (each is inside the verified one).
-// The other edges and faces at the vertex where `edge` ends at T, from a vertex contact of
-// radius t: their minima next to the vertex replace *r where lower (brt::AroundVertex).
-void around_vertex(const Model* m, int ownFace, int edge, real T, real t, real3 Ohi, real3 Olo,
-  real3 d, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
-  int* iterations, Result* r)
+// The vertex at the end of `edge` nearer T, when within rho of `foot` (relative to O).
+void near_vertex(const Model* m, int edge, real T, real3 foot, real rho, real3 Ohi, real3 Olo,
+  int* vertexEdge, int* vertexEnd)
+{
+  const real T0 = m->edgeRange[2 * edge], T1 = m->edgeRange[2 * edge + 1];
+  const int end = fabs(T - T1) < fabs(T - T0) ? 1 : 0;
+  real3 C, Ct, Ctt;
+  eval_edge(m, edge, end ? T1 : T0, Ohi, Olo, &C, &Ct, &Ctt);
+  const real3 gap = C - foot;
+  if (dot(gap, gap) <= rho * rho)
+  {
+    *vertexEdge = edge;
+    *vertexEnd = end;
+  }
+}
+
+// The surface/surface contact of a surface Newton's result on `face` (brt::SurfaceContact).
+inline Result surface_result(int face, const SurfaceSolve* ss)
+{
+  Result c = no_result();
+  c.type = CONTACT_SURFACE_SURFACE;
+  c.face = face;
+  c.patch = ss->patch;
+  c.t = ss->t;
+  c.res = ss->res;
+  c.foot = ss->foot;
+  c.param = (real2)(ss->u, ss->v);
+  return c;
+}
+
+// The edges and faces at the vertex at end `end` of `edge`, from a contact of radius t at or
+// next to it: the minimum along each edge from the vertex and the surface Newton on each face
+// from it (but skipFace) replace *r where lower (brt::AroundVertex).
+void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int end, int skipFace,
+  real t, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol, real newtonTol,
+  int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
   const real roundoff = REAL_EPS;
-  const int end = fabs(T - m->edgeRange[2 * edge + 1]) < fabs(T - m->edgeRange[2 * edge]) ? 1 : 0;
   const int record = m->vertexInfo[2 * edge + end];
   if (record < 0)
     return;
-  int tried[8] = { m->edgeInfo[4 * edge + 2], m->edgeInfo[4 * edge + 3], -1, -1, -1, -1, -1, -1 };
-  int triedCount = 2;
+  int tried[8] = { skipFace, -1, -1, -1, -1, -1, -1, -1 };
+  int triedCount = 1;
   const int n = m->vertexInfo[record];
   for (int i = 1; i <= n; ++i)
   {
     const int e = m->vertexInfo[record + i] / 2;
-    if (e == edge)
-      continue;
     const real Te = m->edgeRange[2 * e + m->vertexInfo[record + i] % 2];
     const EdgeMinimum em =
       minimise_on_edge(m, e, Te, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
-    Result c = edge_contact(m, ownFace, m->edgeInfo[4 * e + 2], e, &em, d, newtonTol);
+    Result c = edge_contact(
+      m, ownFace, e == edge ? faceOfEdge : m->edgeInfo[4 * e + 2], e, &em, d, newtonTol);
     if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
       *r = c;
     for (int k = 0; k < 2; ++k)
@@ -1422,21 +1451,76 @@ void around_vertex(const Model* m, int ownFace, int edge, real T, real t, real3 
         newtonTol, maxIterations, iterations);
       if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) &&
         ss.t < r->t * ((real)1 - roundoff))
-      {
-        c = no_result();
-        c.type = CONTACT_SURFACE_SURFACE;
-        c.face = f;
-        c.patch = ss.patch;
-        c.t = ss.t;
-        c.res = ss.res;
-        c.foot = ss.foot;
-        c.param = (real2)(ss.u, ss.v);
-        *r = c;
-      }
+        *r = surface_result(f, &ss);
     }
   }
 }
 
+// The local part of the second look (brt::SecondLookNear): the minimum along the edge next to
+// a surface contact, the surface Newton on the faces beside an edge contact, and the edges and
+// faces around the vertex at or next to the contact.
+void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
+  Result* r)
+{
+  if (r->type == CONTACT_FAILED)
+    return;
+  const real rho = fmax((real)1e-2 * r->t, (real)10 * m->slack);
+  const real roundoff = REAL_EPS;
+  int vertexEdge = -1, vertexEnd = 0;
+  const Result first = *r;
+  Result c;
+  if (r->type == CONTACT_SURFACE_SURFACE)
+  {
+    int seg;
+    real param, dist;
+    classify(m, r->face, r->param, &seg, &param, &dist);
+    if (seg >= 0 && m->trimEdge[seg] >= 0)
+    {
+      const int edge = m->trimEdge[seg];
+      const real T =
+        m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+      real3 C, Ct, Ctt;
+      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+      const real3 gap = C - r->foot;
+      if (dot(gap, gap) <= rho * rho)
+      {
+        near_vertex(m, edge, T, r->foot, rho, Ohi, Olo, &vertexEdge, &vertexEnd);
+        const EdgeMinimum em =
+          minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
+        c = edge_contact(m, ownFace, r->face, edge, &em, d, newtonTol);
+        if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
+          *r = c;
+      }
+    }
+  }
+  if (r->type != CONTACT_SURFACE_SURFACE && r->edge >= 0)
+  {
+    const int edge = r->edge;
+    const real T = r->param.x, t = r->t;
+    near_vertex(m, edge, T, r->foot, rho, Ohi, Olo, &vertexEdge, &vertexEnd);
+    for (int k = 0; k < 2; ++k)
+    {
+      const int f = m->edgeInfo[4 * edge + 2 + k];
+      real u, v;
+      if (f < 0 || (k == 1 && f == m->edgeInfo[4 * edge + 2]) ||
+        m->faceInfo[FACE_INTS * f + 1] == 0 || !edge_point_on_face(m, f, edge, T, &u, &v))
+        continue;
+      const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
+        newtonTol, maxIterations, iterations);
+      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) &&
+        ss.t < r->t * ((real)1 - roundoff))
+        *r = surface_result(f, &ss);
+    }
+  }
+  if (vertexEdge >= 0)
+    around_vertex(m, ownFace, first.face, vertexEdge, vertexEnd,
+      first.type == CONTACT_SURFACE_SURFACE ? first.face : -1, first.t, Ohi, Olo, d, scale,
+      stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, r);
+}
+
+// The second look at a verified contact (brt::SecondLook): the far end of an arc, the face
+// across the edge nearest O, then second_look_near.
 void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   int solid, int ownFace, int ownSeg, real ownParam, real3 Ohi, real3 Olo, real3 d, real scale,
@@ -1480,65 +1564,8 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
         *r = c;
     }
   }
-  // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
-  // both sides, from the edge point.
-  if (r->type == CONTACT_SURFACE_SURFACE)
-  {
-    int seg;
-    real param, dist;
-    classify(m, r->face, r->param, &seg, &param, &dist);
-    if (seg >= 0 && m->trimEdge[seg] >= 0)
-    {
-      const int edge = m->trimEdge[seg];
-      const real T =
-        m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
-      real3 C, Ct, Ctt;
-      eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
-      const real3 gap = C - r->foot;
-      if (dot(gap, gap) <= rho * rho)
-      {
-        const EdgeMinimum em =
-          minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
-        c = edge_contact(m, ownFace, r->face, edge, &em, d, newtonTol);
-        if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
-          *r = c;
-      }
-    }
-  }
-  // The vertex of a vertex contact, before the faces beside its edge may replace it.
-  const int vertexEdge = r->type == CONTACT_SURFACE_VERTEX ? r->edge : -1;
-  const real vertexT = r->param.x, vertexRadius = r->t;
-  if (r->type != CONTACT_SURFACE_SURFACE && r->edge >= 0)
-  {
-    const int edge = r->edge;
-    const real T = r->param.x, t = r->t;
-    for (int k = 0; k < 2; ++k)
-    {
-      const int f = m->edgeInfo[4 * edge + 2 + k];
-      real u, v;
-      if (f < 0 || (k == 1 && f == m->edgeInfo[4 * edge + 2]) ||
-        m->faceInfo[FACE_INTS * f + 1] == 0 || !edge_point_on_face(m, f, edge, T, &u, &v))
-        continue;
-      const SurfaceSolve ss = surface_newton(m, f, Ohi, Olo, d, u, v, t, scale, stepTol,
-        newtonTol, maxIterations, iterations);
-      if (valid_surface_solve(m, ownFace, f, &ss, d, scale, newtonTol) &&
-        ss.t < r->t * ((real)1 - roundoff))
-      {
-        c = no_result();
-        c.type = CONTACT_SURFACE_SURFACE;
-        c.face = f;
-        c.patch = ss.patch;
-        c.t = ss.t;
-        c.res = ss.res;
-        c.foot = ss.foot;
-        c.param = (real2)(ss.u, ss.v);
-        *r = c;
-      }
-    }
-  }
-  if (vertexEdge >= 0)
-    around_vertex(m, ownFace, vertexEdge, vertexT, vertexRadius, Ohi, Olo, d, scale, stepTol,
-      newtonTol, maxIterations, maxEdgeIterations, iterations, r);
+  second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+    maxEdgeIterations, iterations, r);
 }
 
 // One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),

@@ -1167,7 +1167,7 @@ EdgeMinimum MinimiseOnEdge(const BRepModel& m, const SolverData& data, const Sol
   T = std::clamp(T, Tlo, Thi);
   EdgeEval ee = EvaluateEdge(m, edge, T);
   double t = SphereRadius(O, d, ee.C, delta);
-  bool atEnd = false;
+  bool atEnd = T == Tlo || T == Thi; // (a start at an end that no step leaves is that vertex)
   for (int it = 0; it < 2 * opt.MaxEdgeIterations && std::isfinite(t); ++it)
   {
     ++iterations;
@@ -1399,31 +1399,32 @@ SampleResult DescendAcrossNearestEdge(const BRepModel& m, const SolverData& data
   return Descend(m, data, opt, s, nb, bu, bv, iterations);
 }
 
-/// The other edges and faces at the vertex where `edge` ends at parameter T, from a vertex
-/// contact of radius t: their minima next to the vertex, each passed to `consider`. A sphere
-/// touching a vertex can touch a face or an edge meeting there, other than the vertex's own edge
-/// and its two faces, a little lower a few 1e-3 mm away (the NIST part's 1.5 mm round meets its
-/// end faces at vertices: the reference reported the vertex, 2t = 3.00011617, the double kernel
-/// the face next to it 1.8e-3 mm away, 3.00011465). Each face is tried once.
+/// The edges and faces at the vertex at end `end` (0: T0, 1: T1) of `edge`, from a contact of
+/// radius t at or next to it: the minimum along each edge from the vertex (`edge`'s reported on
+/// `faceOfEdge`) and the surface Newton on each face from it (but `skipFace`), each passed to
+/// `consider`. A sphere touching a vertex can touch a face or an edge meeting there a little
+/// lower a few 1e-3 mm away (the NIST part's 1.5 mm round meets its end faces at vertices: the
+/// reference reported the vertex, 2t = 3.00011617, the double kernel the face next to it
+/// 1.8e-3 mm away, 3.00011465), and the vertex's own edge may have its minimum just before the
+/// end, which eq. 7's Newton steps past (FRAMEWORK: 8e-4 mm before it, 1.2e-6 lower in t). Each
+/// face is tried once.
 template <class Consider>
 void AroundVertex(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, int edge, double T, double t, int& iterations, Consider&& consider)
+  const Sample& s, int faceOfEdge, int edge, int end, int skipFace, double t, int& iterations,
+  Consider&& consider)
 {
-  const Edge& own = m.Edges[edge];
-  const int end = std::fabs(T - own.T1) < std::fabs(T - own.T0) ? 1 : 0;
   const int record = data.VertexInfo.empty() ? -1 : data.VertexInfo[2 * edge + end];
   if (record < 0)
     return;
-  int tried[8] = { own.Faces[0], own.Faces[1], -1, -1, -1, -1, -1, -1 };
-  int triedCount = 2;
+  int tried[8] = { skipFace, -1, -1, -1, -1, -1, -1, -1 };
+  int triedCount = 1;
   for (int i = 1; i <= data.VertexInfo[record]; ++i)
   {
     const int e = data.VertexInfo[record + i] / 2;
-    if (e == edge)
-      continue;
     const Edge& E = m.Edges[e];
     const double Te = data.VertexInfo[record + i] % 2 ? E.T1 : E.T0;
-    consider(EdgeContact(m, data, opt, s, E.Faces[0], e, MinimiseOnEdge(m, data, opt, s, e, Te, iterations)));
+    consider(EdgeContact(m, data, opt, s, e == edge ? faceOfEdge : E.Faces[0], e,
+      MinimiseOnEdge(m, data, opt, s, e, Te, iterations)));
     for (int k = 0; k < 2; ++k)
     {
       const int f = E.Faces[k];
@@ -1441,6 +1442,9 @@ void AroundVertex(const BRepModel& m, const SolverData& data, const SolverOption
     }
   }
 }
+
+void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r, int& iterations);
 
 /// The second look at a verified contact r (t_delta in r.Radius): other local minima of t_delta
 /// that a path may have missed, where the answer would otherwise depend on rounding.
@@ -1503,8 +1507,46 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
     if (Dot(toEdge, toEdge) < reach * reach)
       consider(DescendAcrossNearestEdge(m, data, opt, s, own, iterations));
   }
+  SecondLookNear(m, data, opt, s, r, iterations);
+  r.Iterations = iterations;
+}
+
+/// The local part of the second look (SecondLook): from a contact r (t_delta in r.Radius), the
+/// minimum along the edge next to a surface contact, the surface Newton on the faces beside an
+/// edge contact, and the edges and faces around a vertex contact (AroundVertex). Each is a
+/// Newton from the contact itself; the smallest sphere wins.
+void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r, int& iterations)
+{
+  if (r.Type == ContactType::Failed)
+    return;
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const double rho = std::max(1e-2 * r.Radius, 20.0 * m.Tolerance);
+  const double roundoff = std::numeric_limits<double>::epsilon();
+  auto consider = [&](const SampleResult& c) {
+    if (c.Type != ContactType::Failed && c.Radius < r.Radius * (1.0 - roundoff))
+    {
+      r = c;
+      r.Iterations = iterations;
+    }
+  };
+  // The vertex at or next to the contact (an end of its edge, or of the edge nearest a surface
+  // contact, within rho of the foot): the edges and faces around it, last.
+  int vertexEdge = -1, vertexEnd = 0;
+  auto nearVertex = [&](int edge, double T, const Vec3& foot) {
+    const Edge& E = m.Edges[edge];
+    const int end = std::fabs(T - E.T1) < std::fabs(T - E.T0) ? 1 : 0;
+    const Vec3 gap = Sub(EvaluateEdge(m, edge, end ? E.T1 : E.T0).C, foot);
+    if (Dot(gap, gap) <= rho * rho)
+    {
+      vertexEdge = edge;
+      vertexEnd = end;
+    }
+  };
   // Next to an edge: its minimum; from an edge contact, the surface Newton on the faces on
   // both sides, from the edge point.
+  const SampleResult first = r;
   if (r.Type == ContactType::SurfaceSurface)
   {
     const TrimProjection near =
@@ -1515,18 +1557,19 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
       const double T = seg.T0 + near.Parameter * (seg.T1 - seg.T0);
       const Vec3 gap = Sub(EvaluateEdge(m, seg.Edge, T).C, r.Foot);
       if (Dot(gap, gap) <= rho * rho)
+      {
+        nearVertex(seg.Edge, T, r.Foot);
         consider(EdgeContact(m, data, opt, s, r.OppositeFace, seg.Edge,
           MinimiseOnEdge(m, data, opt, s, seg.Edge, T, iterations)));
+      }
     }
   }
-  // The vertex of a vertex contact, before the faces beside its edge may replace it.
-  const int vertexEdge = r.Type == ContactType::SurfaceVertex ? r.OppositeEdge : -1;
-  const double vertexT = r.FootParameter[0], vertexRadius = r.Radius;
   if (r.Type != ContactType::SurfaceSurface && r.OppositeEdge >= 0)
   {
     const int edge = r.OppositeEdge;
     const double T = r.FootParameter[0];
     const double t = r.Radius;
+    nearVertex(edge, T, r.Foot); // (a vertex contact's own)
     const Edge& E = m.Edges[edge];
     for (int k = 0; k < 2; ++k)
     {
@@ -1541,8 +1584,9 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
     }
   }
   if (vertexEdge >= 0)
-    AroundVertex(m, data, opt, s, vertexEdge, vertexT, vertexRadius, iterations, consider);
-  r.Iterations = iterations;
+    AroundVertex(m, data, opt, s, first.OppositeFace, vertexEdge, vertexEnd,
+      first.Type == ContactType::SurfaceSurface ? first.OppositeFace : -1, first.Radius,
+      iterations, consider);
 }
 
 /// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
