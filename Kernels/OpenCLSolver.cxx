@@ -23,6 +23,9 @@ constexpr size_t SampleReals = 11;
 /// Reals per sample in the kernel's result buffer (OUT_REALS in thickness.cl): t, foot - O (3),
 /// residual, the foot's parameters (u, v on the face, or T, 0 on the edge).
 constexpr size_t OutReals = 7;
+/// Ints per sample in the kernel's result buffer (OUT_INTS): type, reason, face, patch, edge,
+/// iterations, and whether the pass without clearance found the contact.
+constexpr size_t OutInts = 7;
 
 std::string Lower(std::string s)
 {
@@ -215,6 +218,8 @@ struct OpenCLSolver::Impl
   static constexpr int ModelBuffers = 21; // the last is kernel argument 33
   Buffer Model[ModelBuffers];
   Buffer Samples, SampleFace, OutReal, OutInt;
+  /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
+  std::vector<unsigned char> ExactPass;
 
   template <class T>
   void UploadAs(const BRepModel& m, const SolverData& data);
@@ -396,6 +401,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   std::vector<SampleResult>& results, size_t chunk)
 {
   results.assign(samples.size(), SampleResult());
+  ExactPass.assign(samples.size(), 0);
   if (samples.empty())
     return;
   if (data.Nodes.empty())
@@ -404,7 +410,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
-  const size_t perSample = (SampleReals + OutReals) * sizeof(T) + 7 * sizeof(int);
+  const size_t perSample = (SampleReals + OutReals) * sizeof(T) + (OutInts + 1) * sizeof(int);
   if (chunk == 0)
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
   chunk = std::min(chunk, samples.size());
@@ -414,7 +420,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   Samples.Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
   SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
   OutReal.Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_WRITE_ONLY);
-  OutInt.Allocate(ctx, chunk * 6 * sizeof(int), CL_MEM_WRITE_ONLY);
+  OutInt.Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_WRITE_ONLY);
   const auto& c = data.Centre;
   const T scale = static_cast<T>(data.Scale);
   const T stepTol = static_cast<T>((sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale);
@@ -424,7 +430,7 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const T s1Spacing = static_cast<T>(data.S1Spacing);
   const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
   std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
-  std::vector<int> outI(chunk * 6), faces(chunk);
+  std::vector<int> outI(chunk * OutInts), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
   for (cl_uint a = 0; a + 1 < ModelBuffers; ++a)
@@ -471,18 +477,19 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       "clEnqueueNDRangeKernel");
     Check(clEnqueueReadBuffer(q, OutReal.Mem, CL_FALSE, 0, n * OutReals * sizeof(T), outR.data(), 0, nullptr, nullptr),
       "clEnqueueReadBuffer");
-    Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * 6 * sizeof(int), outI.data(), 0, nullptr, nullptr),
+    Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
       "clEnqueueReadBuffer");
     for (size_t i = 0; i < n; ++i)
     {
       const Sample& s = samples[first + i];
       SampleResult& r = results[first + i];
-      r.Type = static_cast<ContactType>(outI[6 * i]);
-      r.Reason = static_cast<FailReason>(outI[6 * i + 1]);
-      r.OppositeFace = outI[6 * i + 2];
-      r.OppositePatch = outI[6 * i + 3];
-      r.OppositeEdge = outI[6 * i + 4];
-      r.Iterations = outI[6 * i + 5];
+      r.Type = static_cast<ContactType>(outI[OutInts * i]);
+      r.Reason = static_cast<FailReason>(outI[OutInts * i + 1]);
+      r.OppositeFace = outI[OutInts * i + 2];
+      r.OppositePatch = outI[OutInts * i + 3];
+      r.OppositeEdge = outI[OutInts * i + 4];
+      r.Iterations = outI[OutInts * i + 5];
+      ExactPass[first + i] = static_cast<unsigned char>(outI[OutInts * i + 6]);
       r.Residual = static_cast<double>(outR[OutReals * i + 4]);
       if (r.Type == ContactType::Failed)
         continue;
@@ -516,13 +523,22 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     P->SolveAs<double>(model, data, options, samples, results, chunk);
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
-  // The float kernels fail a few samples that double solves: those are finished on the host by
-  // the reference, in double, on every core. The double kernels run the reference's steps in
-  // the same precision, so solving their failures again would only fail again.
-  std::vector<size_t> hard;
-  for (size_t i = 0; i < samples.size() && HostFinish && !P->RT->Double; ++i)
-    if (results[i].Type == ContactType::Failed)
-      hard.push_back(i);
+  // The float kernels' contacts are refined on the host in double (PolishResult: the contact's
+  // own Newton, then the local part of the second look), and the few samples they fail that
+  // double solves are finished by the reference; both on every core. The double kernels run the
+  // reference's steps in the same precision, so neither would change their results.
+  if (!HostFinish || P->RT->Double)
+    return;
+  std::vector<size_t> hard, solved;
+  for (size_t i = 0; i < samples.size(); ++i)
+    (results[i].Type == ContactType::Failed ? hard : solved).push_back(i);
+  SolverOptions exact = options;
+  exact.Clearance = 0.0;
+  const std::vector<unsigned char>& pass = P->ExactPass;
+  ParallelFor(solved.size(), 0, [&](size_t j) {
+    const size_t i = solved[j];
+    PolishResult(model, data, pass[i] ? exact : options, samples[i], results[i]);
+  });
   SolveReferenceParallel(model, data, options, samples, results, hard);
 }
 

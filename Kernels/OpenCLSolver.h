@@ -48,9 +48,10 @@ public:
   /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
   size_t DeviceBytes() const;
 
-  /// Whether Solve finishes on the host, with the reference in double, the samples the float
-  /// kernels leave failed (default on; the double kernels are not finished). Off, Solve returns the kernels' own results: the tests measure
-  /// the kernels alone that way.
+  /// Whether Solve finishes the float kernels' results on the host, in double (default on; the
+  /// double kernels' results are returned as they are): each contact refined (brt::PolishResult)
+  /// and the samples the kernels leave failed solved by the reference. Off, Solve returns the
+  /// kernels' own results: the tests measure the kernels alone that way.
   void SetHostFinish(bool on) { HostFinish = on; }
   bool GetHostFinish() const { return HostFinish; }
 

@@ -45,6 +45,8 @@ typedef float3 real3;
 // Per result: t, foot - O (3), residual, the foot's parameters (u, v on the face; T, 0 on the
 // edge).
 #define OUT_REALS 7
+// Per result: type, reason, face, patch, edge, iterations, exact pass (0 or 1).
+#define OUT_INTS 7
 
 typedef struct
 {
@@ -105,12 +107,12 @@ inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
   return (f0 == sampleFace || f1 == sampleFace) && near_sample(m, C);
 }
 
-// A foot next to O on a face whose normal n there is within 1e-3 rad of O's: the trivial
+// A foot next to O on a face whose normal n there is within 2e-3 rad of O's: the trivial
 // solution across a tangent edge (brt::TangentAtSample).
 inline int tangent_at_sample(const Model* m, real3 P, real3 n, real3 d)
 {
   const real3 c = cross(n, d);
-  return near_sample(m, P) && dot(c, c) <= (real)1e-6 * dot(n, n);
+  return near_sample(m, P) && dot(c, c) <= (real)4e-6 * dot(n, n);
 }
 
 // A foot point on the sample's own face within the patches' accuracy of O is the trivial
@@ -773,6 +775,13 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
       continue;
     if (length(cross(n, q)) <= (real)1e-3 * ln * lq)
     {
+      if (tangent_at_sample(m, r->foot, n, d))
+      {
+        // That face continues O's tangent plane at a foot next to O: the trivial solution.
+        r->type = CONTACT_FAILED;
+        r->reason = FAIL_LEFT_MODEL;
+        return;
+      }
       r->type = CONTACT_SURFACE_SURFACE;
       r->face = f;
       r->patch = patch;
@@ -1685,7 +1694,8 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
   const real clearance, const int maxIterations, const int maxEdgeIterations,
   __global real* outReal, // OUT_REALS per sample
-  __global int* outInt,   // type, reason, face, patch, edge, iterations per sample
+  __global int* outInt,   // OUT_INTS per sample: type, reason, face, patch, edge, iterations,
+                          // and 1 where the pass without clearance found the contact
   const real s1Spacing, __global const int* vertexInfo)
 {
   const int gid = get_global_id(0);
@@ -1699,7 +1709,7 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   const real3 d = (real3)(sp[6], sp[7], sp[8]);
   const real2 ownUV = (real2)(sp[9], sp[10]);
   const int ownFace = sampleFace[gid];
-  int iterations = 0;
+  int iterations = 0, exactPass = 0;
   Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
     Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
   if (r.type == CONTACT_FAILED && clearance > (real)0)
@@ -1711,12 +1721,15 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
       ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
       &iterations);
     if (exact.type != CONTACT_FAILED)
+    {
       r = exact;
+      exactPass = 1;
+    }
   }
   // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
   const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
   __global real* oR = outReal + OUT_REALS * gid;
-  __global int* oI = outInt + 6 * gid;
+  __global int* oI = outInt + OUT_INTS * gid;
   oR[0] = t;
   oR[1] = r.foot.x;
   oR[2] = r.foot.y;
@@ -1730,4 +1743,5 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   oI[3] = r.patch;
   oI[4] = r.edge;
   oI[5] = iterations;
+  oI[6] = exactPass;
 }

@@ -562,17 +562,19 @@ bool EdgeAtSample(const BRepModel& m, const Sample& s, int edge, const Vec3& C)
 }
 
 /// A foot within the patches' accuracy of O on a face that continues O's tangent plane there
-/// (its normal within 1e-3 rad of O's, the face across a tangent edge next to O): the trivial
+/// (its normal within 2e-3 rad of O's, the face across a tangent edge next to O): the trivial
 /// solution again, whichever face it is on (a hinge sample on the tangent edge of a 1.5 mm bore
 /// read 2t = 2.990 or, in float, 0.333 for 3.000 from a foot 5.7e-5 mm from O). At a sharp
-/// convex edge the face across stands at an angle and its contacts are real.
+/// convex edge the face across stands at an angle and its contacts are real. (The test's check
+/// takes 1e-3 rad: a sphere tangent at a foot that close to O has its normal there within
+/// |P - O| / t of d, and float put one at 1.0e-3 rad with its foot 1.98e-4 mm from O.)
 bool TangentAtSample(const BRepModel& m, const Sample& s, const Vec3& P, const Vec3& n)
 {
   if (!NearSample(m, s, P))
     return false;
   const Vec3& d = s.Direction;
   const Vec3 c{ n[1] * d[2] - n[2] * d[1], n[2] * d[0] - n[0] * d[2], n[0] * d[1] - n[1] * d[0] };
-  return Dot(c, c) <= 1e-6 * Dot(n, n);
+  return Dot(c, c) <= 4e-6 * Dot(n, n);
 }
 
 /// Eq. 4 on the sample's own face has a trivial solution: P = O solves it for every t, and
@@ -777,7 +779,10 @@ void AddEdgePoints(const BRepModel& m, double spacing, std::vector<S1Point>& s1)
 /// there is an accident; such contacts are reported as surface/surface on the first face whose
 /// normal at the foot is within 1e-3 rad of the sphere's. Likewise a surface/vertex contact at a
 /// vertex where the faces meet tangentially (a corner blend; with the clearance, the contact of
-/// a sphere touching a whole arc lies at the arc's far end, often such a vertex).
+/// a sphere touching a whole arc lies at the arc's far end, often such a vertex). Where that
+/// face continues O's tangent plane at a foot next to O (TangentAtSample) the contact is the
+/// trivial solution and fails (a float solve reported 2t = 0.515 for 0.58 on the ExpansionCard
+/// from an edge 1.98e-4 mm from O).
 void TypeTangentEdgeContact(const BRepModel& m, const SolverData& data, const Sample& s,
   double T, SampleResult& r)
 {
@@ -806,6 +811,13 @@ void TypeTangentEdgeContact(const BRepModel& m, const SolverData& data, const Sa
     const Vec3 c{ n[1] * q[2] - n[2] * q[1], n[2] * q[0] - n[0] * q[2], n[0] * q[1] - n[1] * q[0] };
     if (std::sqrt(Dot(c, c)) <= 1e-3 * ln * lq)
     {
+      if (TangentAtSample(m, s, r.Foot, n))
+      {
+        // That face continues O's tangent plane at a foot next to O: the trivial solution.
+        r.Type = ContactType::Failed;
+        r.Reason = FailReason::LeftModel;
+        return;
+      }
       r.Type = ContactType::SurfaceSurface;
       r.OppositeFace = f;
       r.OppositePatch = patch;
@@ -1743,17 +1755,41 @@ void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, const std::vector<size_t>& which, unsigned threads)
 {
-  if (threads == 0)
-    threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<size_t>(threads, which.size()));
-  std::vector<std::thread> pool;
-  for (unsigned k = 0; k < threads; ++k)
-    pool.emplace_back([&, k] {
-      for (size_t j = k; j < which.size(); j += threads)
-        SolveReferenceRange(model, data, options, samples, results, which[j], which[j] + 1);
-    });
-  for (auto& t : pool)
-    t.join();
+  ParallelFor(which.size(), threads, [&](size_t j) {
+    SolveReferenceRange(model, data, options, samples, results, which[j], which[j] + 1);
+  });
+}
+
+void PolishResult(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
+  const Sample& s, SampleResult& r)
+{
+  if (r.Type == ContactType::Failed || data.Nodes.empty())
+    return;
+  int iterations = 0;
+  SampleResult c;
+  // The solver's internal radius is t_delta (Clearance); r carries eq. 1's.
+  const double tDelta = SphereRadius(s.Point, s.Direction, r.Foot, Clearance(m, opt));
+  if (r.Type == ContactType::SurfaceSurface)
+  {
+    const SurfaceSolve ss = SurfaceNewton(m, data, opt, s.Point, s.Direction, r.OppositeFace,
+      r.FootParameter[0], r.FootParameter[1], std::isfinite(tDelta) ? tDelta : r.Radius,
+      iterations);
+    if (ValidSurfaceSolve(m, data, opt, s, r.OppositeFace, ss))
+      c = SurfaceContact(s, r.OppositeFace, ss);
+  }
+  else if (r.OppositeEdge >= 0)
+    c = EdgeContact(m, data, opt, s, r.OppositeFace, r.OppositeEdge,
+      MinimiseOnEdge(m, data, opt, s, r.OppositeEdge, r.FootParameter[0], iterations));
+  if (c.Type == ContactType::Failed)
+    return;
+  const double rho = std::max(1e-2 * r.Radius, 20.0 * m.Tolerance);
+  const Vec3 moved = Sub(c.Foot, r.Foot);
+  if (Dot(moved, moved) > rho * rho)
+    return;
+  SecondLookNear(m, data, opt, s, c, iterations);
+  ReportRadius(s, c);
+  c.Iterations = r.Iterations + iterations;
+  r = c;
 }
 
 } // namespace brt

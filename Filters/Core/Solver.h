@@ -5,9 +5,11 @@
 
 #include "BRepModel.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace brt
@@ -149,6 +151,33 @@ void SolveReferenceRange(const BRepModel& model, const SolverData& data,
 void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, const std::vector<size_t>& which, unsigned threads = 0);
+
+/// Refines in double a contact found in lower precision (the float kernels), `options` being
+/// those it was found with (the clearance of its pass): the same contact's Newton from its foot
+/// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the
+/// local part of the second look (the edge, faces and vertex next to the contact, where a tie
+/// between contacts of one sphere is decided), and the radius of eq. 1 at the new foot. Keeps r
+/// where that Newton fails or lands farther than the second look's reach from r's foot.
+void PolishResult(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+  const Sample& sample, SampleResult& r);
+
+/// Calls f(i) for i in [0, n) on `threads` threads (0: one per core), the indices dealt out in
+/// turn.
+template <class F>
+void ParallelFor(size_t n, unsigned threads, F&& f)
+{
+  if (threads == 0)
+    threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<size_t>(threads, n));
+  std::vector<std::thread> pool;
+  for (unsigned k = 0; k < threads; ++k)
+    pool.emplace_back([&, k] {
+      for (size_t i = k; i < n; i += threads)
+        f(i);
+    });
+  for (auto& t : pool)
+    t.join();
+}
 
 /// Patch of `face` containing (u,v), by binary search on the face's grid breakpoints.
 int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v);
