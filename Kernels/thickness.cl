@@ -752,6 +752,15 @@ typedef struct
   int type, reason, face, patch, edge;
 } Result;
 
+// T within 1e-9 of the edge's parameter range of one of its ends: that vertex
+// (brt::AtEdgeEnd).
+inline int at_edge_end(const Model* m, int edge, real T)
+{
+  const real T0 = m->edgeRange[2 * edge], T1 = m->edgeRange[2 * edge + 1];
+  const real near = (real)1e-9 * fabs(T1 - T0);
+  return fabs(T - T0) <= near || fabs(T - T1) <= near;
+}
+
 // A surface/edge or surface/vertex contact where the faces meet tangentially is a tangent
 // contact with them: reported as surface/surface on the first face whose normal at the foot is
 // within 1e-3 rad of the sphere's (brt::TypeTangentEdgeContact). foot is relative to O.
@@ -999,7 +1008,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       reason = FAIL_LEFT_MODEL; // the trivial solution C = O
       goto out;
     }
-    type = atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+    type = atEnd || at_edge_end(m, edge, T) ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
     foot = C;
     edgeT = T;
     footParam = (real2)(T, 0);
@@ -1230,7 +1239,8 @@ Result edge_contact(const Model* m, int sampleFace, int face, int edge, const Ed
     r.reason = FAIL_EDGE_NOT_CONVERGED;
   if (r.reason != FAIL_NONE)
     return r;
-  r.type = em->atEnd ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+  r.type = em->atEnd || at_edge_end(m, edge, em->T) ? CONTACT_SURFACE_VERTEX
+                                                    : CONTACT_SURFACE_EDGE;
   r.face = face;
   r.edge = edge;
   r.t = t;

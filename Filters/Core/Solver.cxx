@@ -773,6 +773,15 @@ void AddEdgePoints(const BRepModel& m, double spacing, std::vector<S1Point>& s1)
   }
 }
 
+/// T within 1e-9 of the edge's parameter range of one of its ends: an edge contact there is
+/// the vertex's (Newton may converge onto the end without stepping past it; the host polish
+/// lands 1e-13 short of it from a float T).
+bool AtEdgeEnd(const Edge& E, double T)
+{
+  const double near = 1e-9 * std::fabs(E.T1 - E.T0);
+  return std::fabs(T - E.T0) <= near || std::fabs(T - E.T1) <= near;
+}
+
 /// A surface/edge contact on a tangent-continuous edge (a round meeting its tangent plane) is a
 /// tangent contact with the faces on both sides: the sphere's normal at the foot, (C - M) / |C - M|,
 /// is their normal there. Which of the two types Newton, the descent or float rounding reports
@@ -1025,7 +1034,7 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     r.Reason = FailReason::LeftModel; // the trivial solution C = O
     return;
   }
-  r.Type = atEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
+  r.Type = atEnd || AtEdgeEnd(E, T) ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
   r.Radius = t;
   r.Thickness = 2.0 * t;
   r.Center = Axpy(O, t, d);
@@ -1245,7 +1254,8 @@ SampleResult EdgeContact(const BRepModel& m, const SolverData& data, const Solve
     r.Reason = FailReason::EdgeNotConverged;
   if (r.Reason != FailReason::None)
     return r;
-  r.Type = em.AtEnd ? ContactType::SurfaceVertex : ContactType::SurfaceEdge;
+  r.Type = em.AtEnd || AtEdgeEnd(m.Edges[edge], em.T) ? ContactType::SurfaceVertex
+                                                       : ContactType::SurfaceEdge;
   r.OppositeFace = face;
   r.OppositeEdge = edge;
   r.Radius = t;
@@ -1769,7 +1779,15 @@ void PolishResult(const BRepModel& m, const SolverData& data, const SolverOption
   SampleResult c;
   // The solver's internal radius is t_delta (Clearance); r carries eq. 1's.
   const double tDelta = SphereRadius(s.Point, s.Direction, r.Foot, Clearance(m, opt));
-  if (r.Type == ContactType::SurfaceSurface)
+  if (r.Type == ContactType::SurfaceSurface &&
+    ShallowOwnFaceContact(m, s, r.OppositeFace, r.Foot, r.Radius))
+  {
+    // Only the descent finds such a contact (an osculating sphere next to O, on a concave
+    // round): Newton from it goes to the trivial solution P = O. Descend again, in double.
+    c = Descend(m, data, opt, s, r.OppositeFace, r.FootParameter[0], r.FootParameter[1],
+      iterations);
+  }
+  else if (r.Type == ContactType::SurfaceSurface)
   {
     const SurfaceSolve ss = SurfaceNewton(m, data, opt, s.Point, s.Direction, r.OppositeFace,
       r.FootParameter[0], r.FootParameter[1], std::isfinite(tDelta) ? tDelta : r.Radius,
@@ -1778,8 +1796,15 @@ void PolishResult(const BRepModel& m, const SolverData& data, const SolverOption
       c = SurfaceContact(s, r.OppositeFace, ss);
   }
   else if (r.OppositeEdge >= 0)
+  {
+    // A vertex: the edge's end in double (its float T is the end rounded to float).
+    const Edge& E = m.Edges[r.OppositeEdge];
+    double T = r.FootParameter[0];
+    if (r.Type == ContactType::SurfaceVertex)
+      T = std::fabs(T - E.T1) < std::fabs(T - E.T0) ? E.T1 : E.T0;
     c = EdgeContact(m, data, opt, s, r.OppositeFace, r.OppositeEdge,
-      MinimiseOnEdge(m, data, opt, s, r.OppositeEdge, r.FootParameter[0], iterations));
+      MinimiseOnEdge(m, data, opt, s, r.OppositeEdge, T, iterations));
+  }
   if (c.Type == ContactType::Failed)
     return;
   const double rho = std::max(1e-2 * r.Radius, 20.0 * m.Tolerance);

@@ -216,13 +216,14 @@ TEST_P(KernelVsReference, EveryDataModel)
       100.0 * clFailed / samples.size());
     for (const auto& l : listed)
       std::printf("[disagreement] %s\n", l.c_str());
-    // The target is 99.9% agreement. Measured on PoCL (docs/Solver.md): 100% on every analytic
-    // model in both precisions; on the real parts 99.85-99.96% in double (the NIST part's 99.85%
-    // the one below target) and 99.71-99.82% in float. The bounds sit just above those figures
-    // so that a regression fails; the gap to 99.9% is an open item, not hidden.
-    EXPECT_LE(bad, samples.size() * (useDouble ? 20 : 45) / 10000) << name;
-    // Up to ties between contacts of one sphere (Compare), the 99.9% holds: measured 0.003-0.009%
-    // different spheres in double and 0.011-0.068% in float on the real parts.
+    // The target: 99.9% agreement. Measured on PoCL (docs/Solver.md): 100% on every analytic
+    // model in both precisions; on the real parts 99.978-100% in double and, with the host's
+    // finish (float contacts polished in double), 99.909-99.991% in float (the FRAMEWORK tile's
+    // 99.909% the closest: ties between osculating spheres next to O in its four corner
+    // pockets).
+    EXPECT_LE(bad, samples.size() * 10 / 10000) << name;
+    // Different spheres (Compare), not ties between contacts of one sphere: measured
+    // 0-0.009% in double and 0.009-0.040% in float on the real parts.
     EXPECT_LE(dis.Different, samples.size() * 10 / 10000) << name;
     // Failed samples (flagged, never reported as thicknesses): measured at most 0.18% of the
     // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
@@ -234,9 +235,10 @@ TEST_P(KernelVsReference, EveryDataModel)
       refFailed += r.Type == ContactType::Failed;
     EXPECT_LE(refFailed, samples.size() * 20 / 10000) << name;
     EXPECT_LE(clFailed, samples.size() * 20 / 10000) << name;
-    // In float, the figures above include the samples the kernels leave failed (0-0.18%), which
-    // the host finishes with the reference (double kernels are not finished). The kernels alone:
-    // 99.85-99.96% in double and 99.69-99.82% in float on the real parts; same bounds.
+    // In float, the figures above include the host's finish: every contact polished in double
+    // (brt::PolishResult) and the samples the kernels leave failed (0-0.18%) solved by the
+    // reference (double kernels are not finished). The float kernels alone: 99.76-99.98% on the
+    // real parts.
     std::vector<SampleResult> alone;
     cl->SetHostFinish(false);
     cl->Solve(m, data, options, samples, alone, 4096);
@@ -253,7 +255,7 @@ TEST_P(KernelVsReference, EveryDataModel)
       name.c_str(), useDouble ? "double" : "float", badAlone, 100.0 * badAlone / samples.size(),
       disAlone.Different, 100.0 * disAlone.Different / samples.size(), handedBack,
       100.0 * handedBack / samples.size());
-    EXPECT_LE(badAlone, samples.size() * (useDouble ? 20 : 45) / 10000) << name;
+    EXPECT_LE(badAlone, samples.size() * (useDouble ? 10 : 30) / 10000) << name;
     if (!useDouble)
       test::PrintResidualSummary(name + " (reference)", ref);
     test::PrintResidualSummary(name + (useDouble ? " (kernel double)" : " (kernel float)"), got);
