@@ -1466,7 +1466,7 @@ void AroundVertex(const BRepModel& m, const SolverData& data, const SolverOption
 }
 
 void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, SampleResult& r, int& iterations);
+  const Sample& s, SampleResult& r, int& iterations, const TrimProjection* footTrim = nullptr);
 
 /// The second look at a verified contact r (t_delta in r.Radius): other local minima of t_delta
 /// that a path may have missed, where the answer would otherwise depend on rounding.
@@ -1536,9 +1536,10 @@ void SecondLook(const BRepModel& m, const SolverData& data, const SolverOptions&
 /// The local part of the second look (SecondLook): from a contact r (t_delta in r.Radius), the
 /// minimum along the edge next to a surface contact, the surface Newton on the faces beside an
 /// edge contact, and the edges and faces around a vertex contact (AroundVertex). Each is a
-/// Newton from the contact itself; the smallest sphere wins.
+/// Newton from the contact itself; the smallest sphere wins. `footTrim`: the trim test of a
+/// surface contact's foot where the caller has it (saves classifying it again).
 void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, SampleResult& r, int& iterations)
+  const Sample& s, SampleResult& r, int& iterations, const TrimProjection* footTrim)
 {
   if (r.Type == ContactType::Failed)
     return;
@@ -1571,8 +1572,9 @@ void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOpti
   const SampleResult first = r;
   if (r.Type == ContactType::SurfaceSurface)
   {
-    const TrimProjection near =
-      ClassifyPoint(m, r.OppositeFace, r.FootParameter[0], r.FootParameter[1]);
+    const TrimProjection near = footTrim
+      ? *footTrim
+      : ClassifyPoint(m, r.OppositeFace, r.FootParameter[0], r.FootParameter[1]);
     if (near.Segment >= 0 && m.TrimSegments[near.Segment].Edge >= 0)
     {
       const TrimSegment& seg = m.TrimSegments[near.Segment];
@@ -1777,6 +1779,8 @@ void PolishResult(const BRepModel& m, const SolverData& data, const SolverOption
     return;
   int iterations = 0;
   SampleResult c;
+  TrimProjection footTrim;
+  const TrimProjection* trim = nullptr;
   // The solver's internal radius is t_delta (Clearance); r carries eq. 1's.
   const double tDelta = SphereRadius(s.Point, s.Direction, r.Foot, Clearance(m, opt));
   if (r.Type == ContactType::SurfaceSurface &&
@@ -1793,7 +1797,11 @@ void PolishResult(const BRepModel& m, const SolverData& data, const SolverOption
       r.FootParameter[0], r.FootParameter[1], std::isfinite(tDelta) ? tDelta : r.Radius,
       iterations);
     if (ValidSurfaceSolve(m, data, opt, s, r.OppositeFace, ss))
+    {
       c = SurfaceContact(s, r.OppositeFace, ss);
+      footTrim = ss.Trim;
+      trim = &footTrim;
+    }
   }
   else if (r.OppositeEdge >= 0)
   {
@@ -1811,7 +1819,7 @@ void PolishResult(const BRepModel& m, const SolverData& data, const SolverOption
   const Vec3 moved = Sub(c.Foot, r.Foot);
   if (Dot(moved, moved) > rho * rho)
     return;
-  SecondLookNear(m, data, opt, s, c, iterations);
+  SecondLookNear(m, data, opt, s, c, iterations, trim);
   ReportRadius(s, c);
   c.Iterations = r.Iterations + iterations;
   r = c;

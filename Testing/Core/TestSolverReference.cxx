@@ -115,4 +115,36 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   EXPECT_EQ(onEdge2, 0u);
   std::remove(path.c_str());
 }
+
+/// The vertex table joins the edge ends that meet: on the hole plate the box's 8 corners (3
+/// edges each) and the hole's two circles, each closed on itself at the seam's end (the circle's
+/// two ends and the seam's). A solve file derives the same table.
+TEST(SolverData, VerticesJoinEdgeEnds)
+{
+  const BRepModel m = ConvertShape(analytic::HolePlate(80, 6, 10), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const std::vector<int>& v = data.VertexInfo;
+  ASSERT_EQ(m.Edges.size(), 15u);
+  ASSERT_GE(v.size(), 2 * m.Edges.size());
+  size_t records = 0;
+  for (size_t r = 2 * m.Edges.size(); r < v.size(); r += 1 + v[r])
+  {
+    ++records;
+    EXPECT_EQ(v[r], 3) << "vertex record at " << r;
+    for (int i = 1; i <= v[r]; ++i)
+      EXPECT_EQ(v[v[r + i]], static_cast<int>(r)) << "edge end " << v[r + i];
+  }
+  EXPECT_EQ(records, 10u);
+  for (size_t id = 0; id < 2 * m.Edges.size(); ++id)
+    EXPECT_GE(v[id], 0) << "edge end " << id << " has no vertex";
+
+  const std::string path = ::testing::TempDir() + "brt_vertices.brtsolve";
+  WriteSolve(path, m, data, SamplesFromMesh(m, data));
+  BRepModel m2;
+  SolverData d2;
+  std::vector<Sample> s2;
+  ReadSolve(path, m2, d2, s2);
+  EXPECT_EQ(d2.VertexInfo, data.VertexInfo);
+  std::remove(path.c_str());
+}
 } // namespace
