@@ -53,7 +53,8 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
   Put(out, d.Breaks);
   Put(out, d.FaceBreaks);
   Put(out, samples);
-  const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2], d.S1Spacing };
+  const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2], d.S1Spacing,
+    m.Tolerance };
   Put(out, scalars);
 }
 
@@ -82,12 +83,15 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     Get(in, samples);
     std::vector<double> scalars;
     Get(in, scalars);
-    if (scalars.size() != 4 && scalars.size() != 5)
+    if (scalars.size() < 4 || scalars.size() > 6)
       throw std::runtime_error("corrupt solve file");
     d.Scale = scalars[0];
     d.Centre = { scalars[1], scalars[2], scalars[3] };
     // Files written before the spacing was kept: the default it had then.
-    d.S1Spacing = scalars.size() == 5 ? scalars[4] : d.Scale / 100.0;
+    d.S1Spacing = scalars.size() >= 5 ? scalars[4] : d.Scale / 100.0;
+    // Files written before the conversion tolerance was kept: the reader's default (the
+    // clearance and the vertex table depend on it).
+    m.Tolerance = scalars.size() >= 6 ? scalars[5] : BRepModel().Tolerance;
   }
   catch (const std::runtime_error& e)
   {

@@ -118,10 +118,13 @@ TEST(SolverData, EdgePointsAndSolveFiles)
 
 /// The vertex table joins the edge ends that meet: on the hole plate the box's 8 corners (3
 /// edges each) and the hole's two circles, each closed on itself at the seam's end (the circle's
-/// two ends and the seam's). A solve file derives the same table.
+/// two ends and the seam's). A solve file keeps the conversion tolerance and derives the same
+/// table.
 TEST(SolverData, VerticesJoinEdgeEnds)
 {
-  const BRepModel m = ConvertShape(analytic::HolePlate(80, 6, 10), ConversionOptions());
+  ConversionOptions conversion;
+  conversion.Tolerance = 5e-5; // not the default: the solve file must keep it
+  const BRepModel m = ConvertShape(analytic::HolePlate(80, 6, 10), conversion);
   const SolverData data = PrepareSolver(m, SolverOptions());
   const std::vector<int>& v = data.VertexInfo;
   ASSERT_EQ(m.Edges.size(), 15u);
@@ -145,6 +148,7 @@ TEST(SolverData, VerticesJoinEdgeEnds)
   std::vector<Sample> s2;
   ReadSolve(path, m2, d2, s2);
   EXPECT_EQ(d2.VertexInfo, data.VertexInfo);
+  EXPECT_EQ(m2.Tolerance, m.Tolerance);
   std::remove(path.c_str());
 }
 } // namespace
