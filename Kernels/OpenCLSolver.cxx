@@ -214,8 +214,8 @@ struct Buffer
 struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
-  // Model buffers, in the kernel's argument order (0..19), then the chunk buffers.
-  static constexpr int ModelBuffers = 21; // the last is kernel argument 33
+  // Model buffers: 0..19 are kernel arguments 0..19, the last (the vertex table) argument 33.
+  static constexpr int ModelBuffers = 21;
   Buffer Model[ModelBuffers];
   Buffer Samples, SampleFace, OutReal, OutInt;
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.

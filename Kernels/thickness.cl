@@ -1518,7 +1518,9 @@ void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
     const int edge = r->edge;
     const real T = r->param.x, t = r->t;
     near_vertex(m, edge, T, r->foot, rho, Ohi, Olo, &vertexEdge, &vertexEnd);
-    for (int k = 0; k < 2; ++k)
+    // (From a vertex, around_vertex starts the same Newtons on these faces.)
+    const int fromVertex = r->type == CONTACT_SURFACE_VERTEX;
+    for (int k = 0; k < 2 && !fromVertex; ++k)
     {
       const int f = m->edgeInfo[4 * edge + 2 + k];
       real u, v;

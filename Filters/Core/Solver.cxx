@@ -1595,7 +1595,8 @@ void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOpti
     const double t = r.Radius;
     nearVertex(edge, T, r.Foot); // (a vertex contact's own)
     const Edge& E = m.Edges[edge];
-    for (int k = 0; k < 2; ++k)
+    // (From a vertex, AroundVertex starts the same Newtons on these faces.)
+    for (int k = 0; k < 2 && r.Type != ContactType::SurfaceVertex; ++k)
     {
       const int f = E.Faces[k];
       double u = 0.0, v = 0.0;
