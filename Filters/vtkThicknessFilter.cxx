@@ -4,6 +4,7 @@
 
 #include "BRepFieldData.h"
 #include "OpenCLSolver.h"
+#include "ResultCheck.h"
 #include "Solver.h"
 
 #include "vtkCellArray.h"
@@ -334,10 +335,11 @@ int vtkThicknessFilter::RequestData(
     row("SurfaceEdge", sums[Stats::PerType + 2]);
     row("SurfaceVertex", sums[Stats::PerType + 3]);
     row("Failed", sums[Stats::PerType + 0]);
-    // One row per failure reason (brt::FailReason 1..7), named for scripts.
+    // One row per failure reason (brt::FailReason 1..10), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
-      "FailedLeftModel", "FailedNotMaximal" };
+      "FailedLeftModel", "FailedNotMaximal", "FailedOpenShell", "FailedNonManifold",
+      "FailedUnbounded" };
     for (int k = 1; k < Stats::FailReasons; ++k)
       row(reasonRows[k], sums[Stats::PerReason + k]);
     row("ThicknessMin", anySolved ? stats.Min : NaN);
@@ -469,6 +471,19 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     }
   }
   I.SolveSeconds = Seconds(t1);
+  // Open or non-manifold solids and impossible values are flagged, never shown as thickness.
+  const brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
+  if (check.OpenShell > 0)
+    vtkWarningMacro(<< I.SourceFile << ": " << check.OpenShell
+                    << " samples lie on open shells (no inside, no thickness): flagged failed "
+                       "(FailReason 8)");
+  if (check.NonManifold > 0)
+    vtkWarningMacro(<< I.SourceFile << ": " << check.NonManifold
+                    << " samples lie on non-manifold solids: flagged failed (FailReason 9)");
+  if (check.Unbounded > 0)
+    vtkWarningMacro(<< I.SourceFile << ": " << check.Unbounded
+                    << " samples had a thickness that was not finite or exceeded their solid's "
+                       "bounding-box diagonal: flagged failed (FailReason 10)");
   return true;
 }
 

@@ -2,6 +2,7 @@
 
 #include "BRepConverter.h"
 #include "StepFile.h"
+#include "StepIsolation.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -291,7 +292,9 @@ int vtkSTEPReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInfor
   brt::BRepModel model;
   try
   {
-    model = brt::ConvertStepFile(this->FileName ? this->FileName : "", options);
+    brt::IsolationOptions isolation;
+    isolation.TimeLimit = this->TimeLimit;
+    model = brt::ConvertStepFileIsolated(this->FileName ? this->FileName : "", options, isolation);
   }
   catch (const std::exception& e)
   {
@@ -336,4 +339,5 @@ void vtkSTEPReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LinearDeflection: " << this->LinearDeflection << "\n";
   os << indent << "AngularDeflection: " << this->AngularDeflection << "\n";
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";
+  os << indent << "TimeLimit: " << this->TimeLimit << "\n";
 }

@@ -11,8 +11,9 @@
  * Under MPI, every piece holds whole faces of the display mesh (contiguous ranges of faces with
  * about the same number of vertices) and the complete B-Rep in its field data.
  *
- * Bad input (missing, empty, non-STEP, truncated file, no face) gives one error message naming
- * the file and the reason, and an empty output.
+ * Bad input (missing, empty, non-STEP, truncated or damaged file, no closed solid) gives one
+ * error message naming the file and the reason, and an empty output. OpenCASCADE reads the file
+ * in a separate process, so a file that crashes it or makes it loop cannot take ParaView down.
  */
 #ifndef vtkSTEPReader_h
 #define vtkSTEPReader_h
@@ -59,6 +60,14 @@ public:
   vtkGetMacro(MaxEdgeLength, double);
   ///@}
 
+  ///@{
+  /// Seconds that reading, healing and converting may take (0: no limit). Default 300.
+  /// OpenCASCADE runs in the worker process brt_step_worker (StepIsolation.h): a crash or a
+  /// time-out there is an error naming the file, never a crash of this process.
+  vtkSetClampMacro(TimeLimit, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(TimeLimit, double);
+  ///@}
+
   /// 1 if the file looks like a STEP file (header and terminator present), else 0.
   static int CanReadFile(const char* filename);
 
@@ -75,6 +84,7 @@ protected:
   double LinearDeflection = 0.0;
   double AngularDeflection = 0.35;
   double MaxEdgeLength = 0.0;
+  double TimeLimit = 300.0;
 
 private:
   vtkSTEPReader(const vtkSTEPReader&) = delete;

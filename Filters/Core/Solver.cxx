@@ -37,6 +37,9 @@ const char* FailReasonName(FailReason reason)
     case FailReason::Singular: return "singular Jacobian";
     case FailReason::LeftModel: return "sphere leaves the model (touches a face from outside or only at the sample, or radius not positive or larger than the model)";
     case FailReason::NotMaximal: return "sphere not maximal (contains s1 points; no restart shrank it)";
+    case FailReason::OpenShell: return "the sample's solid is an open shell";
+    case FailReason::NonManifold: return "the sample's solid is non-manifold";
+    case FailReason::Unbounded: return "thickness not finite or beyond the solid's bounding-box diagonal";
   }
   return "unknown";
 }

@@ -43,7 +43,11 @@ enum class FailReason : int
   Singular = 5,         ///< singular Jacobian
   LeftModel = 6,        ///< the sphere touches a face from outside or only at the sample
                         ///< itself, or its radius is not positive or larger than the model
-  NotMaximal = 7        ///< the sphere found contains s1 points and no restart shrank it
+  NotMaximal = 7,       ///< the sphere found contains s1 points and no restart shrank it
+  // Set after the solve by CheckResults (ResultCheck.h), never by the kernels:
+  OpenShell = 8,        ///< the sample's solid is an open shell: it has no inside
+  NonManifold = 9,      ///< the sample's solid is non-manifold (a fin, bodies touching at an edge)
+  Unbounded = 10        ///< thickness not finite or beyond its solid's bounding-box diagonal
 };
 const char* FailReasonName(FailReason reason);
 

@@ -1,9 +1,10 @@
 #include "SolverIO.h"
 
+#include "BinaryIO.h"
+
 #include <cstdint>
 #include <fstream>
 #include <stdexcept>
-#include <type_traits>
 
 namespace brt
 {
@@ -14,25 +15,8 @@ constexpr std::uint64_t MagicV1 = 0x31564C4F53545242ull; // "BRTSOLV1": no edge 
 // Version 1 files stay readable because OnEdge took the padding after Face.
 static_assert(sizeof(S1Point) == 48, "S1Point layout changed: bump the solve file version");
 
-template <class T>
-void Put(std::ofstream& out, const std::vector<T>& v)
-{
-  static_assert(std::is_trivially_copyable<T>::value, "raw dump needs trivially copyable items");
-  const std::uint64_t n = v.size();
-  out.write(reinterpret_cast<const char*>(&n), sizeof n);
-  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
-}
-
-template <class T>
-void Get(std::ifstream& in, std::vector<T>& v)
-{
-  std::uint64_t n = 0;
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  if (!in || n > (std::uint64_t(1) << 34) / sizeof(T))
-    throw std::runtime_error("corrupt solve file");
-  v.resize(n);
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
-}
+using binary::Get;
+using binary::Put;
 } // namespace
 
 void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d,

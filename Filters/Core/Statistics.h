@@ -19,7 +19,7 @@ std::vector<double> VertexAreas(const std::vector<double>& points, const std::ve
 struct ThicknessStatistics
 {
   static constexpr int ContactTypes = 4; ///< brt::ContactType values 0..3
-  static constexpr int FailReasons = 8;  ///< brt::FailReason values 0..7
+  static constexpr int FailReasons = 11; ///< brt::FailReason values 0..10
   /// log10 |R| histogram: ResidualBins bins over [ResidualLow, ResidualHigh]; residuals outside
   /// (and 0) go to the end bins.
   static constexpr double ResidualLow = -16.0, ResidualHigh = 0.0;

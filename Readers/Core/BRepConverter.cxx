@@ -1,6 +1,7 @@
 #include "BRepConverter.h"
 
 #include "Bezier.h"
+#include "ModelIO.h"
 #include "StepFile.h"
 
 #include <BRepAdaptor_Surface.hxx>
@@ -55,6 +56,7 @@
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
+#include <array>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -1365,6 +1367,73 @@ BRepModel ConvertShape(const TopoDS_Shape& input, const ConversionOptions& optio
   }
 }
 
+void CheckConvertedModel(const std::string& path, BRepModel& model)
+{
+  auto Square = [](double x) { return x * x; };
+  auto fail = [&](const std::string& why) { throw InputError("STEP file '" + path + "': " + why); };
+  try
+  {
+    ValidateModel(model);
+  }
+  catch (const std::runtime_error& e)
+  {
+    fail(std::string("the conversion produced an unusable model (") + e.what() + ")");
+  }
+  // Size against the tolerance: a part a few tolerances across has no wall the patches keep.
+  const auto& pts = model.Mesh.Points;
+  std::array<double, 6> box{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
+  for (size_t i = 0; i < pts.size(); ++i)
+  {
+    box[2 * (i % 3)] = std::min(box[2 * (i % 3)], pts[i]);
+    box[2 * (i % 3) + 1] = std::max(box[2 * (i % 3) + 1], pts[i]);
+  }
+  const double diagonal = pts.empty() ? 0.0
+                                      : std::sqrt(Square(box[1] - box[0]) +
+                                          Square(box[3] - box[2]) + Square(box[5] - box[4]));
+  if (diagonal < MinSizeInTolerances * model.Tolerance)
+  {
+    std::ostringstream w;
+    w << "the part is only " << diagonal << " mm across, less than " << MinSizeInTolerances
+      << " times the conversion tolerance " << model.Tolerance
+      << " mm: its walls would vanish within the tolerance (lower the reader's Tolerance to "
+      << diagonal / 1e4 << " or less)";
+    fail(w.str());
+  }
+  const std::vector<SolidCheck> checks = CheckSolids(model);
+  int closed = 0;
+  std::string firstBad;
+  for (size_t s = 0; s < checks.size(); ++s)
+  {
+    const SolidCheck& c = checks[s];
+    if (c.Faces == 0)
+      continue;
+    if (c.Closed())
+    {
+      ++closed;
+      continue;
+    }
+    std::ostringstream w;
+    w << "solid " << s << " (" << c.Faces << " faces) ";
+    if (c.FreeEdges > 0)
+      w << "is open: " << c.FreeEdges << " edges bound only one face";
+    if (c.FreeEdges > 0 && c.NonManifoldEdges > 0)
+      w << ", and ";
+    if (c.NonManifoldEdges > 0)
+      w << "is non-manifold: " << c.NonManifoldEdges << " edges are shared by more than two faces";
+    w << " (one at " << c.FreeEdgeAt[0] << ", " << c.FreeEdgeAt[1] << ", " << c.FreeEdgeAt[2]
+      << ")";
+    if (firstBad.empty())
+      firstBad = w.str();
+    model.Stats.Warnings.push_back(w.str() + "; its samples are flagged failed");
+  }
+  if (closed == 0)
+    fail("holds no closed solid: " + firstBad +
+      ". A thickness needs a closed, manifold solid; repair the model in CAD");
+  for (int s : OrientSolids(model, checks))
+    model.Stats.Warnings.push_back("solid " + std::to_string(s) +
+      " was inside out (its face normals pointed inwards); its orientation was reversed");
+}
+
 BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& options,
   std::vector<TopoDS_Face>* faces)
 {
@@ -1383,6 +1452,9 @@ BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& opti
   model.LengthUnit = info.LengthUnit;
   model.Stats.ReadSeconds = info.Seconds;
   model.Schema = info.Schema;
+  auto& warnings = model.Stats.Warnings;
+  warnings.insert(warnings.begin(), info.Warnings.begin(), info.Warnings.end());
+  CheckConvertedModel(path, model);
   return model;
 }
 

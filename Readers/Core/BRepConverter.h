@@ -47,7 +47,16 @@ struct ConversionOptions
 BRepModel ConvertShape(const TopoDS_Shape& shape, const ConversionOptions& options,
   std::vector<TopoDS_Face>* faces = nullptr);
 
-/// Reads a STEP file and converts it; the source file name is kept in the model. Throws
+/// Parts smaller than this many conversion tolerances across are refused.
+constexpr double MinSizeInTolerances = 100.0;
+
+/// The checks every converted model passes before it is solved: ValidateModel (ModelIO.h), a
+/// size well above the tolerance, at least one closed manifold solid (open or non-manifold ones
+/// are listed in the warnings; the filter flags their samples), and solids turned inside out are
+/// reversed (OrientSolids). Throws InputError naming `path`.
+void CheckConvertedModel(const std::string& path, BRepModel& model);
+
+/// Reads a STEP file, converts it and checks the result (CheckConvertedModel); the source file name is kept in the model. Throws
 /// InputError (StepFile.h) for bad input.
 BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& options,
   std::vector<TopoDS_Face>* faces = nullptr);

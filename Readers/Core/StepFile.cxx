@@ -9,6 +9,9 @@
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
 #include <StepData_StepModel.hxx>
+#include <StepShape_ManifoldSolidBrep.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS_Shape.hxx>
 
@@ -123,10 +126,11 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
 {
   const auto t0 = std::chrono::steady_clock::now();
   CheckStepFile(path);
+  StepReadResult result;
+  result.Scan = ScanStepFile(path);
   QuietMessenger quiet;
   STEPControl_Reader reader;
   TopoDS_Shape shape;
-  StepReadResult result;
   try
   {
     const IFSelect_ReturnStatus status = reader.ReadFile(path.c_str());
@@ -144,11 +148,45 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
       }
     }
     result.Roots = reader.NbRootsForTransfer();
-    if (result.Roots == 0)
+    if (result.Roots > 0)
+    {
+      reader.TransferRoots();
+    }
+    TopoDS_Shape fromRoots = reader.NbShapes() > 0 ? reader.OneShape() : TopoDS_Shape();
+    const bool rootsGaveSolid =
+      !fromRoots.IsNull() && TopExp_Explorer(fromRoots, TopAbs_SOLID).More();
+    if (!rootsGaveSolid && result.Scan.DeclaredSolids > 0 && !model.IsNull())
+    {
+      // The product structure led to no solid (OpenCASCADE 7.6 with some AP242 files): take
+      // the solid entities themselves.
+      reader.ClearShapes();
+      for (int i = 1; i <= model->NbEntities(); ++i)
+      {
+        if (model->Value(i)->IsKind(STANDARD_TYPE(StepShape_ManifoldSolidBrep)) &&
+          reader.TransferOne(i))
+        {
+          ++result.SolidsTransferredDirectly;
+        }
+      }
+      if (result.SolidsTransferredDirectly == 0)
+      {
+        reader.ClearShapes();
+        if (result.Roots > 0)
+        {
+          reader.TransferRoots();
+        }
+      }
+      else
+      {
+        result.Warnings.push_back("the file's product structure gave no solid; its " +
+          std::to_string(result.SolidsTransferredDirectly) +
+          " solid entities were read directly (placements of assembly instances are lost)");
+      }
+    }
+    else if (result.Roots == 0)
     {
       Fail(path, "holds no shape that can be transferred (no product, solid, shell or face)");
     }
-    reader.TransferRoots();
     if (reader.NbShapes() == 0)
     {
       Fail(path, "holds no geometry that OpenCASCADE could transfer");
@@ -167,6 +205,25 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   {
     Fail(path, "holds no solid, shell or face (only curves, points or nothing): there is no "
                "wall to measure");
+  }
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  result.Faces = faces.Extent();
+  const StepScanResult& scan = result.Scan;
+  if (result.SolidsTransferredDirectly == 0 && result.Faces < scan.DeclaredFaces)
+  {
+    // An assembly places one part several times: its faces count once per instance, so
+    // fewer faces than declared means lost ones.
+    result.Warnings.push_back("the file declares " + std::to_string(scan.DeclaredFaces) +
+      " faces but only " + std::to_string(result.Faces) + " were transferred: " +
+      std::to_string(scan.DeclaredFaces - result.Faces) + " faces were lost (damaged or "
+      "unsupported geometry); the solids they bound may be open");
+  }
+  if (scan.SurfaceModels > 0)
+  {
+    result.Warnings.push_back("the file holds " + std::to_string(scan.SurfaceModels) +
+      " surface model(s) (SHELL_BASED_SURFACE_MODEL): shells, not solids; only closed shells "
+      "are measured");
   }
   result.Seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

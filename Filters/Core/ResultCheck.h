@@ -1,0 +1,25 @@
+// BRepThickness: the checks every solve's results pass before they reach the user.
+#pragma once
+
+#include "Solver.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace brt
+{
+struct ResultCheckSummary
+{
+  std::size_t OpenShell = 0;   ///< samples flagged because their solid is open
+  std::size_t NonManifold = 0; ///< samples flagged because their solid is non-manifold
+  std::size_t Unbounded = 0;   ///< solved samples whose thickness was not finite or too large
+};
+
+/// Flags as failed, with the reason, the samples of open and non-manifold solids (CheckSolids,
+/// ModelIO.h) and every solved sample whose thickness, radius or centre is not finite or whose
+/// thickness exceeds the bounding-box diagonal of its solid (the Bezier control points' box,
+/// which holds the solid) by more than the conversion tolerance: nothing infinite, NaN or
+/// impossible is ever reported as solved.
+ResultCheckSummary CheckResults(const BRepModel& model, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results);
+} // namespace brt

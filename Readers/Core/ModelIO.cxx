@@ -1,0 +1,299 @@
+#include "ModelIO.h"
+
+#include "BinaryIO.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <stdexcept>
+
+namespace brt
+{
+namespace
+{
+constexpr std::uint64_t Magic = 0x314C444F4D545242ull; // "BRTMODL1"
+
+using binary::Get;
+using binary::GetString;
+using binary::Put;
+using binary::PutString;
+
+[[noreturn]] void Bad(const std::string& what)
+{
+  throw std::runtime_error("inconsistent model: " + what);
+}
+
+bool Finite(const double* v, size_t n)
+{
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i]))
+      return false;
+  return true;
+}
+
+/// [first, first + count) lies in [0, size).
+bool Range(int first, int count, size_t size)
+{
+  return first >= 0 && count >= 0 &&
+    static_cast<std::uint64_t>(first) + static_cast<std::uint64_t>(count) <= size;
+}
+
+bool Index(int i, size_t size, bool allowMinusOne = false)
+{
+  return (allowMinusOne && i == -1) || (i >= 0 && static_cast<size_t>(i) < size);
+}
+} // namespace
+
+void WriteModel(const std::string& path, const BRepModel& m)
+{
+  std::ofstream out(path, std::ios::binary);
+  if (!out)
+    throw std::runtime_error("cannot write '" + path + "'");
+  out.write(reinterpret_cast<const char*>(&Magic), sizeof Magic);
+  PutString(out, m.SourceFile);
+  PutString(out, m.Schema);
+  PutString(out, m.LengthUnit);
+  Put(out, std::vector<double>{ m.Tolerance });
+  Put(out, m.Faces);
+  Put(out, m.Patches);
+  Put(out, m.Loops);
+  Put(out, m.TrimSegments);
+  Put(out, m.Edges);
+  Put(out, m.EdgeSegments);
+  Put(out, m.Mesh.Points);
+  Put(out, m.Mesh.Normals);
+  Put(out, m.Mesh.UV);
+  Put(out, m.Mesh.FaceIds);
+  Put(out, m.Mesh.Triangles);
+  Put(out, m.Mesh.TriangleFace);
+  const ConversionStatistics& s = m.Stats;
+  Put(out, std::vector<int>{ s.Solids, s.Faces, s.Patches, s.TrimSegments, s.Loops, s.Edges,
+             s.EdgeSegments, s.OpenLoops });
+  Put(out, std::vector<double>{ s.MaxPatchDeviation, s.MaxEdgeDeviation, s.MaxLoopGap,
+             s.MaxLoopGap3D, s.ReadSeconds, s.HealSeconds, s.ConvertSeconds, s.MeshSeconds });
+  Put(out, std::vector<std::uint64_t>{ s.Warnings.size() });
+  for (const std::string& w : s.Warnings)
+    PutString(out, w);
+  if (!out.flush())
+    throw std::runtime_error("cannot write '" + path + "' (disk full?)");
+}
+
+BRepModel ReadModel(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t magic = 0;
+  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+  if (!in || magic != Magic)
+    throw std::runtime_error("'" + path + "' is not a BRepThickness model file");
+  BRepModel m;
+  try
+  {
+    m.SourceFile = GetString(in);
+    m.Schema = GetString(in);
+    m.LengthUnit = GetString(in);
+    std::vector<double> tolerance;
+    Get(in, tolerance);
+    if (tolerance.size() != 1)
+      Bad("tolerance");
+    m.Tolerance = tolerance[0];
+    Get(in, m.Faces);
+    Get(in, m.Patches);
+    Get(in, m.Loops);
+    Get(in, m.TrimSegments);
+    Get(in, m.Edges);
+    Get(in, m.EdgeSegments);
+    Get(in, m.Mesh.Points);
+    Get(in, m.Mesh.Normals);
+    Get(in, m.Mesh.UV);
+    Get(in, m.Mesh.FaceIds);
+    Get(in, m.Mesh.Triangles);
+    Get(in, m.Mesh.TriangleFace);
+    std::vector<int> counts;
+    std::vector<double> figures;
+    std::vector<std::uint64_t> warnings;
+    Get(in, counts);
+    Get(in, figures);
+    Get(in, warnings);
+    if (counts.size() != 8 || figures.size() != 8 || warnings.size() != 1 ||
+      warnings[0] > 10000000)
+      Bad("statistics");
+    ConversionStatistics& s = m.Stats;
+    s.Solids = counts[0];
+    s.Faces = counts[1];
+    s.Patches = counts[2];
+    s.TrimSegments = counts[3];
+    s.Loops = counts[4];
+    s.Edges = counts[5];
+    s.EdgeSegments = counts[6];
+    s.OpenLoops = counts[7];
+    s.MaxPatchDeviation = figures[0];
+    s.MaxEdgeDeviation = figures[1];
+    s.MaxLoopGap = figures[2];
+    s.MaxLoopGap3D = figures[3];
+    s.ReadSeconds = figures[4];
+    s.HealSeconds = figures[5];
+    s.ConvertSeconds = figures[6];
+    s.MeshSeconds = figures[7];
+    for (std::uint64_t i = 0; i < warnings[0]; ++i)
+      s.Warnings.push_back(GetString(in));
+    ValidateModel(m);
+  }
+  catch (const std::runtime_error& e)
+  {
+    throw std::runtime_error("'" + path + "': " + e.what());
+  }
+  return m;
+}
+
+void ValidateModel(const BRepModel& m)
+{
+  const size_t nf = m.Faces.size(), np = m.Patches.size(), nl = m.Loops.size(),
+               nt = m.TrimSegments.size(), ne = m.Edges.size(), ns = m.EdgeSegments.size();
+  if (!(m.Tolerance > 0.0) || !std::isfinite(m.Tolerance))
+    Bad("tolerance not positive");
+  for (size_t f = 0; f < nf; ++f)
+  {
+    const Face& face = m.Faces[f];
+    const std::string at = "face " + std::to_string(f) + ": ";
+    // A face without a surface is kept without patches (the converter warns about it).
+    if (!Range(face.FirstPatch, face.PatchCount, np) ||
+      (face.PatchCount > 0 &&
+        (face.PatchesU <= 0 || face.PatchesV <= 0 ||
+          static_cast<std::int64_t>(face.PatchesU) * face.PatchesV != face.PatchCount)))
+      Bad(at + "patch range");
+    if (!Range(face.FirstLoop, face.LoopCount, nl))
+      Bad(at + "loop range");
+    if (!Finite(face.Domain.data(), 4) || !Finite(face.Period.data(), 2) ||
+      (face.PatchCount > 0 &&
+        (!(face.Domain[0] < face.Domain[1]) || !(face.Domain[2] < face.Domain[3]))))
+      Bad(at + "parameter domain");
+    for (int p = face.FirstPatch; p < face.FirstPatch + face.PatchCount; ++p)
+      if (m.Patches[p].Face != static_cast<int>(f))
+        Bad(at + "patch " + std::to_string(p) + " belongs to another face");
+  }
+  for (size_t p = 0; p < np; ++p)
+    if (!Index(m.Patches[p].Face, nf) || !Finite(m.Patches[p].ControlPoints.data(), 48) ||
+      !Finite(m.Patches[p].Domain.data(), 4))
+      Bad("patch " + std::to_string(p) + ": face index or non-finite control point");
+  for (size_t l = 0; l < nl; ++l)
+  {
+    const TrimLoop& loop = m.Loops[l];
+    if (!Index(loop.Face, nf) || !Range(loop.FirstSegment, loop.SegmentCount, nt))
+      Bad("loop " + std::to_string(l) + ": face or segment range");
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+      if (m.TrimSegments[s].Loop != static_cast<int>(l) || m.TrimSegments[s].Face != loop.Face)
+        Bad("loop " + std::to_string(l) + ": segment " + std::to_string(s) + " is not its own");
+  }
+  for (size_t s = 0; s < nt; ++s)
+  {
+    const TrimSegment& seg = m.TrimSegments[s];
+    if (!Index(seg.Face, nf) || !Index(seg.Loop, nl) || !Index(seg.Edge, ne, true) ||
+      !Finite(seg.ControlPoints.data(), 8) || !std::isfinite(seg.T0) || !std::isfinite(seg.T1))
+      Bad("trimming segment " + std::to_string(s));
+  }
+  for (size_t e = 0; e < ne; ++e)
+  {
+    const Edge& edge = m.Edges[e];
+    if (!Index(edge.Faces[0], nf, true) || !Index(edge.Faces[1], nf, true) ||
+      !Range(edge.FirstSegment, edge.SegmentCount, ns) || !std::isfinite(edge.T0) ||
+      !std::isfinite(edge.T1))
+      Bad("edge " + std::to_string(e));
+    for (int s = edge.FirstSegment; s < edge.FirstSegment + edge.SegmentCount; ++s)
+      if (m.EdgeSegments[s].Edge != static_cast<int>(e))
+        Bad("edge " + std::to_string(e) + ": segment " + std::to_string(s) + " is not its own");
+  }
+  for (size_t s = 0; s < ns; ++s)
+    if (!Index(m.EdgeSegments[s].Edge, ne) || !Finite(m.EdgeSegments[s].ControlPoints.data(), 12))
+      Bad("edge segment " + std::to_string(s));
+  const DisplayMesh& mesh = m.Mesh;
+  const size_t nv = mesh.FaceIds.size();
+  if (mesh.Points.size() != 3 * nv || mesh.Normals.size() != 3 * nv || mesh.UV.size() != 2 * nv ||
+    mesh.Triangles.size() % 3 != 0 || mesh.TriangleFace.size() * 3 != mesh.Triangles.size())
+    Bad("display mesh array sizes");
+  if (!Finite(mesh.Points.data(), mesh.Points.size()) ||
+    !Finite(mesh.Normals.data(), mesh.Normals.size()) || !Finite(mesh.UV.data(), mesh.UV.size()))
+    Bad("display mesh: non-finite point, normal or (u,v)");
+  for (int f : mesh.FaceIds)
+    if (!Index(f, nf))
+      Bad("display mesh: vertex face index");
+  for (int v : mesh.Triangles)
+    if (!Index(v, nv))
+      Bad("display mesh: triangle vertex index");
+  for (int f : mesh.TriangleFace)
+    if (!Index(f, nf))
+      Bad("display mesh: triangle face index");
+}
+
+std::vector<SolidCheck> CheckSolids(const BRepModel& m)
+{
+  int solids = 0;
+  for (const Face& f : m.Faces)
+    solids = std::max(solids, f.Solid + 1);
+  std::vector<SolidCheck> checks(static_cast<size_t>(solids));
+  for (const Face& f : m.Faces)
+    if (f.Solid >= 0)
+      ++checks[static_cast<size_t>(f.Solid)].Faces;
+  for (const Edge& e : m.Edges)
+  {
+    const int f = e.Faces[0];
+    if (f < 0 || m.Faces[static_cast<size_t>(f)].Solid < 0)
+      continue;
+    SolidCheck& c = checks[static_cast<size_t>(m.Faces[static_cast<size_t>(f)].Solid)];
+    const bool free = e.FaceCount == 1 && !e.Seam;
+    const bool nonManifold = e.FaceCount > 2;
+    if ((free || nonManifold) && c.FreeEdges == 0 && c.NonManifoldEdges == 0 &&
+      e.SegmentCount > 0)
+    {
+      const auto& p = m.EdgeSegments[static_cast<size_t>(e.FirstSegment)].ControlPoints;
+      c.FreeEdgeAt = { p[0], p[1], p[2] };
+    }
+    c.FreeEdges += free ? 1 : 0;
+    c.NonManifoldEdges += nonManifold ? 1 : 0;
+  }
+  const DisplayMesh& mesh = m.Mesh;
+  for (size_t t = 0; t < mesh.TriangleFace.size(); ++t)
+  {
+    const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
+    if (s < 0)
+      continue;
+    const double* a = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t])];
+    const double* b = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 1])];
+    const double* c = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 2])];
+    checks[static_cast<size_t>(s)].Volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) +
+                                               a[1] * (b[2] * c[0] - b[0] * c[2]) +
+                                               a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+  }
+  return checks;
+}
+
+std::vector<int> OrientSolids(BRepModel& m, const std::vector<SolidCheck>& checks)
+{
+  std::vector<int> reversed;
+  std::vector<char> flip(checks.size(), 0);
+  for (size_t s = 0; s < checks.size(); ++s)
+    if (checks[s].Closed() && checks[s].Faces > 0 && checks[s].Volume < 0.0)
+    {
+      flip[s] = 1;
+      reversed.push_back(static_cast<int>(s));
+    }
+  if (reversed.empty())
+    return reversed;
+  auto flipped = [&](int face) {
+    const int s = m.Faces[static_cast<size_t>(face)].Solid;
+    return s >= 0 && flip[static_cast<size_t>(s)];
+  };
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+    if (flipped(static_cast<int>(f)))
+      m.Faces[f].Reversed = !m.Faces[f].Reversed;
+  DisplayMesh& mesh = m.Mesh;
+  for (size_t v = 0; v < mesh.FaceIds.size(); ++v)
+    if (flipped(mesh.FaceIds[v]))
+      for (int k = 0; k < 3; ++k)
+        mesh.Normals[3 * v + static_cast<size_t>(k)] *= -1.0;
+  for (size_t t = 0; t < mesh.TriangleFace.size(); ++t)
+    if (flipped(mesh.TriangleFace[t]))
+      std::swap(mesh.Triangles[3 * t + 1], mesh.Triangles[3 * t + 2]);
+  return reversed;
+}
+} // namespace brt

@@ -1,0 +1,51 @@
+// BRepThickness: the converted model in a file, and the checks that make a model safe to solve.
+//
+// The STEP worker (Utilities/StepWorker.cxx) hands its converted model back to the process that
+// started it through such a file (StepIsolation.h). Same-architecture files only; not a storage
+// format. Free of VTK and OpenCASCADE.
+#pragma once
+
+#include "BRepModel.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace brt
+{
+/// Writes every part of the model (geometry, display mesh, statistics, warnings).
+/// Throws std::runtime_error naming the file if it cannot be written.
+void WriteModel(const std::string& path, const BRepModel& model);
+
+/// Reads a file of WriteModel and checks it with ValidateModel.
+/// Throws std::runtime_error naming the file if it is not such a file or is inconsistent.
+BRepModel ReadModel(const std::string& path);
+
+/// Structural checks the solver relies on: every index in range, every count consistent, every
+/// coordinate and parameter finite. Throws std::runtime_error with the first problem found.
+void ValidateModel(const BRepModel& model);
+
+/// Closure of one solid (or loose shell: Face::Solid) of a model.
+struct SolidCheck
+{
+  int Faces = 0;
+  /// Edges bounding only one face of the solid (a seam is not free): the shell is open.
+  int FreeEdges = 0;
+  /// Edges shared by more than two faces: the solid is non-manifold (a fin, two bodies touching
+  /// along an edge), and a sphere cannot tell its inside.
+  int NonManifoldEdges = 0;
+  std::array<double, 3> FreeEdgeAt{}; ///< a point of the first free or non-manifold edge
+  /// Volume enclosed by the display mesh (divergence theorem), negative for a solid whose
+  /// normals point inwards; only meaningful when the mesh covers every face and FreeEdges == 0.
+  double Volume = 0.0;
+  bool Closed() const { return FreeEdges == 0 && NonManifoldEdges == 0; }
+};
+
+/// One entry per solid index 0 .. max(Face::Solid).
+std::vector<SolidCheck> CheckSolids(const BRepModel& model);
+
+/// Reverses every closed solid whose display mesh encloses a negative volume (its faces'
+/// normals pointed inwards): Face::Reversed, the mesh normals and the triangles' winding.
+/// Returns the indices of the solids reversed.
+std::vector<int> OrientSolids(BRepModel& model, const std::vector<SolidCheck>& checks);
+} // namespace brt

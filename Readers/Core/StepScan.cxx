@@ -1,0 +1,652 @@
+#include "StepScan.h"
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+namespace brt
+{
+namespace
+{
+/// A parameter at the top level of a simple entity.
+struct Param
+{
+  char Kind = 'o'; ///< 'r' reference, 'n' number, 'o' anything else
+  long Ref = 0;
+  double Value = 0.0;
+};
+
+struct Entity
+{
+  int Type = -1;      ///< interned name of a simple entity; -1 for a complex one
+  std::string Parts;  ///< complex entity: ",A,B,C," (the partial entity names)
+  long Line = 0;
+};
+
+/// A reference whose target's type is checked once the whole file is read.
+struct TypedRef
+{
+  long From = 0, To = 0, Line = 0;
+  int Param = 0;
+  const char* Expected = nullptr;
+};
+
+/// Parameters whose references must point at given types (alternatives separated by '|').
+/// List = true: the parameter is a list whose elements are checked.
+struct Rule
+{
+  const char* Type;
+  int Param;
+  const char* Expected;
+  bool List;
+};
+const Rule Rules[] = {
+  { "VERTEX_POINT", 1, "CARTESIAN_POINT", false },
+  { "AXIS2_PLACEMENT_3D", 1, "CARTESIAN_POINT", false },
+  { "AXIS2_PLACEMENT_3D", 2, "DIRECTION", false },
+  { "AXIS2_PLACEMENT_3D", 3, "DIRECTION", false },
+  { "AXIS2_PLACEMENT_2D", 1, "CARTESIAN_POINT", false },
+  { "AXIS2_PLACEMENT_2D", 2, "DIRECTION", false },
+  { "AXIS1_PLACEMENT", 1, "CARTESIAN_POINT", false },
+  { "AXIS1_PLACEMENT", 2, "DIRECTION", false },
+  { "VECTOR", 1, "DIRECTION", false },
+  { "LINE", 1, "CARTESIAN_POINT", false },
+  { "LINE", 2, "VECTOR", false },
+  { "CIRCLE", 1, "AXIS2_PLACEMENT_3D|AXIS2_PLACEMENT_2D", false },
+  { "ELLIPSE", 1, "AXIS2_PLACEMENT_3D|AXIS2_PLACEMENT_2D", false },
+  { "PLANE", 1, "AXIS2_PLACEMENT_3D", false },
+  { "CYLINDRICAL_SURFACE", 1, "AXIS2_PLACEMENT_3D", false },
+  { "CONICAL_SURFACE", 1, "AXIS2_PLACEMENT_3D", false },
+  { "SPHERICAL_SURFACE", 1, "AXIS2_PLACEMENT_3D", false },
+  { "TOROIDAL_SURFACE", 1, "AXIS2_PLACEMENT_3D", false },
+  { "EDGE_CURVE", 1, "VERTEX_POINT", false },
+  { "EDGE_CURVE", 2, "VERTEX_POINT", false },
+  { "ORIENTED_EDGE", 3, "EDGE_CURVE|ORIENTED_EDGE", false },
+  { "EDGE_LOOP", 1, "ORIENTED_EDGE", true },
+  { "FACE_BOUND", 1, "EDGE_LOOP|VERTEX_LOOP|POLY_LOOP", false },
+  { "FACE_OUTER_BOUND", 1, "EDGE_LOOP|VERTEX_LOOP|POLY_LOOP", false },
+  { "ADVANCED_FACE", 1, "FACE_BOUND|FACE_OUTER_BOUND", true },
+  { "MANIFOLD_SOLID_BREP", 1, "CLOSED_SHELL|ORIENTED_CLOSED_SHELL", false },
+  // Control points: simple entities carry a name first, the partial entities of a complex
+  // (rational) B-spline do not.
+  { "B_SPLINE_CURVE_WITH_KNOTS", 2, "CARTESIAN_POINT", true },
+  { "BEZIER_CURVE", 2, "CARTESIAN_POINT", true },
+  { "UNIFORM_CURVE", 2, "CARTESIAN_POINT", true },
+  { "QUASI_UNIFORM_CURVE", 2, "CARTESIAN_POINT", true },
+  { "B_SPLINE_CURVE", 1, "CARTESIAN_POINT", true },
+  { "B_SPLINE_SURFACE_WITH_KNOTS", 3, "CARTESIAN_POINT", true },
+  { "BEZIER_SURFACE", 3, "CARTESIAN_POINT", true },
+  { "UNIFORM_SURFACE", 3, "CARTESIAN_POINT", true },
+  { "QUASI_UNIFORM_SURFACE", 3, "CARTESIAN_POINT", true },
+  { "B_SPLINE_SURFACE", 2, "CARTESIAN_POINT", true },
+  { "POLYLINE", 1, "CARTESIAN_POINT", true },
+};
+
+/// Radii and lengths that must be positive: (type, parameter).
+struct Positive
+{
+  const char* Type;
+  int Param;
+  const char* What;
+};
+const Positive Positives[] = {
+  { "CIRCLE", 2, "radius" },
+  { "ELLIPSE", 2, "first semi-axis" },
+  { "ELLIPSE", 3, "second semi-axis" },
+  { "CYLINDRICAL_SURFACE", 2, "radius" },
+  { "SPHERICAL_SURFACE", 2, "radius" },
+  { "TOROIDAL_SURFACE", 2, "major radius" },
+  { "TOROIDAL_SURFACE", 3, "minor radius" },
+  { "VECTOR", 2, "magnitude" },
+};
+
+bool IsIdStart(unsigned char c)
+{
+  return std::isalpha(c) || c == '_' || c == '!';
+}
+bool IsIdChar(unsigned char c)
+{
+  return std::isalnum(c) || c == '_' || c == '-';
+}
+bool IsNumberChar(unsigned char c)
+{
+  return std::isdigit(c) || c == '.' || c == '+' || c == '-' || c == 'E' || c == 'e';
+}
+
+class Scanner
+{
+public:
+  Scanner(const std::string& path, const std::string& text)
+    : Path(path)
+    , Text(text)
+  {
+  }
+
+  StepScanResult Run();
+
+private:
+  [[noreturn]] void Fail(const std::string& what) const
+  {
+    std::string where = "line " + std::to_string(this->Line);
+    if (this->Current > 0)
+      where += ", entity #" + std::to_string(this->Current);
+    throw InputError("STEP file '" + this->Path + "': " + where + ": " + what);
+  }
+
+  /// Skips white space and comments from `i`; returns the next significant position.
+  size_t SkipBlank(size_t i)
+  {
+    const size_t n = this->Text.size();
+    while (i < n)
+    {
+      const char c = this->Text[i];
+      if (c == '\n')
+      {
+        ++this->Line;
+        ++i;
+      }
+      else if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v')
+        ++i;
+      else if (c == '/' && i + 1 < n && this->Text[i + 1] == '*')
+      {
+        const size_t end = this->Text.find("*/", i + 2);
+        if (end == std::string::npos)
+          this->Fail("a comment (/*) is never closed");
+        this->Line += std::count(this->Text.begin() + static_cast<long>(i),
+          this->Text.begin() + static_cast<long>(end), '\n');
+        i = end + 2;
+      }
+      else
+        break;
+    }
+    return i;
+  }
+
+  int Intern(const std::string& name)
+  {
+    auto it = this->TypeIds.find(name);
+    if (it != this->TypeIds.end())
+      return it->second;
+    const int id = static_cast<int>(this->TypeNames.size());
+    this->TypeNames.push_back(name);
+    this->TypeIds.emplace(name, id);
+    return id;
+  }
+
+  bool HasType(const Entity& e, const std::string& name) const
+  {
+    if (e.Type >= 0)
+      return this->TypeNames[static_cast<size_t>(e.Type)] == name;
+    return e.Parts.find("," + name + ",") != std::string::npos;
+  }
+
+  std::string TypeText(const Entity& e) const
+  {
+    if (e.Type >= 0)
+      return this->TypeNames[static_cast<size_t>(e.Type)];
+    std::string p = e.Parts.substr(1, e.Parts.size() > 1 ? e.Parts.size() - 2 : 0);
+    std::replace(p.begin(), p.end(), ',', ' ');
+    return "(" + p + ")";
+  }
+
+  void EndEntity(size_t begin, size_t end);
+  void Geometry(double v, const char* what);
+
+  const std::string& Path;
+  const std::string& Text;
+  long Line = 1;
+  long Current = 0;      ///< entity being read (0: none)
+  std::string CurrentType; ///< its simple type name, or "" for a complex one
+  std::string Parts;     ///< its partial names when complex
+  std::vector<Param> Params;
+  std::vector<double> Coordinates; ///< numbers in the list that is parameter 1
+  /// The entity or partial entity whose parameters are being read (a complex entity's parts
+  /// open at depth 2), and the index of its current parameter.
+  std::string PartName;
+  int PartBase = 0;
+  int PartParam = 0;
+  std::unordered_map<long, Entity> Entities;
+  std::unordered_map<std::string, int> TypeIds;
+  std::vector<std::string> TypeNames;
+  std::vector<std::pair<long, long>> Refs; ///< (from, to), checked at the end
+  std::vector<long> RefLines;
+  std::vector<TypedRef> Typed;
+  StepScanResult Result;
+};
+
+void Scanner::Geometry(double v, const char* what)
+{
+  if (std::fabs(v) > this->Result.LargestCoordinate)
+  {
+    this->Result.LargestCoordinate = std::fabs(v);
+    this->Result.LargestCoordinateEntity = this->Current;
+  }
+  (void)what;
+}
+
+void Scanner::EndEntity(size_t begin, size_t end)
+{
+  Entity e;
+  e.Line = this->Line;
+  const std::string& type = this->CurrentType;
+  if (type.empty())
+    e.Parts = this->Parts;
+  else
+    e.Type = this->Intern(type);
+  auto put = this->Entities.emplace(this->Current, e);
+  if (!put.second)
+    this->Fail("#" + std::to_string(this->Current) + " is defined twice (also at line " +
+      std::to_string(put.first->second.Line) + ")");
+  ++this->Result.Entities;
+  auto is = [&](const char* name) { return this->HasType(e, name); };
+  if (is("ADVANCED_FACE") || is("FACE_SURFACE"))
+    ++this->Result.DeclaredFaces;
+  if (is("MANIFOLD_SOLID_BREP") || is("BREP_WITH_VOIDS") || is("FACETED_BREP"))
+  {
+    ++this->Result.DeclaredSolids;
+    this->Result.SolidIds.push_back(this->Current);
+  }
+  if (is("SHELL_BASED_SURFACE_MODEL"))
+    ++this->Result.SurfaceModels;
+  if (is("LENGTH_UNIT"))
+  {
+    // The unit's size: SI prefixes of the metre, or the common conversion-based units.
+    const std::string body = this->Text.substr(begin, end - begin);
+    std::string upper(body);
+    std::transform(upper.begin(), upper.end(), upper.begin(),
+      [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    double mm = 1.0;
+    if (upper.find(".METRE.") != std::string::npos)
+    {
+      mm = 1000.0;
+      const std::pair<const char*, double> prefixes[] = { { ".MILLI.", 1.0 },
+        { ".CENTI.", 10.0 }, { ".DECI.", 100.0 }, { ".KILO.", 1e6 }, { ".MICRO.", 1e-3 },
+        { ".NANO.", 1e-6 } };
+      for (const auto& p : prefixes)
+        if (upper.find(p.first) != std::string::npos)
+          mm = p.second;
+    }
+    if (upper.find("'INCH'") != std::string::npos)
+      mm = 25.4;
+    if (upper.find("'FOOT'") != std::string::npos)
+      mm = 304.8;
+    this->Result.UnitInMillimetres = std::max(this->Result.UnitInMillimetres, mm);
+  }
+  if (type.empty())
+    return;
+
+  // Simple entities: reference types, positive radii, coordinates.
+  const std::vector<Param>& p = this->Params;
+  for (const Positive& q : Positives)
+  {
+    if (type != q.Type || static_cast<size_t>(q.Param) >= p.size() || p[q.Param].Kind != 'n')
+      continue;
+    const double v = p[q.Param].Value;
+    if (!(v > 0.0))
+    {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%g", v);
+      this->Fail(type + " has " + (v < 0.0 ? "a negative " : "a zero ") + q.What + " (" + buf +
+        "): no solid has such a face or curve");
+    }
+    this->Geometry(v, q.What);
+  }
+  if (type == "CONICAL_SURFACE" && p.size() > 2 && p[2].Kind == 'n')
+  {
+    if (!(p[2].Value >= 0.0))
+      this->Fail("CONICAL_SURFACE has a negative radius");
+    this->Geometry(p[2].Value, "radius");
+  }
+  if (type == "CARTESIAN_POINT" || type == "DIRECTION")
+  {
+    const size_t n = this->Coordinates.size();
+    if (n < 1 || n > 3)
+      this->Fail(type + " has " + std::to_string(n) + " coordinates (1 to 3 expected)");
+    if (type == "CARTESIAN_POINT")
+      for (double v : this->Coordinates)
+        this->Geometry(v, "coordinate");
+    else if (std::all_of(this->Coordinates.begin(), this->Coordinates.end(),
+               [](double v) { return v == 0.0; }))
+      this->Fail("DIRECTION has length zero: it points nowhere");
+  }
+}
+
+StepScanResult Scanner::Run()
+{
+  const std::string& t = this->Text;
+  const size_t n = t.size();
+  bool inData = false;
+  int depth = 0;
+  // State at depth 0 in the data section: 0 expect '#N' or a keyword, 1 expect '=', 2 expect a
+  // name or '(', 3 expect '(' after a simple entity's name, 4 expect ';'.
+  int state = 0;
+  int param = 0; // parameter index at depth 1 of a simple entity
+  size_t entityBegin = 0;
+  for (size_t i = this->SkipBlank(0); i < n; i = this->SkipBlank(i))
+  {
+    const unsigned char c = static_cast<unsigned char>(t[i]);
+    const bool simple = !this->CurrentType.empty();
+    if (c == '\'')
+    {
+      // A string: '' is a quote inside it.
+      size_t j = i + 1;
+      for (;; ++j)
+      {
+        if (j >= n)
+          this->Fail("a string (') is never closed");
+        if (t[j] == '\n')
+          ++this->Line;
+        if (t[j] == '\'')
+        {
+          if (j + 1 < n && t[j + 1] == '\'')
+          {
+            ++j;
+            continue;
+          }
+          break;
+        }
+      }
+      if (inData && depth == 0)
+        this->Fail("a string outside an entity's parameters");
+      if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
+        this->Params.resize(static_cast<size_t>(param) + 1);
+      i = j + 1;
+      continue;
+    }
+    if (c == '"')
+    {
+      const size_t end = t.find('"', i + 1);
+      if (end == std::string::npos)
+        this->Fail("a binary literal (\") is never closed");
+      i = end + 1;
+      continue;
+    }
+    if (c == '(')
+    {
+      if (inData && depth == 0)
+      {
+        if (state == 2)
+        {
+          this->CurrentType.clear(); // complex entity
+          this->Parts = ",";
+        }
+        else if (state != 3)
+          this->Fail("unexpected '('");
+        state = 4;
+        param = 0;
+        this->PartName = this->CurrentType;
+        this->PartBase = 1;
+        this->PartParam = 0;
+      }
+      else if (inData && depth == 1 && this->CurrentType.empty() && this->Current > 0)
+      {
+        this->PartBase = 2; // a partial entity of a complex one; PartName set by its name
+        this->PartParam = 0;
+      }
+      if (++depth > MaxNesting)
+        this->Fail("parentheses nested deeper than " + std::to_string(MaxNesting) +
+          " levels: not an exchange structure any CAD system writes");
+      ++i;
+      continue;
+    }
+    if (c == ')')
+    {
+      if (--depth < 0)
+        this->Fail("a ')' closes nothing");
+      ++i;
+      continue;
+    }
+    if (c == ',')
+    {
+      if (depth == 1)
+        ++param;
+      if (depth == this->PartBase)
+        ++this->PartParam;
+      ++i;
+      continue;
+    }
+    if (c == ';')
+    {
+      if (depth != 0)
+        this->Fail("';' inside an entity's parameters: the entity is not closed");
+      if (inData && this->Current > 0)
+      {
+        if (state != 4)
+          this->Fail("an entity ends before its parameters");
+        this->EndEntity(entityBegin, i);
+      }
+      else if (inData && state != 0)
+        this->Fail("unexpected ';'");
+      this->Current = 0;
+      this->CurrentType.clear();
+      this->Params.clear();
+      this->Coordinates.clear();
+      this->PartName.clear();
+      this->PartBase = 0;
+      state = 0;
+      ++i;
+      continue;
+    }
+    if (c == '#')
+    {
+      size_t j = i + 1;
+      long id = 0;
+      while (j < n && std::isdigit(static_cast<unsigned char>(t[j])))
+      {
+        if (id > 100000000000000L)
+          this->Fail("an entity number has too many digits");
+        id = id * 10 + (t[j] - '0');
+        ++j;
+      }
+      if (j == i + 1)
+        this->Fail("'#' without an entity number");
+      if (inData && depth == 0)
+      {
+        if (state != 0)
+          this->Fail("unexpected '#" + std::to_string(id) + "'");
+        this->Current = id;
+        entityBegin = i;
+        state = 1;
+      }
+      else if (inData)
+      {
+        if (id == this->Current)
+          this->Fail("#" + std::to_string(id) + " refers to itself");
+        this->Refs.emplace_back(this->Current, id);
+        this->RefLines.push_back(this->Line);
+        const int level = depth - this->PartBase;
+        if (level >= 0 && !this->PartName.empty())
+          for (const Rule& r : Rules)
+            if (r.Param == this->PartParam && (r.List ? level >= 1 : level == 0) &&
+              this->PartName == r.Type)
+              this->Typed.push_back({ this->Current, id, this->Line, r.Param, r.Expected });
+        if (simple && depth == 1)
+        {
+          if (static_cast<size_t>(param) >= this->Params.size())
+            this->Params.resize(static_cast<size_t>(param) + 1);
+          this->Params[static_cast<size_t>(param)] = { 'r', id, 0.0 };
+        }
+      }
+      i = j;
+      continue;
+    }
+    if (c == '=')
+    {
+      if (inData && !(depth == 0 && state == 1))
+        this->Fail("unexpected '='");
+      state = 2;
+      ++i;
+      continue;
+    }
+    if (c == '$' || c == '*')
+    {
+      ++i;
+      continue;
+    }
+    if (c == '.' && i + 1 < n && IsIdStart(static_cast<unsigned char>(t[i + 1])))
+    {
+      // An enumeration value .NAME.
+      size_t j = i + 1;
+      while (j < n && IsIdChar(static_cast<unsigned char>(t[j])))
+        ++j;
+      if (j >= n || t[j] != '.')
+        this->Fail("an enumeration value (.NAME.) is not closed");
+      if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
+        this->Params.resize(static_cast<size_t>(param) + 1);
+      i = j + 1;
+      continue;
+    }
+    if (std::isdigit(c) || c == '+' || c == '-' || c == '.')
+    {
+      size_t j = i;
+      while (j < n && IsNumberChar(static_cast<unsigned char>(t[j])))
+        ++j;
+      const std::string token = t.substr(i, j - i);
+      errno = 0;
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size() || token.find_first_of("0123456789") ==
+          std::string::npos)
+        this->Fail("'" + token + "' is not a number");
+      if (errno == ERANGE || !std::isfinite(v))
+        this->Fail("the number " + token + " is out of the range of a double");
+      if (inData && depth == 0)
+        this->Fail("a number outside an entity's parameters");
+      if (simple && depth == 1)
+      {
+        if (static_cast<size_t>(param) >= this->Params.size())
+          this->Params.resize(static_cast<size_t>(param) + 1);
+        this->Params[static_cast<size_t>(param)] = { 'n', 0, v };
+      }
+      else if (simple && depth == 2 && param == 1)
+        this->Coordinates.push_back(v);
+      i = j;
+      continue;
+    }
+    if (IsIdStart(c))
+    {
+      size_t j = i;
+      while (j < n && IsIdChar(static_cast<unsigned char>(t[j])))
+        ++j;
+      std::string name = t.substr(i, j - i);
+      std::transform(name.begin(), name.end(), name.begin(),
+        [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+      const size_t next = this->SkipBlank(j);
+      const char follow = next < n ? t[next] : '\0';
+      if (depth == 0 && follow == ';')
+      {
+        if (name == "DATA")
+          inData = true;
+        else if (name == "ENDSEC")
+          inData = false;
+        else if (inData)
+          this->Fail("unexpected keyword '" + name + "'");
+        i = next; // the ';' ends the statement
+        continue;
+      }
+      if (follow != '(')
+        this->Fail("unexpected word '" + name.substr(0, 40) + "' (a name must be followed by "
+          "its parameters in parentheses)");
+      if (inData && depth == 0)
+      {
+        if (state != 2)
+          this->Fail("unexpected name '" + name.substr(0, 40) + "'");
+        this->CurrentType = name;
+        state = 3;
+      }
+      else if (inData && depth == 1 && this->CurrentType.empty() && this->Current > 0)
+      {
+        this->Parts += name + ",";
+        this->PartName = name;
+      }
+      else if (simple && depth == 1)
+      {
+        if (static_cast<size_t>(param) >= this->Params.size())
+          this->Params.resize(static_cast<size_t>(param) + 1);
+      }
+      i = j;
+      continue;
+    }
+    char buf[96];
+    if (c >= 0x80)
+      std::snprintf(buf, sizeof buf, "byte 0x%02X outside a string: STEP files are 7-bit text "
+                                     "outside their strings", c);
+    else
+      std::snprintf(buf, sizeof buf, "unexpected character 0x%02X", c);
+    this->Fail(buf);
+  }
+  if (depth != 0 || (inData && this->Current > 0))
+    this->Fail("the file ends inside an entity");
+  this->Current = 0;
+
+  // References: every target defined, of the right type where the schema fixes it.
+  for (size_t k = 0; k < this->Refs.size(); ++k)
+    if (this->Entities.find(this->Refs[k].second) == this->Entities.end())
+    {
+      this->Line = this->RefLines[k];
+      this->Current = this->Refs[k].first;
+      this->Fail("refers to #" + std::to_string(this->Refs[k].second) +
+        ", which the file does not define");
+    }
+  for (const TypedRef& r : this->Typed)
+  {
+    const Entity& target = this->Entities.at(r.To);
+    const std::string expected = r.Expected;
+    bool ok = false;
+    for (size_t a = 0, b; a <= expected.size(); a = b + 1)
+    {
+      b = expected.find('|', a);
+      if (b == std::string::npos)
+        b = expected.size();
+      ok = ok || this->HasType(target, expected.substr(a, b - a));
+    }
+    if (!ok)
+    {
+      this->Line = r.Line;
+      this->Current = r.From;
+      const std::string from = this->TypeText(this->Entities.at(r.From));
+      std::string want = expected;
+      std::replace(want.begin(), want.end(), '|', '/');
+      this->Fail(from + " parameter " + std::to_string(r.Param + 1) + " refers to #" +
+        std::to_string(r.To) + ", a " + this->TypeText(target) + ", where a " + want +
+        " is required");
+    }
+  }
+  this->Line = 0;
+  const double bound = MaxCoordinateMillimetres / this->Result.UnitInMillimetres;
+  if (this->Result.LargestCoordinate > bound)
+  {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "a coordinate or radius of %g (the file's unit is %g mm) "
+      "lies beyond 1,000 km: not a real part", this->Result.LargestCoordinate,
+      this->Result.UnitInMillimetres);
+    throw InputError("STEP file '" + this->Path + "': entity #" +
+      std::to_string(this->Result.LargestCoordinateEntity) + ": " + buf);
+  }
+  return this->Result;
+}
+} // namespace
+
+StepScanResult ScanStepText(const std::string& path, const std::string& text)
+{
+  return Scanner(path, text).Run();
+}
+
+StepScanResult ScanStepFile(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError("STEP file '" + path + "': cannot be opened: " + std::strerror(errno));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return ScanStepText(path, s.str());
+}
+} // namespace brt

@@ -1,0 +1,40 @@
+// BRepThickness: a check of a STEP file's text before OpenCASCADE parses it.
+//
+// OpenCASCADE's STEP import trusts its input: a reference to a missing entity or to one of the
+// wrong type, an entity referring to itself or parentheses nested thousands deep crash it, and
+// non-finite or absurd numbers make its healing loop. This scanner reads the exchange structure
+// (ISO 10303-21) once, in linear time and without recursion, and rejects such files with the
+// entity number and the line. It also counts what the file declares (faces, solids, surface
+// models), so that the reader can tell what the transfer lost. Free of OpenCASCADE and VTK.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace brt
+{
+struct StepScanResult
+{
+  long Entities = 0;
+  long DeclaredFaces = 0;   ///< ADVANCED_FACE and FACE_SURFACE instances
+  long DeclaredSolids = 0;  ///< MANIFOLD_SOLID_BREP (BREP_WITH_VOIDS included) and FACETED_BREP
+  long SurfaceModels = 0;   ///< SHELL_BASED_SURFACE_MODEL instances
+  std::vector<long> SolidIds; ///< entity numbers of the solids above, in file order
+  double UnitInMillimetres = 1.0; ///< largest length unit the file declares (mm if none)
+  /// Largest |coordinate| or radius of a geometric entity, in the file's unit, and where.
+  double LargestCoordinate = 0.0;
+  long LargestCoordinateEntity = 0;
+};
+
+/// Largest coordinate or radius accepted, in millimetres (1,000 km).
+constexpr double MaxCoordinateMillimetres = 1e9;
+/// Deepest nesting of parentheses accepted (real files nest fewer than 10).
+constexpr int MaxNesting = 64;
+
+/// Checks the text of a STEP file; `path` only names it in messages. Throws InputError naming
+/// the file, the line and the entity for the first problem found.
+StepScanResult ScanStepText(const std::string& path, const std::string& text);
+
+/// Reads the file and checks it (ScanStepText).
+StepScanResult ScanStepFile(const std::string& path);
+} // namespace brt
