@@ -219,6 +219,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
       std::to_string(scan.DeclaredFaces - result.Faces) + " faces were lost (damaged or "
       "unsupported geometry); the solids they bound may be open");
   }
+  result.Warnings.insert(result.Warnings.end(), scan.Warnings.begin(), scan.Warnings.end());
   if (scan.SurfaceModels > 0)
   {
     result.Warnings.push_back("the file holds " + std::to_string(scan.SurfaceModels) +

@@ -75,6 +75,12 @@ const Rule Rules[] = {
   { "FACE_OUTER_BOUND", 1, "EDGE_LOOP|VERTEX_LOOP|POLY_LOOP", false },
   { "ADVANCED_FACE", 1, "FACE_BOUND|FACE_OUTER_BOUND", true },
   { "MANIFOLD_SOLID_BREP", 1, "CLOSED_SHELL|ORIENTED_CLOSED_SHELL", false },
+  { "BREP_WITH_VOIDS", 1, "CLOSED_SHELL|ORIENTED_CLOSED_SHELL", false },
+  { "BREP_WITH_VOIDS", 2, "ORIENTED_CLOSED_SHELL", true },
+  { "ORIENTED_CLOSED_SHELL", 2, "CLOSED_SHELL", false },
+  { "CLOSED_SHELL", 1, "ADVANCED_FACE|FACE_SURFACE|ORIENTED_FACE|FACE", true },
+  { "OPEN_SHELL", 1, "ADVANCED_FACE|FACE_SURFACE|ORIENTED_FACE|FACE", true },
+  { "SHELL_BASED_SURFACE_MODEL", 1, "OPEN_SHELL|CLOSED_SHELL|ORIENTED_OPEN_SHELL|ORIENTED_CLOSED_SHELL", true },
   // Control points: simple entities carry a name first, the partial entities of a complex
   // (rational) B-spline do not.
   { "B_SPLINE_CURVE_WITH_KNOTS", 2, "CARTESIAN_POINT", true },
@@ -107,6 +113,19 @@ const Positive Positives[] = {
   { "TOROIDAL_SURFACE", 3, "minor radius" },
   { "VECTOR", 2, "magnitude" },
 };
+
+/// Geometric and topological entities, by the words in their (partial) type names.
+bool IsGeometric(const std::string& type)
+{
+  static const char* const words[] = { "POINT", "DIRECTION", "VECTOR", "PLACEMENT", "LINE",
+    "CIRCLE", "ELLIPSE", "HYPERBOLA", "PARABOLA", "CURVE", "SURFACE", "PLANE", "EDGE", "VERTEX",
+    "LOOP", "FACE", "SHELL", "BREP", "SOLID", "BOUND", "SHAPE_REPRESENTATION", "MAPPED_ITEM",
+    "TRANSFORMATION", "ITEM_DEFINED" };
+  for (const char* w : words)
+    if (type.find(w) != std::string::npos)
+      return true;
+  return false;
+}
 
 bool IsIdStart(unsigned char c)
 {
@@ -310,11 +329,10 @@ void Scanner::EndEntity(size_t begin, size_t end)
     const size_t n = this->Coordinates.size();
     if (n < 1 || n > 3)
       this->Fail(type + " has " + std::to_string(n) + " coordinates (1 to 3 expected)");
-    if (type == "CARTESIAN_POINT")
-      for (double v : this->Coordinates)
-        this->Geometry(v, "coordinate");
-    else if (std::all_of(this->Coordinates.begin(), this->Coordinates.end(),
-               [](double v) { return v == 0.0; }))
+    for (double v : this->Coordinates)
+      this->Geometry(v, "coordinate");
+    if (type == "DIRECTION" && std::all_of(this->Coordinates.begin(), this->Coordinates.end(),
+                                 [](double v) { return v == 0.0; }))
       this->Fail("DIRECTION has length zero: it points nowhere");
   }
 }
@@ -587,15 +605,28 @@ StepScanResult Scanner::Run()
     this->Fail("the file ends inside an entity");
   this->Current = 0;
 
-  // References: every target defined, of the right type where the schema fixes it.
+  // References: every target defined, of the right type where the schema fixes it. A missing
+  // target of a geometric or topological entity is an error (OpenCASCADE dereferences it);
+  // elsewhere (styles, notes, PMI) OpenCASCADE drops the reference, and it is a warning.
+  long dangling = 0;
+  std::string firstDangling;
   for (size_t k = 0; k < this->Refs.size(); ++k)
     if (this->Entities.find(this->Refs[k].second) == this->Entities.end())
     {
       this->Line = this->RefLines[k];
       this->Current = this->Refs[k].first;
-      this->Fail("refers to #" + std::to_string(this->Refs[k].second) +
-        ", which the file does not define");
+      const std::string what = "refers to #" + std::to_string(this->Refs[k].second) +
+        ", which the file does not define";
+      const std::string type = this->TypeText(this->Entities.at(this->Current));
+      if (IsGeometric(type))
+        this->Fail(what);
+      if (dangling++ == 0)
+        firstDangling = "#" + std::to_string(this->Current) + " " + type + " (line " +
+          std::to_string(this->Line) + ") " + what;
     }
+  if (dangling > 0)
+    this->Result.Warnings.push_back(std::to_string(dangling) + " reference(s) to entities the "
+      "file does not define, outside the geometry (ignored), the first: " + firstDangling);
   for (const TypedRef& r : this->Typed)
   {
     const Entity& target = this->Entities.at(r.To);
@@ -615,9 +646,12 @@ StepScanResult Scanner::Run()
       const std::string from = this->TypeText(this->Entities.at(r.From));
       std::string want = expected;
       std::replace(want.begin(), want.end(), '|', '/');
+      auto article = [](const std::string& w) {
+        return std::string(w.empty() || std::strchr("AEIOU", w[0]) == nullptr ? "a " : "an ") + w;
+      };
       this->Fail(from + " parameter " + std::to_string(r.Param + 1) + " refers to #" +
-        std::to_string(r.To) + ", a " + this->TypeText(target) + ", where a " + want +
-        " is required");
+        std::to_string(r.To) + ", " + article(this->TypeText(target)) + ", where " +
+        article(want) + " is required");
     }
   }
   this->Line = 0;

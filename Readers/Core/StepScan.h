@@ -24,6 +24,8 @@ struct StepScanResult
   /// Largest |coordinate| or radius of a geometric entity, in the file's unit, and where.
   double LargestCoordinate = 0.0;
   long LargestCoordinateEntity = 0;
+  /// Problems that do not touch the geometry (a dangling reference in a colour or a note).
+  std::vector<std::string> Warnings;
 };
 
 /// Largest coordinate or radius accepted, in millimetres (1,000 km).

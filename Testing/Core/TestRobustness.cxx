@@ -1,0 +1,463 @@
+// Bad STEP input (issue "Bad STEP input never takes ParaView down"): each fault class that crashed
+// or hung OpenCASCADE, or gave a silent wrong answer, gives one error naming the file and the
+// cause, or a flagged result. Files are made from Data/ models and OpenCASCADE shapes here.
+#include "TestHelpers.h"
+
+#include "AnalyticShapes.h"
+#include "ModelIO.h"
+#include "ResultCheck.h"
+#include "Solver.h"
+#include "StepFile.h"
+#include "StepIsolation.h"
+
+#include <gtest/gtest.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <gp_Pnt.hxx>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+using namespace brt;
+
+fs::path TempDir()
+{
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("brt-robustness-" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+std::string ReadAll(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Data/<model> with the first match of `pattern` replaced, written to the temp folder.
+std::string Mutated(const std::string& model, const std::string& name, const std::string& pattern,
+  const std::string& replacement)
+{
+  const std::string text = ReadAll(test::DataFile(model));
+  const std::string out = std::regex_replace(text, std::regex(pattern), replacement,
+    std::regex_constants::format_first_only);
+  EXPECT_NE(out, text) << name << ": the pattern did not match";
+  const fs::path p = TempDir() / name;
+  std::ofstream(p, std::ios::binary) << out;
+  return p.string();
+}
+
+std::string WriteShape(const TopoDS_Shape& shape, const std::string& name,
+  STEPControl_StepModelType mode = STEPControl_AsIs)
+{
+  const fs::path p = TempDir() / name;
+  STEPControl_Writer writer;
+  EXPECT_EQ(writer.Transfer(shape, mode), IFSelect_RetDone);
+  EXPECT_EQ(writer.Write(p.string().c_str()), IFSelect_RetDone);
+  return p.string();
+}
+
+/// The reader's path (worker process) gives an InputError naming the file and holding `reason`.
+void ExpectIsolatedError(const std::string& path, const std::string& reason, double limit = 60)
+{
+  IsolationOptions iso;
+  iso.TimeLimit = limit;
+  const auto t0 = std::chrono::steady_clock::now();
+  try
+  {
+    (void)ConvertStepFileIsolated(path, ConversionOptions(), iso);
+    ADD_FAILURE() << "no error for " << path;
+  }
+  catch (const InputError& e)
+  {
+    const std::string msg = e.what();
+    std::printf("[bad input] %.2f s: %s\n",
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), msg.c_str());
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(reason), std::string::npos) << msg;
+  }
+}
+
+// --- the crash classes ------------------------------------------------------------------------
+
+TEST(Robustness, DeletedPointIsAMissingEntity)
+{
+  // Deleting a CARTESIAN_POINT crashed OpenCASCADE (StepGeom_CartesianPoint::NbCoordinates).
+  const std::string p = Mutated("plate.step", "deleted-point.step",
+    R"(#25 = CARTESIAN_POINT\('',\(0\.,0\.,5\.\)\);\n)", "");
+  ExpectIsolatedError(p, "refers to #25, which the file does not define");
+}
+
+TEST(Robustness, WrongTypeReference)
+{
+  // EDGE_CURVE #21's first vertex made a CARTESIAN_POINT.
+  const std::string p = Mutated("plate.step", "wrong-type.step",
+    R"(#21 = EDGE_CURVE\('',#22,)", "#21 = EDGE_CURVE('',#12,");
+  ExpectIsolatedError(p, "refers to #12, a CARTESIAN_POINT, where a VERTEX_POINT is required");
+}
+
+TEST(Robustness, SelfReference)
+{
+  const std::string p = Mutated("plate.step", "self-reference.step",
+    R"(#21 = EDGE_CURVE\('',#22,)", "#21 = EDGE_CURVE('',#21,");
+  ExpectIsolatedError(p, "#21 refers to itself");
+}
+
+TEST(Robustness, DeepParentheses)
+{
+  const std::string deep = std::string(100000, '(') + "0." + std::string(100000, ')');
+  const std::string p = Mutated("plate.step", "deep-parentheses.step",
+    R"(#25 = CARTESIAN_POINT\('',\(0\.,0\.,5\.\)\);)",
+    "#25 = CARTESIAN_POINT('',(0.,0.,5.));\n#99999 = CARTESIAN_POINT(''," + deep + ");");
+  ExpectIsolatedError(p, "parentheses nested deeper than");
+}
+
+TEST(Robustness, InvalidUtf8OutsideStrings)
+{
+  const std::string p = Mutated("plate.step", "invalid-utf8.step", R"(#21 = EDGE_CURVE)",
+    "#21 = \xC3\x28" "EDGE_CURVE");
+  ExpectIsolatedError(p, "byte 0xC3 outside a string");
+}
+
+TEST(Robustness, UnknownTypeNameInControlPoints)
+{
+  // A bit flip in a type name (CARTESIAN_POKNT) left a B-spline's control point unknown to
+  // OpenCASCADE, which then crashed on it.
+  const std::string p = Mutated("NIST_MBE_PMI_11.stp", "flipped-type.step",
+    R"(#469=CARTESIAN_POINT)", "#469=CARTESIAN_POKNT");
+  ExpectIsolatedError(p, "a CARTESIAN_POKNT, where a CARTESIAN_POINT is required");
+}
+
+// --- the hang classes -------------------------------------------------------------------------
+
+TEST(Robustness, NonFiniteAndAbsurdNumbers)
+{
+  const std::pair<const char*, const char*> cases[] = {
+    { "NAN", "unexpected word 'NAN'" },
+    { "INF", "unexpected word 'INF'" },
+    { "1.E308", "lies beyond 1,000 km" },
+    { "1.7976931348623157E308", "lies beyond 1,000 km" },
+    { "1.E99999", "out of the range of a double" },
+    { "-1.E-99999", "out of the range of a double" },
+  };
+  int k = 0;
+  for (const auto& c : cases)
+  {
+    // In a point, in a direction and in a torus radius.
+    ExpectIsolatedError(Mutated("plate.step", "number-point-" + std::to_string(k) + ".step",
+                          R"(#25 = CARTESIAN_POINT\('',\(0\.,0\.,5\.\)\))",
+                          std::string("#25 = CARTESIAN_POINT('',(0.,") + c.first + ",5.))"),
+      c.second);
+    ExpectIsolatedError(Mutated("plate.step", "number-direction-" + std::to_string(k) + ".step",
+                          R"(#13 = DIRECTION\('',\(0\.,0\.,1\.\)\))",
+                          std::string("#13 = DIRECTION('',(0.,0.,") + c.first + "))"),
+      c.second);
+    ExpectIsolatedError(Mutated("toroidal_shell.step", "number-torus-" + std::to_string(k) + ".step",
+                          R"(TOROIDAL_SURFACE\('',#32,40\.,)",
+                          std::string("TOROIDAL_SURFACE('',#32,") + c.first + ","),
+      c.second);
+    ++k;
+  }
+}
+
+TEST(Robustness, WorkerCrashAndTimeLimitAreErrors)
+{
+  // Stand-in workers: one that crashes, one that never ends. The caller gets an error naming the
+  // file and stays up; the time limit holds.
+  const fs::path crash = TempDir() / "crashing-worker.sh";
+  const fs::path hang = TempDir() / "hanging-worker.sh";
+  std::ofstream(crash) << "#!/bin/sh\nkill -SEGV $$\n";
+  std::ofstream(hang) << "#!/bin/sh\nexec sleep 60\n";
+  ::chmod(crash.c_str(), 0755);
+  ::chmod(hang.c_str(), 0755);
+  const std::string plate = test::DataFile("plate.step");
+  IsolationOptions iso;
+  iso.Worker = crash.string();
+  try
+  {
+    (void)ConvertStepFileIsolated(plate, ConversionOptions(), iso);
+    ADD_FAILURE() << "no error from a crashing worker";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("crashed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(plate), std::string::npos) << e.what();
+  }
+  iso.Worker = hang.string();
+  iso.TimeLimit = 1.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  try
+  {
+    (void)ConvertStepFileIsolated(plate, ConversionOptions(), iso);
+    ADD_FAILURE() << "no error from a hanging worker";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("time limit of 1 s"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+}
+
+TEST(Robustness, IsolatedModelEqualsInProcessModel)
+{
+  const std::string file = test::DataFile("hole_plate.step");
+  const BRepModel a = ConvertStepFile(file, ConversionOptions());
+  const BRepModel b = ConvertStepFileIsolated(file, ConversionOptions());
+  ASSERT_EQ(a.Patches.size(), b.Patches.size());
+  ASSERT_EQ(a.Mesh.Points.size(), b.Mesh.Points.size());
+  EXPECT_EQ(a.Mesh.Points, b.Mesh.Points);
+  EXPECT_EQ(a.Mesh.Triangles, b.Mesh.Triangles);
+  for (size_t i = 0; i < a.Patches.size(); ++i)
+    ASSERT_EQ(a.Patches[i].ControlPoints, b.Patches[i].ControlPoints) << i;
+  EXPECT_EQ(a.SourceFile, b.SourceFile);
+  EXPECT_EQ(a.Stats.Warnings, b.Stats.Warnings);
+  EXPECT_EQ(a.Tolerance, b.Tolerance);
+}
+
+// --- silent wrong answers ---------------------------------------------------------------------
+
+TEST(Robustness, NegativeRadius)
+{
+  // The spherical shell's inner sphere with radius -20: OpenCASCADE dropped the face and the
+  // shell read 50 mm everywhere (true wall 5 mm).
+  ExpectIsolatedError(Mutated("spherical_shell.step", "negative-radius.step",
+                        R"(SPHERICAL_SURFACE\('',#35,20\.\))", "SPHERICAL_SURFACE('',#35,-20.)"),
+    "SPHERICAL_SURFACE has a negative radius (-20)");
+}
+
+TEST(Robustness, TinyPartAgainstTheTolerance)
+{
+  // 1 x 1 x 0.2 micrometres: the default clearance equalled its wall.
+  const std::string p =
+    WriteShape(BRepPrimAPI_MakeBox(1e-3, 1e-3, 2e-4).Shape(), "tiny-box.step");
+  ExpectIsolatedError(p, "less than 100 times the conversion tolerance");
+  // At a tolerance fit for it the part reads.
+  ConversionOptions fine;
+  fine.Tolerance = 1e-8;
+  EXPECT_EQ(ConvertStepFileIsolated(p, fine).Stats.Faces, 6);
+}
+
+TopoDS_Shape OpenBox(double x0)
+{
+  // A box without its top face, sewn into one shell.
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(x0, 0, 0), 10, 10, 10).Shape();
+  BRep_Builder b;
+  TopoDS_Shell shell;
+  b.MakeShell(shell);
+  int k = 0;
+  for (TopExp_Explorer fx(box, TopAbs_FACE); fx.More(); fx.Next(), ++k)
+    if (k != 5)
+      b.Add(shell, fx.Current());
+  shell.Closed(false);
+  return shell;
+}
+
+TEST(Robustness, OpenShellIsRefused)
+{
+  const std::string p = WriteShape(OpenBox(0), "open-box.step");
+  ExpectIsolatedError(p, "holds no closed solid");
+  ExpectIsolatedError(p, "edges bound only one face");
+}
+
+TEST(Robustness, OpenShellBesideASolidIsFlagged)
+{
+  // An assembly of a closed box and an open one: the closed one is measured, the open one's
+  // samples are flagged failed (OpenShell), never given a thickness.
+  TopoDS_Compound both;
+  BRep_Builder b;
+  b.MakeCompound(both);
+  b.Add(both, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 2).Shape());
+  b.Add(both, OpenBox(30));
+  const std::string p = WriteShape(both, "open-and-closed.step");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  bool warned = false;
+  for (const std::string& w : m.Stats.Warnings)
+    warned = warned || w.find("is open") != std::string::npos;
+  EXPECT_TRUE(warned);
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> results(samples.size());
+  SolveReference(m, data, options, samples, results);
+  const ResultCheckSummary s = CheckResults(m, samples, results);
+  EXPECT_GT(s.OpenShell, 0u);
+  const std::vector<SolidCheck> solids = CheckSolids(m);
+  size_t closedSolved = 0, openSolved = 0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    const bool open = solids[static_cast<size_t>(m.Faces[samples[i].Face].Solid)].FreeEdges > 0;
+    if (open)
+    {
+      EXPECT_EQ(results[i].Reason, FailReason::OpenShell);
+      openSolved += results[i].Type != ContactType::Failed;
+    }
+    else if (results[i].Type != ContactType::Failed)
+    {
+      ++closedSolved;
+      EXPECT_LE(results[i].Thickness, std::sqrt(10 * 10 * 2 + 2 * 2) + 1e-6);
+    }
+  }
+  EXPECT_EQ(openSolved, 0u);
+  EXPECT_GT(closedSolved, samples.size() / 4);
+}
+
+TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
+{
+  // An edge whose two ends are one vertex: either a clear error or results that are all finite
+  // and within the part (the unchecked reader gave samples thicker than the part's diagonal).
+  const std::string p = Mutated("l_bracket.step", "zero-length-edge.step",
+    R"(EDGE_CURVE\('',(#\d+),#\d+,)", "EDGE_CURVE('',$1,$1,");
+  BRepModel m;
+  try
+  {
+    m = ConvertStepFileIsolated(p, ConversionOptions());
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find(p), std::string::npos);
+    return;
+  }
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> results(samples.size());
+  SolveReference(m, data, options, samples, results);
+  (void)CheckResults(m, samples, results);
+  for (const SampleResult& r : results)
+    if (r.Type != ContactType::Failed)
+    {
+      ASSERT_TRUE(std::isfinite(r.Thickness));
+      ASSERT_LE(r.Thickness, data.Scale + 1e-6);
+    }
+}
+
+TEST(Robustness, ResultsBeyondTheSolidAreFlagged)
+{
+  // CheckResults on its own: an infinite, a NaN and a too-large thickness are flagged failed.
+  const BRepModel m = ConvertShape(analytic::Plate(40, 30, 2), ConversionOptions());
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> results(samples.size());
+  SolveReference(m, data, options, samples, results);
+  ASSERT_GE(results.size(), 3u);
+  results[0].Thickness = std::numeric_limits<double>::infinity();
+  results[1].Center[1] = std::nan("");
+  results[2].Thickness = 60.0; // the plate's diagonal is 50.04
+  for (int i = 0; i < 3; ++i)
+    results[i].Type = ContactType::SurfaceSurface;
+  const ResultCheckSummary s = CheckResults(m, samples, results);
+  EXPECT_EQ(s.Unbounded, 3u);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(results[i].Reason, FailReason::Unbounded);
+}
+
+// --- good files it refused, and structures it must read ------------------------------------
+
+TEST(Robustness, ProductStructureLeadingNowhereReadsTheSolids)
+{
+  // An AP242 file whose product structure is cut: the SHAPE_DEFINITION_REPRESENTATION names a
+  // representation of no solid. The solid entity itself is read.
+  const std::string p = Mutated("tube.step", "structure-nowhere.step",
+    R"(SHAPE_DEFINITION_REPRESENTATION\((#\d+),(#\d+)\))",
+    "SHAPE_DEFINITION_REPRESENTATION($1,#999990);\n#999990 = SHAPE_REPRESENTATION('',(),$2)");
+  StepReadResult info;
+  try
+  {
+    (void)ReadStepFile(p, &info);
+  }
+  catch (const InputError& e)
+  {
+    FAIL() << e.what();
+  }
+  EXPECT_GT(info.Scan.DeclaredSolids, 0);
+  EXPECT_GT(info.SolidsTransferredDirectly, 0);
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  EXPECT_EQ(m.Stats.Solids, 1);
+  EXPECT_EQ(m.Stats.Faces, 4);
+}
+
+TEST(Robustness, SolidWithACavity)
+{
+  // BREP_WITH_VOIDS: a 20 mm cube with a 10 mm cavity, walls 5 mm.
+  const TopoDS_Shape cube = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 20, 20, 20).Shape();
+  const TopoDS_Shape hole = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
+  const std::string p = WriteShape(BRepAlgoAPI_Cut(cube, hole).Shape(), "cavity.step");
+  EXPECT_NE(ReadAll(p).find("BREP_WITH_VOIDS"), std::string::npos);
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  EXPECT_EQ(m.Stats.Faces, 12);
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> results(samples.size());
+  SolveReference(m, data, options, samples, results);
+  // The centre of every face (outer and cavity) lies on a 5 mm wall.
+  int checked = 0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    const auto& o = samples[i].Point;
+    int onMid = 0;
+    for (int k = 0; k < 3; ++k)
+      onMid += std::fabs(o[k] - 10.0) < 1.0;
+    if (onMid == 2 && results[i].Type != ContactType::Failed)
+    {
+      EXPECT_NEAR(results[i].Thickness, 5.0, 1e-6) << o[0] << " " << o[1] << " " << o[2];
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 12);
+}
+
+TEST(Robustness, SurfaceModelIsReportedAsNotASolid)
+{
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 10, 10).Shape();
+  TopExp_Explorer sx(box, TopAbs_SHELL);
+  const std::string p =
+    WriteShape(sx.Current(), "surface-model.step", STEPControl_ShellBasedSurfaceModel);
+  EXPECT_NE(ReadAll(p).find("SHELL_BASED_SURFACE_MODEL"), std::string::npos);
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  bool warned = false;
+  for (const std::string& w : m.Stats.Warnings)
+    warned = warned || w.find("surface model") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(Robustness, RegressionFilesOfTheFuzzer)
+{
+  // Every crash the fuzzer or the mutation corpus found (Testing/Data/fuzz): an error naming the
+  // file, through the worker.
+  const fs::path dir = fs::path(BRT_TESTING_DATA_DIR) / "fuzz";
+  int n = 0;
+  for (const auto& entry : fs::directory_iterator(dir))
+  {
+    if (entry.path().extension() != ".step")
+      continue;
+    ExpectIsolatedError(entry.path().string(), "STEP file");
+    ++n;
+  }
+  EXPECT_GT(n, 0);
+}
+} // namespace
