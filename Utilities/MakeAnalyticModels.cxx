@@ -8,6 +8,7 @@
 #include <STEPControl_Writer.hxx>
 
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <string>
 
@@ -32,10 +33,14 @@ bool Write(const TopoDS_Shape& shape, const std::string& path, const char* schem
 
 int main(int argc, char** argv)
 {
-  if (argc != 2)
+  const bool help = argc == 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"));
+  if (argc != 2 || help)
   {
-    std::cerr << "usage: " << argv[0] << " OUTPUT_DIR\n";
-    return 2;
+    (help ? std::cout : std::cerr)
+      << "usage: " << argv[0] << " OUTPUT_DIR\n"
+      << "Writes the analytic models of Data/ (plate, tube, spherical and toroidal shells, hole\n"
+         "plate, L-bracket; thicknesses in Data/README.md) as STEP files into OUTPUT_DIR.\n";
+    return help ? 0 : 2;
   }
   const std::string dir = argv[1];
   STEPControl_Controller::Init(); // before the first SetCVal, which would else be overwritten

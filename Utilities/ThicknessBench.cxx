@@ -72,11 +72,13 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool reference = true;
+  bool reference = true, help = false;
   brt::ConversionOptions conversion;
   for (int i = 1; i < argc; ++i)
   {
-    if (!std::strcmp(argv[i], "--device") && i + 1 < argc)
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h"))
+      help = true;
+    else if (!std::strcmp(argv[i], "--device") && i + 1 < argc)
       device = argv[++i];
     else if (!std::strcmp(argv[i], "--double"))
       useDouble = true;
@@ -97,14 +99,22 @@ int main(int argc, char** argv)
     else
       files.push_back(argv[i]);
   }
-  if (files.empty())
+  if (files.empty() || help)
   {
-    std::fprintf(stderr,
-      "usage: %s [--device NAME|cpu|gpu|none] [--double] [--no-reference] [--counts N,...] "
-      "[--tolerance T] "
-      "FILE.step...\n",
+    std::fprintf(help ? stdout : stderr,
+      "usage: %s [options] FILE.step|FILE.brtsolve ...\n"
+      "Benchmark of the thickness solver: for each model and sample count, samples/s of the CPU\n"
+      "reference and of the OpenCL kernels, failed share, agreement, peak host memory and the\n"
+      "kernels' device memory, as a table.\n"
+      "  --device NAME     OpenCL device: any (default), cpu, gpu, none, or a name\n"
+      "  --double          double-precision kernels (default float)\n"
+      "  --no-reference    skip the CPU reference\n"
+      "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
+      "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
+      "  --export DIR      write each prepared model as DIR/<name>.brtsolve\n"
+      "  --help            this text\n",
       argv[0]);
-    return 2;
+    return help ? 0 : 2;
   }
 #ifdef BRT_HAVE_OPENCL
   std::unique_ptr<brt::OpenCLSolver> cl;
