@@ -348,6 +348,15 @@ StepScanResult Scanner::Run()
   int state = 0;
   int param = 0; // parameter index at depth 1 of a simple entity
   size_t entityBegin = 0;
+  // Parameter separators: after a value only ',' or ')' may follow; ',' needs a value before
+  // it; a name's '(' continues the name's value (typed parameter or partial entity).
+  bool needSep = false, afterName = false, afterComma = false;
+  auto value = [&]() {
+    if (depth >= 1 && needSep)
+      this->Fail("two parameters without a ',' between them");
+    needSep = true;
+    afterComma = false;
+  };
   for (size_t i = this->SkipBlank(0); i < n; i = this->SkipBlank(i))
   {
     const unsigned char c = static_cast<unsigned char>(t[i]);
@@ -374,6 +383,7 @@ StepScanResult Scanner::Run()
       }
       if (inData && depth == 0)
         this->Fail("a string outside an entity's parameters");
+      value();
       if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
         this->Params.resize(static_cast<size_t>(param) + 1);
       i = j + 1;
@@ -384,11 +394,17 @@ StepScanResult Scanner::Run()
       const size_t end = t.find('"', i + 1);
       if (end == std::string::npos)
         this->Fail("a binary literal (\") is never closed");
+      value();
       i = end + 1;
       continue;
     }
     if (c == '(')
     {
+      if (depth >= 1 && !afterName)
+        value();
+      afterName = false;
+      needSep = false;
+      afterComma = false;
       if (inData && depth == 0)
       {
         if (state == 2)
@@ -417,13 +433,20 @@ StepScanResult Scanner::Run()
     }
     if (c == ')')
     {
+      if (afterComma)
+        this->Fail("a parameter is missing after ','");
       if (--depth < 0)
         this->Fail("a ')' closes nothing");
+      needSep = depth >= 1;
       ++i;
       continue;
     }
     if (c == ',')
     {
+      if (depth >= 1 && !needSep)
+        this->Fail("a parameter is missing before ','");
+      needSep = false;
+      afterComma = true;
       if (depth == 1)
         ++param;
       if (depth == this->PartBase)
@@ -450,6 +473,7 @@ StepScanResult Scanner::Run()
       this->PartName.clear();
       this->PartBase = 0;
       state = 0;
+      needSep = afterName = afterComma = false;
       ++i;
       continue;
     }
@@ -473,9 +497,16 @@ StepScanResult Scanner::Run()
         this->Current = id;
         entityBegin = i;
         state = 1;
+        // OpenCASCADE's lexer reads "#N =" as one token: only blanks may separate them.
+        size_t k = j;
+        while (k < n && (t[k] == ' ' || t[k] == '\t'))
+          ++k;
+        if (k >= n || t[k] != '=')
+          this->Fail("'#" + std::to_string(id) + "' must be followed by '=' on the same line");
       }
       else if (inData)
       {
+        value();
         if (id == this->Current)
           this->Fail("#" + std::to_string(id) + " refers to itself");
         this->Refs.emplace_back(this->Current, id);
@@ -506,6 +537,7 @@ StepScanResult Scanner::Run()
     }
     if (c == '$' || c == '*')
     {
+      value();
       ++i;
       continue;
     }
@@ -517,6 +549,7 @@ StepScanResult Scanner::Run()
         ++j;
       if (j >= n || t[j] != '.')
         this->Fail("an enumeration value (.NAME.) is not closed");
+      value();
       if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
         this->Params.resize(static_cast<size_t>(param) + 1);
       i = j + 1;
@@ -538,6 +571,7 @@ StepScanResult Scanner::Run()
         this->Fail("the number " + token + " is out of the range of a double");
       if (inData && depth == 0)
         this->Fail("a number outside an entity's parameters");
+      value();
       if (simple && depth == 1)
       {
         if (static_cast<size_t>(param) >= this->Params.size())
@@ -554,9 +588,7 @@ StepScanResult Scanner::Run()
       size_t j = i;
       while (j < n && IsIdChar(static_cast<unsigned char>(t[j])))
         ++j;
-      std::string name = t.substr(i, j - i);
-      std::transform(name.begin(), name.end(), name.begin(),
-        [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+      const std::string name = t.substr(i, j - i);
       const size_t next = this->SkipBlank(j);
       const char follow = next < n ? t[next] : '\0';
       if (depth == 0 && follow == ';')
@@ -570,9 +602,20 @@ StepScanResult Scanner::Run()
         i = next; // the ';' ends the statement
         continue;
       }
+      // Names are upper case (ISO 10303-21); OpenCASCADE does not know "EDGE_LOOp" and
+      // crashes on the references to it.
+      if (name[0] != '!' && std::any_of(name.begin(), name.end(),
+                              [](unsigned char ch) { return std::islower(ch) != 0; }))
+        this->Fail("'" + name.substr(0, 40) + "' is not an entity name (names are upper case)");
       if (follow != '(')
         this->Fail("unexpected word '" + name.substr(0, 40) + "' (a name must be followed by "
           "its parameters in parentheses)");
+      // A partial entity of a complex one follows the previous part without a ','.
+      if (!(inData && depth == 1 && this->CurrentType.empty() && this->Current > 0))
+        value();
+      else
+        needSep = false;
+      afterName = true;
       if (inData && depth == 0)
       {
         if (state != 2)
