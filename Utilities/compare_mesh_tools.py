@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""Side-by-side comparison of BRepThickness with the mesh tools users know: trimesh's
+max_sphere and ray thickness, MeshLib's in-sphere and ray thickness.
+
+  python3 Utilities/compare_mesh_tools.py MODEL.step [MODEL.step ...] [--trimesh-samples N]
+
+For each model, pvpython with the built plugin reads the STEP file, solves it with the CPU
+reference (double) and with the default device, and writes the display mesh (the samples are
+its vertices) and the exact thicknesses to an .npz. A private virtual environment
+(build/compare-venv, made on first use with pip from PyPI: numpy, scipy, trimesh, rtree, meshlib; never
+a dependency of the build or the tests) then runs the mesh tools on the same mesh, welded as an
+STL user would have it. Printed per tool: samples/s, and the error against the exact values on
+the samples inside faces (vertices of one face only: at face boundaries the welded mesh has one
+normal where the B-Rep has two): median, 99th percentile and maximum of |T - T_exact|, and the
+share within 1e-4 mm. The exact values are the CPU reference's; failed samples are left out.
+Ours is timed for the solve alone (the Summary's SolveSeconds), as the tools are.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+EXPORT = r'''
+import sys, numpy as np
+from paraview.simple import *
+from paraview import servermanager as sm
+from vtkmodules.numpy_interface import dataset_adapter as dsa
+LoadPlugin(sys.argv[1], ns=globals())
+model, out = sys.argv[2], sys.argv[3]
+reader = STEPReader(FileName=model)
+def solve(device):
+    f = BRepThickness(Input=reader, Device=device, Precision="Double" if device == "reference" else "Float")
+    f.UpdatePipeline()
+    mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))
+    summary = sm.Fetch(f, idx=3)
+    rows = {summary.GetValue(r, 0).ToString(): summary.GetValue(r, 1).ToDouble() for r in range(summary.GetNumberOfRows())}
+    name = device
+    for port in (0, 3):
+        dev = sm.Fetch(f, idx=port).GetFieldData().GetAbstractArray("Device")
+        if dev is not None and dev.GetNumberOfValues() > 0:
+            name = dev.GetValue(0)
+    Delete(f)
+    return mesh, rows, name
+mesh, rows_ref, _ = solve("reference")
+_, rows_dev, dev_name = solve("auto")
+polys = dsa.vtkDataArrayToVTKArray(mesh.VTKObject.GetPolys().GetConnectivityArray())
+np.savez(out, points=np.asarray(mesh.Points), triangles=np.asarray(polys).reshape(-1, 3),
+         normals=np.asarray(mesh.PointData["Normals"]), face=np.asarray(mesh.PointData["FaceId"]),
+         thickness=np.asarray(mesh.PointData["Thickness"]), contact=np.asarray(mesh.PointData["ContactType"]),
+         ref_seconds=rows_ref["SolveSeconds"], dev_seconds=rows_dev["SolveSeconds"], dev_name=dev_name)
+'''
+
+
+def venv_python(build):
+    venv = os.path.join(build, "compare-venv")
+    py = os.path.join(venv, "bin", "python")
+    if not os.path.exists(py):
+        subprocess.check_call([sys.executable, "-m", "venv", venv])
+        subprocess.check_call([py, "-m", "pip", "install", "-q", "numpy", "scipy", "trimesh", "rtree", "meshlib"])
+    return py
+
+
+def tools(npz, trimesh_samples, seed=1):
+    """Runs inside the venv: the mesh tools on the exported mesh."""
+    import numpy as np
+    import trimesh
+    import meshlib.mrmeshpy as mr
+    import meshlib.mrmeshnumpy as mn
+
+    d = np.load(npz)
+    P, tri, N, face = d["points"], d["triangles"], d["normals"], d["face"]
+    exact = d["thickness"]
+    # Weld coincident vertices (one vertex per position, as in an STL), remembering how many
+    # faces' vertices each welded vertex carries.
+    key = np.round(P / 1e-9).astype(np.int64)
+    uniq, first, inverse, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
+    inverse = inverse.reshape(-1)
+    W = P[first]
+    wtri = inverse[tri]
+    interior = (counts[inverse] == 1) & np.isfinite(exact)
+    n_w = len(W)
+    rows = []
+
+    def report(name, values, seconds, computed, idx):
+        """values: per original vertex; computed: how many points the tool ran on; idx: the
+        face-interior samples the error is taken over."""
+        v, e = values[idx], exact[idx]
+        ok = np.isfinite(v) & (v < 1e30)
+        err = np.abs(v[ok] - e[ok])
+        rows.append((name, computed / seconds, np.median(err), np.percentile(err, 99), err.max(),
+                     np.mean(err <= 1e-4), 1.0 - ok.mean()))
+
+    all_idx = np.nonzero(interior)[0]
+    rng = np.random.default_rng(seed)
+    sub = np.sort(rng.choice(all_idx, size=min(trimesh_samples, len(all_idx)), replace=False))
+
+    # MeshLib (its own threads), on every welded vertex.
+    m = mn.meshFromFacesVerts(wtri.astype(np.int32), W.astype(np.float32))
+    settings = mr.InSphereSearchSettings()
+    # The default maxRadius (1) caps the diameter at 2 model units: lift it to the model's size.
+    settings.maxRadius = float(np.linalg.norm(W.max(axis=0) - W.min(axis=0)))
+    t0 = time.perf_counter()
+    ins = mr.computeInSphereThicknessAtVertices(m, settings)
+    t_ins = time.perf_counter() - t0
+    ins = np.fromiter(ins.vec, dtype=float, count=n_w)
+    t0 = time.perf_counter()
+    ray = mr.computeRayThicknessAtVertices(m)
+    t_ray = time.perf_counter() - t0
+    ray = np.fromiter(ray.vec, dtype=float, count=n_w)
+    report("MeshLib in-sphere", ins[inverse], t_ins, n_w, all_idx)
+    report("MeshLib ray (*)", ray[inverse], t_ray, n_w, all_idx)
+
+    # trimesh (single-threaded), on a random subset of the face-interior samples.
+    tm = trimesh.Trimesh(W, wtri, process=False)
+    for method in ("max_sphere", "ray"):
+        t0 = time.perf_counter()
+        th = trimesh.proximity.thickness(tm, P[sub], exterior=False, normals=N[sub], method=method)
+        sec = time.perf_counter() - t0
+        full = np.full(len(P), np.nan)
+        full[sub] = th
+        report("trimesh %s" % ("max_sphere" if method == "max_sphere" else "ray (*)"), full, sec, len(sub), sub)
+    return rows, len(P), n_w, interior.sum()
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("models", nargs="+")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--trimesh-samples", type=int, default=2000)
+    ap.add_argument("--phase", default="all", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.phase == "tools":
+        import numpy as np
+        d = np.load(args.models[0])
+        n = len(d["points"])
+        print("OURS\t%.6g\t%.6g" % (n / float(d["ref_seconds"]), n / float(d["dev_seconds"])))
+        rows, n, nw, ni = tools(args.models[0], args.trimesh_samples)
+        for r in rows:
+            print("ROW\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g" % r)
+        print("COUNTS\t%d\t%d\t%d\t%s" % (n, nw, ni, str(d["dev_name"])))
+        return 0
+    plugin = os.path.join(args.build, "lib", "paraview-plugins", "BRepThickness", "BRepThickness.so")
+    if not os.path.exists(plugin):
+        sys.exit("error: plugin '%s' not built (bash Utilities/run-tests.sh or cmake --build build)" % plugin)
+    py = venv_python(args.build)
+    work = os.path.join(args.build, "compare")
+    os.makedirs(work, exist_ok=True)
+    script = os.path.join(work, "export.py")
+    with open(script, "w") as f:
+        f.write(EXPORT)
+    print("%-34s %-22s %12s %12s %12s %12s %10s %8s" % ("model", "tool", "samples/s", "median_err", "p99_err",
+                                                          "max_err", "<=1e-4mm", "no_value"))
+    for model in args.models:
+        name = os.path.basename(model)
+        npz = os.path.join(work, os.path.splitext(name)[0] + ".npz")
+        subprocess.check_call(["pvpython", script, plugin, os.path.abspath(model), npz],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        out = subprocess.check_output([py, os.path.abspath(__file__), npz, "--phase", "tools",
+                                       "--trimesh-samples", str(args.trimesh_samples)], text=True)
+        for line in out.splitlines():
+            p = line.split("\t")
+            if p[0] == "OURS":
+                print("%-34s %-22s %12.0f %12s" % (name, "ours, CPU reference", float(p[1]), "(exact)"))
+                print("%-34s %-22s %12.0f" % (name, "ours, default device", float(p[2])))
+            elif p[0] == "ROW":
+                print("%-34s %-22s %12.0f %12.3g %12.3g %12.3g %9.1f%% %7.1f%%" % (
+                    name, p[1], float(p[2]), float(p[3]), float(p[4]), float(p[5]), 100 * float(p[6]), 100 * float(p[7])))
+            elif p[0] == "COUNTS":
+                print("%-34s   samples %s, welded vertices %s, face-interior samples compared %s; default device: %s"
+                      % (name, p[1], p[2], p[3], p[4]))
+        sys.stdout.flush()
+    print("(*) ray thickness: the distance along the inward normal to the opposite wall, a different "
+          "measure; its error against the sphere diameter shows how far the two differ.")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
