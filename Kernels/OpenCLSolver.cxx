@@ -527,7 +527,10 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   // own Newton, then the local part of the second look), and the few samples they fail that
   // double solves are finished by the reference; both on every core. The double kernels run the
   // reference's steps in the same precision, so neither would change their results.
-  if (!HostFinish || P->RT->Double)
+  // Then every sphere is certified against the patches (SolverOptions::Certify; the kernels
+  // verify against s1 only): one that holds a point of the trimmed faces deeper than the
+  // clearance is solved again by the reference, which restarts from that point.
+  if (!HostFinish)
     return;
   std::vector<size_t> hard, solved;
   for (size_t i = 0; i < samples.size(); ++i)
@@ -535,10 +538,19 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   SolverOptions exact = options;
   exact.Clearance = 0.0;
   const std::vector<unsigned char>& pass = P->ExactPass;
+  std::vector<unsigned char> redo(samples.size(), 0);
   ParallelFor(solved.size(), 0, [&](size_t j) {
     const size_t i = solved[j];
-    PolishResult(model, data, pass[i] ? exact : options, samples[i], results[i]);
+    const SolverOptions& o = pass[i] ? exact : options;
+    if (!P->RT->Double)
+      PolishResult(model, data, o, samples[i], results[i]);
+    redo[i] = options.Certify && SphereHoldsBoundary(model, data, o, samples[i], results[i]);
   });
+  if (P->RT->Double)
+    hard.clear(); // the double kernels' failures are the reference's too
+  for (size_t i : solved)
+    if (redo[i])
+      hard.push_back(i);
   SolveReferenceParallel(model, data, options, samples, results, hard);
 }
 

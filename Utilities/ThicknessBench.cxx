@@ -72,7 +72,7 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool reference = true, help = false;
+  bool reference = true, help = false, certify = true;
   brt::ConversionOptions conversion;
   for (int i = 1; i < argc; ++i)
   {
@@ -88,6 +88,8 @@ int main(int argc, char** argv)
       conversion.Tolerance = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--no-reference"))
       reference = false;
+    else if (!std::strcmp(argv[i], "--no-certify"))
+      certify = false;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
     {
       counts.clear();
@@ -109,6 +111,7 @@ int main(int argc, char** argv)
       "  --device NAME     OpenCL device: any (default), cpu, gpu, none, or a name\n"
       "  --double          double-precision kernels (default float)\n"
       "  --no-reference    skip the CPU reference\n"
+      "  --no-certify      skip the check of the spheres against the patches\n"
       "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
       "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
       "  --export DIR      write each prepared model as DIR/<name>.brtsolve\n"
@@ -137,6 +140,7 @@ int main(int argc, char** argv)
   {
     brt::BRepModel model;
     brt::SolverOptions options;
+    options.Certify = certify;
     brt::SolverData data;
     std::vector<brt::Sample> all;
     try

@@ -375,7 +375,87 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   if (!data.S1.empty())
     Build(data.S1, data.Nodes, 0, static_cast<int>(data.S1.size()));
   BuildVertices(model, data);
+  BuildPatchBoxes(model, data);
   return data;
+}
+
+void BuildPatchBoxes(const BRepModel& model, SolverData& data)
+{
+  auto box = [](const double* c, int points, double* b) {
+    for (int k = 0; k < 3; ++k)
+    {
+      b[k] = b[3 + k] = c[k];
+      for (int i = 1; i < points; ++i)
+      {
+        b[k] = std::min(b[k], c[3 * i + k]);
+        b[3 + k] = std::max(b[3 + k], c[3 * i + k]);
+      }
+    }
+  };
+  data.PatchBoxes.assign(6 * model.Patches.size(), 0.0);
+  for (size_t p = 0; p < model.Patches.size(); ++p)
+    box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
+  data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
+  for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
+    box(model.EdgeSegments[e].ControlPoints.data(), 4, &data.EdgeBoxes[6 * e]);
+  // BVH: median split of the box centres along the longest axis, leaves of up to 4 boxes.
+  const int np = static_cast<int>(model.Patches.size());
+  const int n = np + static_cast<int>(model.EdgeSegments.size());
+  auto boxOf = [&](int item) {
+    return item < np ? &data.PatchBoxes[6 * static_cast<size_t>(item)]
+                     : &data.EdgeBoxes[6 * static_cast<size_t>(item - np)];
+  };
+  data.BoxItems.resize(static_cast<size_t>(n));
+  std::iota(data.BoxItems.begin(), data.BoxItems.end(), 0);
+  data.BoxNodes.clear();
+  if (n == 0)
+    return;
+  struct Task
+  {
+    int First, Count, Parent;
+  };
+  std::vector<Task> tasks{ { 0, n, -1 } };
+  while (!tasks.empty())
+  {
+    const Task task = tasks.back();
+    tasks.pop_back();
+    const int index = static_cast<int>(data.BoxNodes.size());
+    if (task.Parent >= 0)
+      data.BoxNodes[static_cast<size_t>(task.Parent)].Right = index;
+    BVHNode node;
+    node.Min = { 1e300, 1e300, 1e300 };
+    node.Max = { -1e300, -1e300, -1e300 };
+    for (int i = task.First; i < task.First + task.Count; ++i)
+    {
+      const double* b = boxOf(data.BoxItems[static_cast<size_t>(i)]);
+      for (int k = 0; k < 3; ++k)
+      {
+        node.Min[k] = std::min(node.Min[k], b[k]);
+        node.Max[k] = std::max(node.Max[k], b[3 + k]);
+      }
+    }
+    if (task.Count <= 4)
+    {
+      node.First = task.First;
+      node.Count = task.Count;
+      data.BoxNodes.push_back(node);
+      continue;
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (node.Max[k] - node.Min[k] > node.Max[axis] - node.Min[axis])
+        axis = k;
+    const int half = task.Count / 2;
+    auto first = data.BoxItems.begin() + task.First;
+    std::nth_element(first, first + half, first + task.Count, [&](int a, int b) {
+      return boxOf(a)[axis] + boxOf(a)[3 + axis] < boxOf(b)[axis] + boxOf(b)[3 + axis];
+    });
+    data.BoxNodes.push_back(node);
+    // Depth first, left child next: the right child is pushed first and popped last; its index
+    // is patched into this node when it is built.
+    tasks.push_back({ task.First + half, task.Count - half, index });
+    tasks.push_back({ task.First, half, -1 });
+  }
 }
 
 void BuildVertices(const BRepModel& model, SolverData& data)
@@ -869,7 +949,7 @@ bool ValidSurfaceSolve(const BRepModel& m, const SolverData& data, const SolverO
 
 /// Steps 4-7 from the s1 point p1 with the initial radius t.
 void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
-  const Sample& s, int p1, double t, SampleResult& r)
+  const Sample& s, int face, double u1, double v1, double t, SampleResult& r)
 {
   const int iterations = r.Iterations;
   r = SampleResult();
@@ -883,11 +963,9 @@ void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& 
     r.Iterations = its;
   };
   // --- surface/surface Newton (eq. 4), in the opposite face's (u,v) --------------------------
-  const int face = data.S1[p1].Face;
   const Face& F = m.Faces[face];
   const double stepTol = 1e-13 * data.Scale;
-  const SurfaceSolve ss =
-    SurfaceNewton(m, data, opt, O, d, face, data.S1[p1].U, data.S1[p1].V, t, r.Iterations);
+  const SurfaceSolve ss = SurfaceNewton(m, data, opt, O, d, face, u1, v1, t, r.Iterations);
   t = ss.T;
   double res = ss.Res;
   r.OppositeFace = face;
@@ -1617,6 +1695,235 @@ void SecondLookNear(const BRepModel& m, const SolverData& data, const SolverOpti
       iterations, consider);
 }
 
+/// A point of the trimmed faces that lies inside a sphere: where to restart from.
+struct PointInside
+{
+  int Face = -1;
+  double U = 0.0, V = 0.0;
+  double T = 0.0; ///< eq. 1's radius through the point (with the depth as clearance)
+};
+
+/// The certification of a sphere against the patches (SolverOptions::Certify): the deepest point
+/// of the trimmed faces of O's solid more than `depth` inside the sphere of radius t tangent at
+/// O (by more than half the conversion tolerance). Every patch whose control-point box reaches
+/// into the sphere is searched: the centre's
+/// nearest point on the patch (a 5x5 grid, then Newton on |S - M|^2 in the patch's (s, r),
+/// clamped to the patch), kept if it lies inside the face's trim; otherwise the deepest grid
+/// point inside the trim. False where no point is that deep: the sphere is empty up to the
+/// depth, at the patches' accuracy.
+bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s, double t,
+  double depth, PointInside& out)
+{
+  const Vec3& O = s.Point;
+  const Vec3& d = s.Direction;
+  const Vec3 M = Axpy(O, t, d);
+  // The contact itself lies `depth` inside (the clearance): a point counts when it lies deeper
+  // by more than half the conversion tolerance, above the Newton solves' error at the contact.
+  const double reach = t - depth - 0.5 * m.Tolerance;
+  if (!(reach > 0.0) || data.PatchBoxes.size() != 6 * m.Patches.size())
+    return false;
+  const int solid = m.Faces[s.Face].Solid;
+  double best = reach; // distance of the deepest point so far
+  bool found = false;
+  auto consider = [&](int face, const BezierPatch& patch, double ls, double lr, const Vec3& P) {
+    const double dist = std::sqrt(Dot(Sub(P, M), Sub(P, M)));
+    if (!(dist < best))
+      return;
+    const double u = patch.Domain[0] + ls * (patch.Domain[1] - patch.Domain[0]);
+    const double v = patch.Domain[2] + lr * (patch.Domain[3] - patch.Domain[2]);
+    // A point far from the loops also passes the crossing test: the nearest-segment test can
+    // misjudge a point equidistant from several parts of a loop (seen at a face's UV corner).
+    const TrimProjection tp = ClassifyPoint(m, face, u, v);
+    if (!tp.Inside || (tp.Distance > 1e-3 * (m.Faces[face].Domain[1] - m.Faces[face].Domain[0] +
+                                               m.Faces[face].Domain[3] - m.Faces[face].Domain[2]) &&
+                        !InsideByCrossings(m, face, u, v)))
+      return;
+    const Vec3 w = Sub(P, O);
+    const double dn = Dot(d, w);
+    if (!(dn > depth))
+      return;
+    best = dist;
+    found = true;
+
+
+    out.Face = face;
+    out.U = u;
+    out.V = v;
+    out.T = 0.5 * (Dot(w, w) - depth * depth) / (dn - depth);
+  };
+  auto checkPatch = [&](size_t p) {
+    const BezierPatch& patch = m.Patches[p];
+    if (m.Faces[patch.Face].Solid != solid)
+      return;
+    const double* b = &data.PatchBoxes[6 * p];
+    double gap2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double g = std::max({ b[k] - M[k], 0.0, M[k] - b[3 + k] });
+      gap2 += g * g;
+    }
+    if (gap2 >= best * best)
+      return;
+    // Grid start; grid points inside the trim are candidates themselves.
+    double bs = 0.5, br = 0.5, bd = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j)
+      {
+        const double ls = 0.25 * i, lr = 0.25 * j;
+        const PatchEval e = EvaluatePatchLocal(patch.ControlPoints, ls, lr);
+        const Vec3 P{ e.P[0], e.P[1], e.P[2] };
+        const double dd = Dot(Sub(P, M), Sub(P, M));
+        if (dd < bd)
+        {
+          bd = dd;
+          bs = ls;
+          br = lr;
+        }
+        if (dd < best * best)
+          consider(patch.Face, patch, ls, lr, P);
+      }
+    // Newton on f = |S - M|^2 / 2 from the nearest grid point.
+    double ls = bs, lr = br;
+    for (int it = 0; it < 8; ++it)
+    {
+      const PatchEval e = EvaluatePatchLocal(patch.ControlPoints, ls, lr);
+      const Vec3 w{ e.P[0] - M[0], e.P[1] - M[1], e.P[2] - M[2] };
+      const Vec3 Su{ e.Du[0], e.Du[1], e.Du[2] }, Sv{ e.Dv[0], e.Dv[1], e.Dv[2] };
+      const Vec3 Suu{ e.Duu[0], e.Duu[1], e.Duu[2] }, Suv{ e.Duv[0], e.Duv[1], e.Duv[2] },
+        Svv{ e.Dvv[0], e.Dvv[1], e.Dvv[2] };
+      const double g0 = Dot(Su, w), g1 = Dot(Sv, w);
+      double h00 = Dot(Su, Su) + Dot(Suu, w), h01 = Dot(Su, Sv) + Dot(Suv, w),
+             h11 = Dot(Sv, Sv) + Dot(Svv, w);
+      double det = h00 * h11 - h01 * h01;
+      if (!(h00 > 0.0) || !(det > 0.0))
+      {
+        // Not convex here: Gauss-Newton.
+        h00 = Dot(Su, Su);
+        h01 = Dot(Su, Sv);
+        h11 = Dot(Sv, Sv);
+        det = h00 * h11 - h01 * h01;
+        if (!(det > 0.0))
+          break;
+      }
+      const double ds = -(h11 * g0 - h01 * g1) / det, dr = -(h00 * g1 - h01 * g0) / det;
+      const double ns = std::clamp(ls + ds, 0.0, 1.0), nr = std::clamp(lr + dr, 0.0, 1.0);
+      const bool done = std::fabs(ns - ls) + std::fabs(nr - lr) < 1e-12;
+      ls = ns;
+      lr = nr;
+      if (done)
+        break;
+    }
+    const PatchEval e = EvaluatePatchLocal(patch.ControlPoints, ls, lr);
+    consider(patch.Face, patch, ls, lr, Vec3{ e.P[0], e.P[1], e.P[2] });
+  };
+  // The edges: where a face's part inside the sphere ends at its trim (a corner cutting in), the
+  // deepest point lies on an edge. Restart from the edge point, moved a hair into a face.
+  auto checkEdge = [&](size_t es) {
+    const EdgeSegment& seg = m.EdgeSegments[es];
+    const Edge& E = m.Edges[seg.Edge];
+    if (E.Faces[0] < 0 || m.Faces[E.Faces[0]].Solid != solid)
+      return;
+    const double* b = &data.EdgeBoxes[6 * es];
+    double gap2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double g = std::max({ b[k] - M[k], 0.0, M[k] - b[3 + k] });
+      gap2 += g * g;
+    }
+    if (gap2 >= best * best)
+      return;
+    double T = seg.T0, bd = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 8; ++i)
+    {
+      const double Ti = seg.T0 + (seg.T1 - seg.T0) * i / 8.0;
+      const Vec3 w = Sub(EvaluateEdge(m, seg.Edge, Ti).C, M);
+      if (Dot(w, w) < bd)
+      {
+        bd = Dot(w, w);
+        T = Ti;
+      }
+    }
+    for (int it = 0; it < 8; ++it)
+    {
+      const EdgeEval ee = EvaluateEdge(m, seg.Edge, T);
+      const Vec3 w = Sub(ee.C, M);
+      const double g = Dot(ee.Ct, w), h = Dot(ee.Ct, ee.Ct) + Dot(ee.Ctt, w);
+      const double h2 = h > 0.0 ? h : Dot(ee.Ct, ee.Ct);
+      if (!(h2 > 0.0))
+        break;
+      const double next = std::clamp(T - g / h2, std::min(seg.T0, seg.T1), std::max(seg.T0, seg.T1));
+      const bool done = std::fabs(next - T) <= 1e-12 * (std::fabs(T) + 1.0);
+      T = next;
+      if (done)
+        break;
+    }
+    const Vec3 C = EvaluateEdge(m, seg.Edge, T).C;
+    const double dist = std::sqrt(Dot(Sub(C, M), Sub(C, M)));
+    const Vec3 w = Sub(C, O);
+    const double dn = Dot(d, w);
+    if (!(dist < best) || !(dn > depth))
+      return;
+    for (int k = 0; k < 2; ++k)
+    {
+      const int face = E.Faces[k];
+      double u = 0.0, v = 0.0, nu = 0.0, nv = 0.0;
+      if (face < 0 || m.Faces[face].PatchCount == 0 ||
+        !EdgePointIntoFace(m, face, seg.Edge, T, u, v, nu, nv))
+        continue;
+      const Face& F = m.Faces[face];
+      const double hair = 1e-6 * (F.Domain[1] - F.Domain[0] + F.Domain[3] - F.Domain[2]);
+      best = dist;
+      found = true;
+      out.Face = face;
+      out.U = u + hair * nu;
+      out.V = v + hair * nv;
+      out.T = 0.5 * (Dot(w, w) - depth * depth) / (dn - depth);
+      break;
+    }
+  };
+  if (data.EdgeBoxes.size() != 6 * m.EdgeSegments.size() || data.BoxNodes.empty())
+    return false;
+  const size_t np = m.Patches.size();
+  auto gap2 = [&](const BVHNode& n) {
+    double g2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double g = std::max({ n.Min[k] - M[k], 0.0, M[k] - n.Max[k] });
+      g2 += g * g;
+    }
+    return g2;
+  };
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const BVHNode& n = data.BoxNodes[static_cast<size_t>(stack[--top])];
+    if (gap2(n) >= best * best)
+      continue;
+    if (n.Count > 0)
+    {
+      for (int i = n.First; i < n.First + n.Count; ++i)
+      {
+        const size_t item = static_cast<size_t>(data.BoxItems[static_cast<size_t>(i)]);
+        if (item < np)
+          checkPatch(item);
+        else
+          checkEdge(item - np);
+      }
+      continue;
+    }
+    const int left = static_cast<int>(&n - data.BoxNodes.data()) + 1, right = n.Right;
+    if (top + 2 > 64)
+      continue; // cannot happen for a balanced tree
+    const bool leftFirst = gap2(data.BoxNodes[static_cast<size_t>(left)]) <=
+      gap2(data.BoxNodes[static_cast<size_t>(right)]);
+    stack[top++] = leftFirst ? right : left;
+    stack[top++] = leftFirst ? left : right;
+  }
+  return found;
+}
+
 /// Step 3, then steps 4-7 (once more from another face if that fails); then the verification
 /// that the sphere is maximal: a point of s1 gives
 /// a smaller t in eq. 1 exactly when it lies inside the sphere, so the bounded BVH query finds any
@@ -1638,7 +1945,7 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
     return;
   }
   const int first = p;
-  SolveFrom(m, data, opt, s, p, t, r);
+  SolveFrom(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, t, r);
   if (r.Type == ContactType::Failed && r.OppositeFace >= 0)
   {
     // The start on that face led nowhere (e.g. a convex blend with no tangent sphere): try the
@@ -1648,7 +1955,7 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
     {
       SampleResult other;
       other.Iterations = r.Iterations;
-      SolveFrom(m, data, opt, s, p, t, other);
+      SolveFrom(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, t, other);
       if (other.Type != ContactType::Failed)
         r = other;
       else
@@ -1678,21 +1985,27 @@ void SolveWithClearance(const BRepModel& m, const SolverData& data, const Solver
   for (int check = 0; r.Type != ContactType::Failed; ++check)
   {
     p = Initialise(m, data, s, depth, t, r.Radius * (1.0 - 1e-6));
-    if (p < 0)
+    PointInside inside;
+    if (p >= 0)
+      inside = { data.S1[p].Face, data.S1[p].U, data.S1[p].V, t };
+    else
     {
       SecondLook(m, data, opt, s, own, r); // no s1 point inside: maximal at the resolution of s1
-      return;
+      // Then the patches themselves: a wall narrower than s1's spacing can still reach in.
+      if (!opt.Certify || !FindPointInside(m, data, s, r.Radius, depth, inside))
+        return;
+      t = inside.T;
     }
     // A point inside proves the true radius is below t(p) < r.Radius: the sphere found is not it.
     SampleResult again;
     again.Iterations = r.Iterations;
     if (check < 3)
-      SolveFrom(m, data, opt, s, p, t, again);
+      SolveFrom(m, data, opt, s, inside.Face, inside.U, inside.V, t, again);
     if (check < 3 && (again.Type == ContactType::Failed || !(again.Radius < r.Radius * (1.0 - 1e-6))))
     {
       // Newton went back to the same sphere or failed: descend on t from the point inside.
       int iterations = again.Iterations;
-      again = Descend(m, data, opt, s, data.S1[p].Face, data.S1[p].U, data.S1[p].V, iterations);
+      again = Descend(m, data, opt, s, inside.Face, inside.U, inside.V, iterations);
       if (again.Type == ContactType::Failed || !(again.Radius < r.Radius * (1.0 - 1e-6)))
       {
         // A sample next to a convex edge has a small sphere touching the face across that
@@ -1740,6 +2053,16 @@ void SolveOne(const BRepModel& m, const SolverData& data, const SolverOptions& o
     r.Iterations = again.Iterations;
 }
 } // namespace
+
+bool SphereHoldsBoundary(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const Sample& sample, const SampleResult& r)
+{
+  if (r.Type == ContactType::Failed)
+    return false;
+  const double depth = std::max(Clearance(model, options), 2.0 * model.Tolerance);
+  PointInside inside;
+  return FindPointInside(model, data, sample, r.Radius, depth, inside);
+}
 
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
   const std::vector<Sample>& samples, std::vector<SampleResult>& results)

@@ -88,6 +88,11 @@ struct SolverOptions
   /// (docs/Solver.md). Negative: 2x the model's conversion tolerance. 0: eq. 1 exactly. A sample
   /// that fails with a clearance is solved again without one.
   double Clearance = -1.0;
+  /// Check every sphere against the patches themselves, not only s1: the centre is projected on
+  /// every patch of the sample's solid that reaches into the sphere, and a point of the trimmed
+  /// faces deeper inside than the clearance restarts the solve from it (docs/Solver.md,
+  /// "Certified emptiness"). Off only to measure what it costs and buys.
+  bool Certify = true;
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.
@@ -127,7 +132,19 @@ struct SolverData
   /// offset r holds its end count n at VertexInfo[r], then n ends, each 2 * edge + k. The OpenCL
   /// kernels get the same array.
   std::vector<int> VertexInfo;
+  /// Per patch: the box of its control points (min x, y, z, max x, y, z), which holds the patch.
+  /// Derived like VertexInfo (BuildPatchBoxes), not stored in solve files.
+  std::vector<double> PatchBoxes;
+  /// The same per edge segment (its 4 control points).
+  std::vector<double> EdgeBoxes;
+  /// BVH over those boxes (same node layout as Nodes); BoxItems[First .. First + Count) of a
+  /// leaf are patch indices, or edge segment indices offset by the number of patches.
+  std::vector<BVHNode> BoxNodes;
+  std::vector<int> BoxItems;
 };
+
+/// Fills data.PatchBoxes, data.EdgeBoxes and their BVH (PrepareSolver and ReadSolve call it).
+void BuildPatchBoxes(const BRepModel& model, SolverData& data);
 
 /// Fills data.VertexInfo from the model's edges (PrepareSolver and ReadSolve call it).
 void BuildVertices(const BRepModel& model, SolverData& data);
@@ -164,6 +181,13 @@ void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
 /// where that Newton fails or lands farther than the second look's reach from r's foot.
 void PolishResult(const BRepModel& model, const SolverData& data, const SolverOptions& options,
   const Sample& sample, SampleResult& r);
+
+/// True when a point of the trimmed faces of the sample's solid lies inside r's sphere deeper
+/// than the verification allows (the larger of `options`' clearance and twice the conversion
+/// tolerance): the certification of SolverOptions::Certify, for results found elsewhere (the
+/// kernels). False for a failed result.
+bool SphereHoldsBoundary(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const Sample& sample, const SampleResult& r);
 
 /// Calls f(i) for i in [0, n) on `threads` threads (0: one per core), the indices dealt out in
 /// turn.

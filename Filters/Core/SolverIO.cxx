@@ -82,6 +82,7 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     throw std::runtime_error("'" + path + "': " + e.what());
   }
   BuildVertices(m, d);
+  BuildPatchBoxes(m, d);
   m.Stats.Faces = static_cast<int>(m.Faces.size());
   m.Stats.Patches = static_cast<int>(m.Patches.size());
 }

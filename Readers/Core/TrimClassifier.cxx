@@ -242,6 +242,35 @@ TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double 
   return res;
 }
 
+bool InsideByCrossings(const BRepModel& model, int face, double u, double v)
+{
+  const Face& f = model.Faces[face];
+  bool inside = false;
+  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      const double* cp = model.TrimSegments[s].ControlPoints.data();
+      auto at = [&](int k) { return EvaluateCubic<2>(cp, k / 16.0).P; };
+      std::array<double, 2> a = at(0);
+      for (int k = 1; k <= 16; ++k)
+      {
+        const std::array<double, 2> b = at(k);
+        // Half-open in v, so that a vertex on the ray counts once.
+        if ((a[1] > v) != (b[1] > v))
+        {
+          const double x = a[0] + (v - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+          if (x > u)
+            inside = !inside;
+        }
+        a = b;
+      }
+    }
+  }
+  return inside;
+}
+
 int FindPatch(const BRepModel& model, int face, double u, double v)
 {
   const Face& f = model.Faces[face];

@@ -26,4 +26,9 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
 /// applies (a left turn is convex: outside; a right turn is concave: inside).
 TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v);
 
+/// Independent point-in-face test by the parity of the crossings of a ray from (u,v) towards +u
+/// with the loops, each cubic segment flattened to 16 chords. Meant for points farther from the
+/// loops than the chords' error, as a second opinion beside ClassifyPoint.
+bool InsideByCrossings(const BRepModel& model, int face, double u, double v);
+
 } // namespace brt
