@@ -1725,6 +1725,14 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
   const int solid = m.Faces[s.Face].Solid;
   double best = reach; // distance of the deepest point so far
   bool found = false;
+  // O's own face: the patches there may lie a little more than the tolerance off O's exact
+  // point (a toroidal shell converted within 1e-6: 2.75e-6 at O's own patch point, the trivial
+  // solution P = O), so its points must lie deeper by twice the tolerance more. Within the
+  // patches' accuracy of O (twice the slack), no face counts.
+  auto NearSampleOnOwnFace = [&](int face, const Vec3& w, double dist) {
+    return (face == s.Face && !(dist < reach - 2.0 * m.Tolerance)) ||
+      Dot(w, w) <= 16.0 * m.Tolerance * m.Tolerance;
+  };
   auto consider = [&](int face, const BezierPatch& patch, double ls, double lr, const Vec3& P) {
     const double dist = std::sqrt(Dot(Sub(P, M), Sub(P, M)));
     if (!(dist < best))
@@ -1740,12 +1748,10 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
       return;
     const Vec3 w = Sub(P, O);
     const double dn = Dot(d, w);
-    if (!(dn > depth))
+    if (!(dn > depth) || NearSampleOnOwnFace(face, w, dist))
       return;
     best = dist;
     found = true;
-
-
     out.Face = face;
     out.U = u;
     out.V = v;
@@ -1861,7 +1867,8 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
     const double dist = std::sqrt(Dot(Sub(C, M), Sub(C, M)));
     const Vec3 w = Sub(C, O);
     const double dn = Dot(d, w);
-    if (!(dist < best) || !(dn > depth))
+    if (!(dist < best) || !(dn > depth) ||
+      NearSampleOnOwnFace(E.Faces[0] == s.Face || E.Faces[1] == s.Face ? s.Face : -1, w, dist))
       return;
     for (int k = 0; k < 2; ++k)
     {
