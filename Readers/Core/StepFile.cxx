@@ -141,6 +141,28 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     Handle(StepData_StepModel) model = reader.StepModel();
     if (!model.IsNull())
     {
+      // An entity OpenCASCADE could not read (a type it does not know, damaged parameters)
+      // that the geometry refers to: its transfer would dereference nothing.
+      for (int i = 1; i <= model->NbEntities(); ++i)
+      {
+        if (!model->IsErrorEntity(i) && !model->IsUnknownEntity(i))
+        {
+          continue;
+        }
+        const long id = model->IdentLabel(model->Value(i));
+        const auto target = result.Scan.GeometryTargets.find(id);
+        if (target == result.Scan.GeometryTargets.end())
+        {
+          continue;
+        }
+        auto typeOf = [&](long e) {
+          const auto t = result.Scan.TypeNames.find(e);
+          const std::string name = t != result.Scan.TypeNames.end() ? t->second : "?";
+          return "#" + std::to_string(e) + (name[0] == '(' ? " " + name : " (" + name + ")");
+        };
+        Fail(path, "entity " + typeOf(id) + " is damaged or of a type OpenCASCADE does not "
+          "read, and " + typeOf(target->second) + " refers to it");
+      }
       APIHeaderSection_MakeHeader header(model);
       if (header.IsDone() && header.NbSchemaIdentifiers() > 0)
       {

@@ -651,6 +651,14 @@ StepScanResult Scanner::Run()
   // References: every target defined, of the right type where the schema fixes it. A missing
   // target of a geometric or topological entity is an error (OpenCASCADE dereferences it);
   // elsewhere (styles, notes, PMI) OpenCASCADE drops the reference, and it is a warning.
+  for (const auto& e : this->Entities)
+    this->Result.TypeNames.emplace(e.first, this->TypeText(e.second));
+  for (const auto& r : this->Refs)
+  {
+    const auto from = this->Entities.find(r.first);
+    if (from != this->Entities.end() && IsGeometric(this->TypeText(from->second)))
+      this->Result.GeometryTargets.emplace(r.second, r.first);
+  }
   long dangling = 0;
   std::string firstDangling;
   for (size_t k = 0; k < this->Refs.size(); ++k)

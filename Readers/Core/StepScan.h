@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace brt
@@ -26,6 +27,12 @@ struct StepScanResult
   long LargestCoordinateEntity = 0;
   /// Problems that do not touch the geometry (a dangling reference in a colour or a note).
   std::vector<std::string> Warnings;
+  /// Entities that a geometric or topological entity refers to, with the first such referrer:
+  /// after OpenCASCADE has parsed the file, one of them that it could not read (unknown type,
+  /// damaged parameters) is an error, since its transfer dereferences it.
+  std::unordered_map<long, long> GeometryTargets;
+  /// Type name of each entity (a complex one's as "(A B C)").
+  std::unordered_map<long, std::string> TypeNames;
 };
 
 /// Largest coordinate or radius accepted, in millimetres (1,000 km).
