@@ -41,9 +41,9 @@ echo "crash files $crashes, timeout files $timeouts"
 : >"$work/tokens.txt"
 for f in "$work"/crashes/crash-*; do
   [ -e "$f" ] || continue
-  tok=$(env "${env[@]}" ASAN_OPTIONS=detect_leaks=0:dedup_token_length=3 timeout 60 \
-    "$build/brt_fuzz_step_reader" "$f" 2>&1 | grep -m1 DEDUP_TOKEN | sed 's/DEDUP_TOKEN: //')
+  tok=$( (env "${env[@]}" ASAN_OPTIONS=detect_leaks=0:dedup_token_length=3 timeout 60 \
+    "$build/brt_fuzz_step_reader" "$f" 2>&1 || true) | grep -m1 DEDUP_TOKEN | sed 's/DEDUP_TOKEN: //' || true)
   echo "${tok:-no-token} $(basename "$f")" >>"$work/tokens.txt"
 done
 echo "distinct crashes (three top frames):"
-cut -d' ' -f1 "$work/tokens.txt" | sort | uniq -c | sort -rn
+cut -d' ' -f1 "$work/tokens.txt" | sort | uniq -c | sort -rn || true
