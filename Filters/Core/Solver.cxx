@@ -1757,18 +1757,21 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
     out.V = v;
     out.T = 0.5 * (Dot(w, w) - depth * depth) / (dn - depth);
   };
+  // Squared distance from M to a box (min x, y, z, max x, y, z).
+  auto boxGap2 = [&](const double* b) {
+    double g2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double g = std::max({ b[k] - M[k], 0.0, M[k] - b[3 + k] });
+      g2 += g * g;
+    }
+    return g2;
+  };
   auto checkPatch = [&](size_t p) {
     const BezierPatch& patch = m.Patches[p];
     if (m.Faces[patch.Face].Solid != solid)
       return;
-    const double* b = &data.PatchBoxes[6 * p];
-    double gap2 = 0.0;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double g = std::max({ b[k] - M[k], 0.0, M[k] - b[3 + k] });
-      gap2 += g * g;
-    }
-    if (gap2 >= best * best)
+    if (boxGap2(&data.PatchBoxes[6 * p]) >= best * best)
       return;
     // Grid start; grid points inside the trim are candidates themselves.
     double bs = 0.5, br = 0.5, bd = std::numeric_limits<double>::infinity();
@@ -1829,14 +1832,7 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
     const Edge& E = m.Edges[seg.Edge];
     if (E.Faces[0] < 0 || m.Faces[E.Faces[0]].Solid != solid)
       return;
-    const double* b = &data.EdgeBoxes[6 * es];
-    double gap2 = 0.0;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double g = std::max({ b[k] - M[k], 0.0, M[k] - b[3 + k] });
-      gap2 += g * g;
-    }
-    if (gap2 >= best * best)
+    if (boxGap2(&data.EdgeBoxes[6 * es]) >= best * best)
       return;
     double T = seg.T0, bd = std::numeric_limits<double>::infinity();
     for (int i = 0; i <= 8; ++i)
@@ -1892,13 +1888,8 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
     return false;
   const size_t np = m.Patches.size();
   auto gap2 = [&](const BVHNode& n) {
-    double g2 = 0.0;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double g = std::max({ n.Min[k] - M[k], 0.0, M[k] - n.Max[k] });
-      g2 += g * g;
-    }
-    return g2;
+    const double b[6] = { n.Min[0], n.Min[1], n.Min[2], n.Max[0], n.Max[1], n.Max[2] };
+    return boxGap2(b);
   };
   int stack[64];
   int top = 0;

@@ -26,21 +26,11 @@ using namespace brt;
 
 fs::path TempDir()
 {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("brt-bad-input-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test::TempDir("brt-bad-input");
   return dir;
 }
 
-std::string ReadAll(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::ReadAll;
 
 void Write(const fs::path& p, const std::string& text)
 {

@@ -12,8 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
+#include <unistd.h>
 
 namespace brt::test
 {
@@ -112,5 +114,20 @@ TrimCheck CheckTrims(const BRepModel& m, const std::vector<TopoDS_Face>& faces, 
       r.Disagreements.push_back(d.str());
   }
   return r;
+}
+std::string TempDir(const std::string& prefix)
+{
+  const std::filesystem::path d =
+    std::filesystem::temp_directory_path() / (prefix + "-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+std::string ReadAll(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 } // namespace brt::test

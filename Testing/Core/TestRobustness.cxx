@@ -41,21 +41,11 @@ using namespace brt;
 
 fs::path TempDir()
 {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("brt-robustness-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = test::TempDir("brt-robustness");
   return dir;
 }
 
-std::string ReadAll(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::ReadAll;
 
 /// Data/<model> with the first match of `pattern` replaced, written to the temp folder.
 std::string Mutated(const std::string& model, const std::string& name, const std::string& pattern,
