@@ -117,6 +117,11 @@ int main(int argc, char** argv)
       return 2;
     }
   }
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer reserves terabytes of address space for its shadow memory: an address-space
+  // limit makes it abort at start (Utilities/run-sanitizers.sh).
+  memoryMiB = 0.0;
+#endif
   if (memoryMiB > 0.0)
   {
     rlimit limit{};
