@@ -242,6 +242,13 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
       "unsupported geometry); the solids they bound may be open");
   }
   result.Warnings.insert(result.Warnings.end(), scan.Warnings.begin(), scan.Warnings.end());
+  TopTools_IndexedMapOfShape solids;
+  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+  if (result.SolidsTransferredDirectly == 0 && solids.Extent() < scan.DeclaredSolids)
+  {
+    result.Warnings.push_back("the file declares " + std::to_string(scan.DeclaredSolids) +
+      " solids but only " + std::to_string(solids.Extent()) + " were transferred");
+  }
   if (scan.SurfaceModels > 0)
   {
     result.Warnings.push_back("the file holds " + std::to_string(scan.SurfaceModels) +
