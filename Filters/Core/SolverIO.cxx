@@ -1,6 +1,7 @@
 #include "SolverIO.h"
 
 #include "BinaryIO.h"
+#include "ModelIO.h"
 
 #include <cstdint>
 #include <fstream>
@@ -26,12 +27,7 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
   if (!out)
     throw std::runtime_error("cannot write '" + path + "'");
   out.write(reinterpret_cast<const char*>(&Magic), sizeof Magic);
-  Put(out, m.Faces);
-  Put(out, m.Patches);
-  Put(out, m.Loops);
-  Put(out, m.TrimSegments);
-  Put(out, m.Edges);
-  Put(out, m.EdgeSegments);
+  PutGeometry(out, m);
   Put(out, d.S1);
   Put(out, d.Nodes);
   Put(out, d.Breaks);
@@ -51,12 +47,7 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     throw std::runtime_error("'" + path + "' is not a BRepThickness solve file");
   try
   {
-    Get(in, m.Faces);
-    Get(in, m.Patches);
-    Get(in, m.Loops);
-    Get(in, m.TrimSegments);
-    Get(in, m.Edges);
-    Get(in, m.EdgeSegments);
+    GetGeometry(in, m);
     Get(in, d.S1);
     if (magic == MagicV1)
       for (S1Point& p : d.S1)

@@ -45,6 +45,26 @@ bool Index(int i, size_t size, bool allowMinusOne = false)
 }
 } // namespace
 
+void PutGeometry(std::ostream& out, const BRepModel& m)
+{
+  Put(out, m.Faces);
+  Put(out, m.Patches);
+  Put(out, m.Loops);
+  Put(out, m.TrimSegments);
+  Put(out, m.Edges);
+  Put(out, m.EdgeSegments);
+}
+
+void GetGeometry(std::istream& in, BRepModel& m)
+{
+  Get(in, m.Faces);
+  Get(in, m.Patches);
+  Get(in, m.Loops);
+  Get(in, m.TrimSegments);
+  Get(in, m.Edges);
+  Get(in, m.EdgeSegments);
+}
+
 void WriteModel(const std::string& path, const BRepModel& m)
 {
   std::ofstream out(path, std::ios::binary);
@@ -55,12 +75,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   PutString(out, m.Schema);
   PutString(out, m.LengthUnit);
   Put(out, std::vector<double>{ m.Tolerance });
-  Put(out, m.Faces);
-  Put(out, m.Patches);
-  Put(out, m.Loops);
-  Put(out, m.TrimSegments);
-  Put(out, m.Edges);
-  Put(out, m.EdgeSegments);
+  PutGeometry(out, m);
   Put(out, m.Mesh.Points);
   Put(out, m.Mesh.Normals);
   Put(out, m.Mesh.UV);
@@ -97,12 +112,7 @@ BRepModel ReadModel(const std::string& path)
     if (tolerance.size() != 1)
       Bad("tolerance");
     m.Tolerance = tolerance[0];
-    Get(in, m.Faces);
-    Get(in, m.Patches);
-    Get(in, m.Loops);
-    Get(in, m.TrimSegments);
-    Get(in, m.Edges);
-    Get(in, m.EdgeSegments);
+    GetGeometry(in, m);
     Get(in, m.Mesh.Points);
     Get(in, m.Mesh.Normals);
     Get(in, m.Mesh.UV);

@@ -8,11 +8,19 @@
 #include "BRepModel.h"
 
 #include <array>
+#include <istream>
+#include <ostream>
 #include <string>
 #include <vector>
 
 namespace brt
 {
+/// The B-Rep's six arrays (faces, patches, loops, trimming segments, edges, edge segments) in
+/// this order: the part of a model file that a solve file (Filters/Core/SolverIO.h) shares.
+void PutGeometry(std::ostream& out, const BRepModel& model);
+/// Reads them back; throws std::runtime_error on a corrupt count or a truncated file.
+void GetGeometry(std::istream& in, BRepModel& model);
+
 /// Writes every part of the model (geometry, display mesh, statistics, warnings).
 /// Throws std::runtime_error naming the file if it cannot be written.
 void WriteModel(const std::string& path, const BRepModel& model);
