@@ -314,6 +314,33 @@ TEST(Robustness, OpenShellBesideASolidIsFlagged)
   EXPECT_GT(closedSolved, samples.size() / 4);
 }
 
+TEST(Robustness, NonManifoldEdgeIsFlagged)
+{
+  // Two boxes touching along an edge, sewn in non-manifold mode into one shell: an edge bounds
+  // four faces. Its solid's samples are flagged failed (NonManifold), never measured as if the
+  // solid had a well-defined inside; nothing reads more than a box's diagonal.
+  BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
+  sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape());
+  sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(10, 10, 0), 10, 10, 10).Shape());
+  sew.Perform();
+  const std::string p = WriteShape(sew.SewedShape(), "bow-tie.step");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> results(samples.size());
+  SolveReference(m, data, options, samples, results);
+  const ResultCheckSummary s = CheckResults(m, samples, results);
+  EXPECT_GT(s.NonManifold, 0u);
+  for (const SampleResult& r : results)
+  {
+    if (r.Type != ContactType::Failed)
+    {
+      ASSERT_LE(r.Thickness, std::sqrt(300.0) + 1e-6);
+    }
+  }
+}
+
 TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
 {
   // An edge whose two ends are one vertex: either a clear error or results that are all finite
