@@ -947,7 +947,8 @@ bool ValidSurfaceSolve(const BRepModel& m, const SolverData& data, const SolverO
     !TangentAtSample(m, s, ss.Foot, ss.Normal) && ss.OnFace(m.Faces[face], opt);
 }
 
-/// Steps 4-7 from the s1 point p1 with the initial radius t.
+/// Steps 4-7 from (u1, v1) on `face` (an s1 point, or a point the certification found inside
+/// the sphere) with the initial radius t.
 void SolveFrom(const BRepModel& m, const SolverData& data, const SolverOptions& opt,
   const Sample& s, int face, double u1, double v1, double t, SampleResult& r)
 {
@@ -1720,7 +1721,8 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
   // The contact itself lies `depth` inside (the clearance): a point counts when it lies deeper
   // by more than half the conversion tolerance, above the Newton solves' error at the contact.
   const double reach = t - depth - 0.5 * m.Tolerance;
-  if (!(reach > 0.0) || data.PatchBoxes.size() != 6 * m.Patches.size())
+  if (!(reach > 0.0) || data.PatchBoxes.size() != 6 * m.Patches.size() ||
+    data.EdgeBoxes.size() != 6 * m.EdgeSegments.size() || data.BoxNodes.empty())
     return false;
   const int solid = m.Faces[s.Face].Solid;
   double best = reach; // distance of the deepest point so far
@@ -1884,8 +1886,6 @@ bool FindPointInside(const BRepModel& m, const SolverData& data, const Sample& s
       break;
     }
   };
-  if (data.EdgeBoxes.size() != 6 * m.EdgeSegments.size() || data.BoxNodes.empty())
-    return false;
   const size_t np = m.Patches.size();
   auto gap2 = [&](const BVHNode& n) {
     const double b[6] = { n.Min[0], n.Min[1], n.Min[2], n.Max[0], n.Max[1], n.Max[2] };

@@ -91,6 +91,23 @@ void ExpectIsolatedError(const std::string& path, const std::string& reason, dou
   }
 }
 
+/// Every mesh vertex of `m` solved by the reference at the defaults.
+struct Solved
+{
+  SolverData Data;
+  std::vector<Sample> Samples;
+  std::vector<SampleResult> Results;
+};
+Solved SolveAll(const BRepModel& m)
+{
+  Solved out;
+  const SolverOptions options;
+  out.Data = PrepareSolver(m, options);
+  out.Samples = SamplesFromMesh(m, out.Data);
+  SolveReference(m, out.Data, options, out.Samples, out.Results);
+  return out;
+}
+
 // --- the crash classes ------------------------------------------------------------------------
 
 TEST(Robustness, DeletedPointIsAMissingEntity)
@@ -287,11 +304,9 @@ TEST(Robustness, OpenShellBesideASolidIsFlagged)
   for (const std::string& w : m.Stats.Warnings)
     warned = warned || w.find("is open") != std::string::npos;
   EXPECT_TRUE(warned);
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results(samples.size());
-  SolveReference(m, data, options, samples, results);
+  Solved solved = SolveAll(m);
+  const std::vector<Sample>& samples = solved.Samples;
+  std::vector<SampleResult>& results = solved.Results;
   const ResultCheckSummary s = CheckResults(m, samples, results);
   EXPECT_GT(s.OpenShell, 0u);
   const std::vector<SolidCheck> solids = CheckSolids(m);
@@ -325,11 +340,9 @@ TEST(Robustness, NonManifoldEdgeIsFlagged)
   sew.Perform();
   const std::string p = WriteShape(sew.SewedShape(), "bow-tie.step");
   const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results(samples.size());
-  SolveReference(m, data, options, samples, results);
+  Solved solved = SolveAll(m);
+  const std::vector<Sample>& samples = solved.Samples;
+  std::vector<SampleResult>& results = solved.Results;
   const ResultCheckSummary s = CheckResults(m, samples, results);
   EXPECT_GT(s.NonManifold, 0u);
   for (const SampleResult& r : results)
@@ -344,7 +357,10 @@ TEST(Robustness, NonManifoldEdgeIsFlagged)
 TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
 {
   // An edge whose two ends are one vertex: either a clear error or results that are all finite
-  // and within the part (the unchecked reader gave samples thicker than the part's diagonal).
+  // and within the part (the unchecked reader gave samples thicker than the part's diagonal on
+  // a real part of the issue). Here the healing repairs the edge and no sample comes out beyond
+  // the diagonal even before CheckResults (nor on the corpus's 19 such variants), so this only
+  // guards the path; the flagging itself is tested by ResultsBeyondTheSolidAreFlagged.
   const std::string p = Mutated("l_bracket.step", "zero-length-edge.step",
     R"(EDGE_CURVE\('',(#\d+),#\d+,)", "EDGE_CURVE('',$1,$1,");
   BRepModel m;
@@ -357,12 +373,18 @@ TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
     EXPECT_NE(std::string(e.what()).find(p), std::string::npos);
     return;
   }
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results(samples.size());
-  SolveReference(m, data, options, samples, results);
-  (void)CheckResults(m, samples, results);
+  Solved solved = SolveAll(m);
+  const SolverData& data = solved.Data;
+  const std::vector<Sample>& samples = solved.Samples;
+  std::vector<SampleResult>& results = solved.Results;
+  size_t beyond = 0;
+  for (const SampleResult& r : results)
+    beyond += r.Type != ContactType::Failed && !(r.Thickness <= data.Scale);
+  const ResultCheckSummary c = CheckResults(m, samples, results);
+  std::printf("[zero-length edge] %zu samples, %zu solved beyond the diagonal before the check, "
+              "flagged: %zu unbounded, %zu open, %zu non-manifold\n",
+    samples.size(), beyond, c.Unbounded, c.OpenShell, c.NonManifold);
+  EXPECT_GE(c.Unbounded, beyond);
   for (const SampleResult& r : results)
     if (r.Type != ContactType::Failed)
     {
@@ -375,11 +397,9 @@ TEST(Robustness, ResultsBeyondTheSolidAreFlagged)
 {
   // CheckResults on its own: an infinite, a NaN and a too-large thickness are flagged failed.
   const BRepModel m = ConvertShape(analytic::Plate(40, 30, 2), ConversionOptions());
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results(samples.size());
-  SolveReference(m, data, options, samples, results);
+  Solved solved = SolveAll(m);
+  const std::vector<Sample>& samples = solved.Samples;
+  std::vector<SampleResult>& results = solved.Results;
   ASSERT_GE(results.size(), 3u);
   results[0].Thickness = std::numeric_limits<double>::infinity();
   results[1].Center[1] = std::nan("");
@@ -426,11 +446,9 @@ TEST(Robustness, SolidWithACavity)
   EXPECT_NE(ReadAll(p).find("BREP_WITH_VOIDS"), std::string::npos);
   const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
   EXPECT_EQ(m.Stats.Faces, 12);
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results(samples.size());
-  SolveReference(m, data, options, samples, results);
+  Solved solved = SolveAll(m);
+  const std::vector<Sample>& samples = solved.Samples;
+  std::vector<SampleResult>& results = solved.Results;
   // The centre of every face (outer and cavity) lies on a 5 mm wall.
   int checked = 0;
   for (size_t i = 0; i < samples.size(); ++i)
