@@ -1,5 +1,7 @@
 #include "OpenCLSolver.h"
 
+#include "KernelData.h"
+
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
@@ -17,15 +19,9 @@ extern const char* const ThicknessKernelSource; // generated from thickness.cl a
 
 namespace
 {
-/// Reals per sample in the kernel's sample buffer (SAMPLE_REALS in thickness.cl): O as hi + lo
-/// parts, the inward normal, (u, v).
-constexpr size_t SampleReals = 11;
-/// Reals per sample in the kernel's result buffer (OUT_REALS in thickness.cl): t, foot - O (3),
-/// residual, the foot's parameters (u, v on the face, or T, 0 on the edge).
-constexpr size_t OutReals = 7;
-/// Ints per sample in the kernel's result buffer (OUT_INTS): type, reason, face, patch, edge,
-/// iterations, and whether the pass without clearance found the contact.
-constexpr size_t OutInts = 7;
+constexpr size_t SampleReals = KernelSampleReals;
+constexpr size_t OutReals = KernelOutReals;
+constexpr size_t OutInts = KernelOutInts;
 
 std::string Lower(std::string s)
 {
@@ -148,23 +144,6 @@ std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
   Check(err, "clCreateKernel");
   cache[{ dev.Device, useDouble }] = rt;
   return rt;
-}
-
-/// Anchor of a control net (its first control point, relative to the model centre c).
-std::array<double, 3> Anchor(const double* cp, int n, const std::array<double, 3>& c)
-{
-  (void)n;
-  return { cp[0] - c[0], cp[1] - c[1], cp[2] - c[2] };
-}
-
-/// Appends a as hi (3) and lo (3) parts of the kernel's precision T.
-template <class T>
-void PushSplit(std::vector<T>& out, const std::array<double, 3>& a)
-{
-  for (int k = 0; k < 3; ++k)
-    out.push_back(static_cast<T>(a[k]));
-  for (int k = 0; k < 3; ++k)
-    out.push_back(static_cast<T>(a[k] - static_cast<double>(static_cast<T>(a[k]))));
 }
 
 struct Buffer
@@ -305,93 +284,31 @@ size_t OpenCLSolver::DeviceBytes() const
 template <class T>
 void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
 {
-  const auto& c = data.Centre;
-  std::vector<T> patches, patchAnchor, patchDomain, faceDomain,
-    breaks(data.Breaks.begin(), data.Breaks.end()), edgeAnchor;
-  std::vector<T> trim, trimRange, edgeRange, edgeSeg, edgeSegRange, s1Point, s1UV, nodeBox;
-  std::vector<int> faceInfo, loops, trimEdge, edgeInfo, s1Face, nodeInfo;
-  for (const auto& p : m.Patches)
-  {
-    const auto a = Anchor(p.ControlPoints.data(), 16, c);
-    PushSplit(patchAnchor, a);
-    for (int i = 0; i < 48; ++i)
-      patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
-    patchDomain.insert(patchDomain.end(), p.Domain.begin(), p.Domain.end());
-  }
-  for (size_t f = 0; f < m.Faces.size(); ++f)
-  {
-    const Face& F = m.Faces[f];
-    faceInfo.insert(faceInfo.end(),
-      { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
-        F.Reversed ? 1 : 0, F.Solid });
-    faceDomain.insert(faceDomain.end(), F.Domain.begin(), F.Domain.end());
-    faceDomain.insert(faceDomain.end(), { static_cast<T>(F.Period[0]), static_cast<T>(F.Period[1]),
-      static_cast<T>(F.UVTolerance) });
-  }
-  for (const auto& l : m.Loops)
-    loops.insert(loops.end(), { l.FirstSegment, l.SegmentCount });
-  for (const auto& s : m.TrimSegments)
-  {
-    trim.insert(trim.end(), s.ControlPoints.begin(), s.ControlPoints.end());
-    trimEdge.push_back(s.Edge);
-    trimRange.insert(trimRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
-  }
-  for (const auto& e : m.Edges)
-  {
-    edgeInfo.insert(edgeInfo.end(), { e.FirstSegment, e.SegmentCount, e.Faces[0], e.Faces[1] });
-    edgeRange.insert(edgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1) });
-  }
-  for (const auto& s : m.EdgeSegments)
-  {
-    const auto a = Anchor(s.ControlPoints.data(), 4, c);
-    PushSplit(edgeAnchor, a);
-    for (int i = 0; i < 12; ++i)
-      edgeSeg.push_back(static_cast<T>(s.ControlPoints[i] - c[i % 3] - a[i % 3]));
-    edgeSegRange.insert(edgeSegRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
-  }
-  for (const auto& p : data.S1)
-  {
-    for (int k = 0; k < 3; ++k)
-      s1Point.push_back(static_cast<T>(p.Point[k] - c[k]));
-    s1Face.push_back(p.OnEdge ? ~p.Face : p.Face); // edge points: verification only (s1_face)
-    s1UV.insert(s1UV.end(), { static_cast<T>(p.U), static_cast<T>(p.V) });
-  }
-  for (const auto& n : data.Nodes)
-  {
-    for (int k = 0; k < 3; ++k)
-      nodeBox.push_back(static_cast<T>(n.Min[k] - c[k]));
-    for (int k = 0; k < 3; ++k)
-      nodeBox.push_back(static_cast<T>(n.Max[k] - c[k]));
-    nodeInfo.insert(nodeInfo.end(), { n.First, n.Count, n.Right });
-  }
-  // (SolverData built without BuildVertices: no vertices, rather than reads past the buffer.
-  // Kept until the clFinish below: the writes do not block.)
-  const std::vector<int> vertexInfo = data.VertexInfo.size() >= 2 * m.Edges.size()
-    ? data.VertexInfo
-    : std::vector<int>(2 * m.Edges.size(), -1);
+  // Kept until the clFinish below: the writes do not block.
+  const KernelModel<T> k = PackKernelModel<T>(m, data);
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
-  Model[0].Write(ctx, q, patches);
-  Model[1].Write(ctx, q, patchAnchor);
-  Model[2].Write(ctx, q, patchDomain);
-  Model[3].Write(ctx, q, faceInfo);
-  Model[4].Write(ctx, q, faceDomain);
-  Model[5].Write(ctx, q, breaks);
-  Model[6].Write(ctx, q, loops);
-  Model[7].Write(ctx, q, trim);
-  Model[8].Write(ctx, q, trimEdge);
-  Model[9].Write(ctx, q, trimRange);
-  Model[10].Write(ctx, q, edgeInfo);
-  Model[11].Write(ctx, q, edgeRange);
-  Model[12].Write(ctx, q, edgeSeg);
-  Model[13].Write(ctx, q, edgeAnchor);
-  Model[14].Write(ctx, q, edgeSegRange);
-  Model[15].Write(ctx, q, s1Point);
-  Model[16].Write(ctx, q, s1Face);
-  Model[17].Write(ctx, q, s1UV);
-  Model[18].Write(ctx, q, nodeBox);
-  Model[19].Write(ctx, q, nodeInfo);
-  Model[20].Write(ctx, q, vertexInfo);
+  Model[0].Write(ctx, q, k.Patches);
+  Model[1].Write(ctx, q, k.PatchAnchor);
+  Model[2].Write(ctx, q, k.PatchDomain);
+  Model[3].Write(ctx, q, k.FaceInfo);
+  Model[4].Write(ctx, q, k.FaceDomain);
+  Model[5].Write(ctx, q, k.Breaks);
+  Model[6].Write(ctx, q, k.Loops);
+  Model[7].Write(ctx, q, k.Trim);
+  Model[8].Write(ctx, q, k.TrimEdge);
+  Model[9].Write(ctx, q, k.TrimRange);
+  Model[10].Write(ctx, q, k.EdgeInfo);
+  Model[11].Write(ctx, q, k.EdgeRange);
+  Model[12].Write(ctx, q, k.EdgeSeg);
+  Model[13].Write(ctx, q, k.EdgeAnchor);
+  Model[14].Write(ctx, q, k.EdgeSegRange);
+  Model[15].Write(ctx, q, k.S1Point);
+  Model[16].Write(ctx, q, k.S1Face);
+  Model[17].Write(ctx, q, k.S1UV);
+  Model[18].Write(ctx, q, k.NodeBox);
+  Model[19].Write(ctx, q, k.NodeInfo);
+  Model[20].Write(ctx, q, k.VertexInfo);
   Check(clFinish(q), "clFinish");
 }
 
@@ -421,14 +338,11 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
   OutReal.Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_WRITE_ONLY);
   OutInt.Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_WRITE_ONLY);
-  const auto& c = data.Centre;
-  const T scale = static_cast<T>(data.Scale);
-  const T stepTol = static_cast<T>((sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale);
-  const T newtonTol = static_cast<T>(options.NewtonTolerance);
-  const T slack = static_cast<T>(2.0 * model.Tolerance); // see brt::ShallowOwnFaceContact
-  const T clearance = static_cast<T>(options.Clearance < 0.0 ? 2.0 * model.Tolerance : options.Clearance);
-  const T s1Spacing = static_cast<T>(data.S1Spacing);
-  const cl_int maxIt = options.MaxIterations, maxEdgeIt = options.MaxEdgeIterations;
+  const KernelScalars ks = GetKernelScalars<T>(model, data, options);
+  const T scale = static_cast<T>(ks.Scale), stepTol = static_cast<T>(ks.StepTol),
+          newtonTol = static_cast<T>(ks.NewtonTol), slack = static_cast<T>(ks.Slack),
+          clearance = static_cast<T>(ks.Clearance), s1Spacing = static_cast<T>(ks.S1Spacing);
+  const cl_int maxIt = ks.MaxIterations, maxEdgeIt = ks.MaxEdgeIterations;
   std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
   std::vector<int> outI(chunk * OutInts), faces(chunk);
 
@@ -441,17 +355,8 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
     const size_t n = std::min(chunk, samples.size() - first);
     for (size_t i = 0; i < n; ++i)
     {
-      const Sample& s = samples[first + i];
-      for (int j = 0; j < 3; ++j)
-      {
-        const double o = s.Point[j] - c[j];
-        in[SampleReals * i + j] = static_cast<T>(o);
-        in[SampleReals * i + 3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
-        in[SampleReals * i + 6 + j] = static_cast<T>(s.Direction[j]);
-      }
-      in[SampleReals * i + 9] = static_cast<T>(s.U);
-      in[SampleReals * i + 10] = static_cast<T>(s.V);
-      faces[i] = s.Face;
+      PackSample(data, samples[first + i], &in[SampleReals * i]);
+      faces[i] = samples[first + i].Face;
     }
     Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
       "clEnqueueWriteBuffer");
@@ -480,30 +385,8 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
     Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
       "clEnqueueReadBuffer");
     for (size_t i = 0; i < n; ++i)
-    {
-      const Sample& s = samples[first + i];
-      SampleResult& r = results[first + i];
-      r.Type = static_cast<ContactType>(outI[OutInts * i]);
-      r.Reason = static_cast<FailReason>(outI[OutInts * i + 1]);
-      r.OppositeFace = outI[OutInts * i + 2];
-      r.OppositePatch = outI[OutInts * i + 3];
-      r.OppositeEdge = outI[OutInts * i + 4];
-      r.Iterations = outI[OutInts * i + 5];
-      ExactPass[first + i] = static_cast<unsigned char>(outI[OutInts * i + 6]);
-      r.Residual = static_cast<double>(outR[OutReals * i + 4]);
-      if (r.Type == ContactType::Failed)
-        continue;
-      const double t = static_cast<double>(outR[OutReals * i]);
-      r.Radius = t;
-      r.Thickness = 2.0 * t;
-      for (int j = 0; j < 3; ++j)
-      {
-        r.Center[j] = s.Point[j] + t * s.Direction[j];
-        r.Foot[j] = s.Point[j] + static_cast<double>(outR[OutReals * i + 1 + j]);
-      }
-      r.FootParameter = { static_cast<double>(outR[OutReals * i + 5]),
-        static_cast<double>(outR[OutReals * i + 6]) };
-    }
+      ExactPass[first + i] = UnpackResult(samples[first + i], &outR[OutReals * i],
+        &outI[OutInts * i], results[first + i]) ? 1 : 0;
   }
 }
 

@@ -4,6 +4,8 @@
 // reference (Filters/Core/Solver.cxx) step for step; the host builds it with -DBRT_DOUBLE for
 // double precision, else it runs in float. Coordinates arrive relative to the model's centre.
 
+#ifdef __OPENCL_VERSION__
+#pragma OPENCL FP_CONTRACT OFF
 #ifdef BRT_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double real;
@@ -19,6 +21,14 @@ typedef float3 real3;
 #define REAL_MAX FLT_MAX
 #define REAL_MIN FLT_MIN
 #define REAL_EPS FLT_EPSILON
+#endif
+#define make_real2(a, b) ((real2)((a), (b)))
+#define make_real3(a, b, c) ((real3)((a), (b), (c)))
+#define splat_real3(s) ((real3)(s))
+#define splat_real2(s) ((real2)(s))
+#else
+// Compiled as C++ (double): Filters/Core/NativeSolver.cxx includes this file inside namespace
+// brt::kernel, after KernelLanguage.h.
 #endif
 
 // Contact types and failure reasons: same values as brt::ContactType and brt::FailReason.
@@ -130,7 +140,7 @@ inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, re
 // of accuracy instead of (model size) * eps.
 inline real3 anchor_minus(__global const real* a, real3 Ohi, real3 Olo)
 {
-  return ((real3)(a[0], a[1], a[2]) - Ohi) + ((real3)(a[3], a[4], a[5]) - Olo);
+  return (make_real3(a[0], a[1], a[2]) - Ohi) + (make_real3(a[3], a[4], a[5]) - Olo);
 }
 
 inline void bernstein(real t, real* B, real* D, real* DD)
@@ -183,13 +193,13 @@ PatchEval eval_patch(const Model* m, int p, real u, real v)
   bernstein((u - d[0]) / du, Bu, Du, DDu);
   bernstein((v - d[2]) / dv, Bv, Dv, DDv);
   PatchEval e;
-  e.P = e.Du = e.Dv = e.Duu = e.Duv = e.Dvv = (real3)(0);
+  e.P = e.Du = e.Dv = e.Duu = e.Duv = e.Dvv = splat_real3(0);
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 4; ++j)
     {
       const int k = (4 * i + j) * 3;
-      const real3 q = (real3)(c[k], c[k + 1], c[k + 2]);
+      const real3 q = make_real3(c[k], c[k + 1], c[k + 2]);
       e.P += Bu[i] * Bv[j] * q;
       e.Du += Du[i] * Bv[j] * q;
       e.Dv += Bu[i] * Dv[j] * q;
@@ -211,10 +221,10 @@ inline real2 seg_point(__global const real* c, real t, real2* d1, real2* d2)
 {
   real B[4], D[4], DD[4];
   bernstein(t, B, D, DD);
-  real2 p = (real2)(0), a = (real2)(0), b = (real2)(0);
+  real2 p = splat_real2(0), a = splat_real2(0), b = splat_real2(0);
   for (int i = 0; i < 4; ++i)
   {
-    const real2 q = (real2)(c[2 * i], c[2 * i + 1]);
+    const real2 q = make_real2(c[2 * i], c[2 * i + 1]);
     p += B[i] * q;
     a += D[i] * q;
     b += DD[i] * q;
@@ -226,8 +236,8 @@ inline real2 seg_point(__global const real* c, real t, real2* d1, real2* d2)
 
 inline real seg_length(__global const real* c)
 {
-  return length((real2)(c[2] - c[0], c[3] - c[1])) + length((real2)(c[4] - c[2], c[5] - c[3])) +
-    length((real2)(c[6] - c[4], c[7] - c[5]));
+  return length(make_real2(c[2] - c[0], c[3] - c[1])) + length(make_real2(c[4] - c[2], c[5] - c[3])) +
+    length(make_real2(c[6] - c[4], c[7] - c[5]));
 }
 
 // Nearest point on a cubic 2D segment: eq. 6 from the polyline c(0), c(1/3), c(2/3), c(1).
@@ -292,7 +302,7 @@ inline real2 seg_tangent(__global const real* c, real t)
   {
     for (int i = 1; i < 4; ++i)
     {
-      const real2 a = (real2)(c[2 * i] - c[0], c[2 * i + 1] - c[1]);
+      const real2 a = make_real2(c[2 * i] - c[0], c[2 * i + 1] - c[1]);
       if (length(a) > (real)1e-12 * scale)
         return a;
     }
@@ -301,12 +311,12 @@ inline real2 seg_tangent(__global const real* c, real t)
   {
     for (int i = 2; i >= 0; --i)
     {
-      const real2 a = (real2)(c[6] - c[2 * i], c[7] - c[2 * i + 1]);
+      const real2 a = make_real2(c[6] - c[2 * i], c[7] - c[2 * i + 1]);
       if (length(a) > (real)1e-12 * scale)
         return a;
     }
   }
-  return (real2)(c[6] - c[0], c[7] - c[1]);
+  return make_real2(c[6] - c[0], c[7] - c[1]);
 }
 
 // Squared distance from P to the box of a segment's control points: a lower bound on the
@@ -502,10 +512,10 @@ void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C,
   real B[4], D[4], DD[4];
   bernstein((T - T0) / span, B, D, DD);
   __global const real* c = m->edgeSeg + 12 * s;
-  real3 p = (real3)(0), a = (real3)(0), b = (real3)(0);
+  real3 p = splat_real3(0), a = splat_real3(0), b = splat_real3(0);
   for (int i = 0; i < 4; ++i)
   {
-    const real3 q = (real3)(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    const real3 q = make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
     p += B[i] * q;
     a += D[i] * q;
     b += DD[i] * q;
@@ -614,7 +624,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
   out.foot = e.P;
   out.clamped = clamped;
   out.capped = capped;
-  out.inside = classify(m, face, (real2)(u, v), &out.seg, &out.param, &out.trimDist);
+  out.inside = classify(m, face, make_real2(u, v), &out.seg, &out.param, &out.trimDist);
   const real3 n = cross(e.Du, e.Dv);
   const real side = -dot(w, n) / length(n) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
   out.side = side;
@@ -695,11 +705,11 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
     {
       const int n = stack[--top];
       __global const real* bx = nodeBox + 6 * n;
-      const real3 lo = (real3)(bx[0], bx[1], bx[2]), hi = (real3)(bx[3], bx[4], bx[5]);
+      const real3 lo = make_real3(bx[0], bx[1], bx[2]), hi = make_real3(bx[3], bx[4], bx[5]);
       if (best >= 0 || bounded)
       {
         const real3 M = O + t * d;
-        const real3 e = fmax(fmax(lo - M, (real3)(0)), M - hi);
+        const real3 e = fmax(fmax(lo - M, splat_real3(0)), M - hi);
         if (dot(e, e) >= (t - delta) * (t - delta))
           continue;
       }
@@ -714,7 +724,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           if (faceInfo[FACE_INTS * face + 7] != solid || face == excludeFace ||
             (s1Face[i] < 0 && !bounded))
             continue;
-          const real3 w = (real3)(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
+          const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
           if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist ||
             (useBehind && !(dot(w, behind) < (real)0)))
@@ -732,8 +742,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const real3 ref = (best >= 0 || bounded) ? O + t * d : O;
       __global const real* lb = nodeBox + 6 * left;
       __global const real* rb = nodeBox + 6 * right;
-      const real3 el = fmax(fmax((real3)(lb[0], lb[1], lb[2]) - ref, (real3)(0)), ref - (real3)(lb[3], lb[4], lb[5]));
-      const real3 er = fmax(fmax((real3)(rb[0], rb[1], rb[2]) - ref, (real3)(0)), ref - (real3)(rb[3], rb[4], rb[5]));
+      const real3 el = fmax(fmax(make_real3(lb[0], lb[1], lb[2]) - ref, splat_real3(0)), ref - make_real3(lb[3], lb[4], lb[5]));
+      const real3 er = fmax(fmax(make_real3(rb[0], rb[1], rb[2]) - ref, splat_real3(0)), ref - make_real3(rb[3], rb[4], rb[5]));
       const int leftFirst = dot(el, el) <= dot(er, er);
       if (top + 2 > 64)
         continue;
@@ -795,7 +805,7 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
       r->face = f;
       r->patch = patch;
       r->edge = -1;
-      r->param = (real2)(u, v);
+      r->param = make_real2(u, v);
       return;
     }
   }
@@ -816,8 +826,8 @@ inline Result no_result(void)
   Result r;
   r.t = 0;
   r.res = 0;
-  r.foot = (real3)(0);
-  r.param = (real2)(0);
+  r.foot = splat_real3(0);
+  r.param = splat_real2(0);
   r.type = CONTACT_FAILED;
   r.reason = FAIL_NONE;
   r.face = -1;
@@ -852,8 +862,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
   real edgeT = 0;
   real res = 0;
-  real3 foot = (real3)(0);
-  real2 footParam = (real2)(0);
+  real3 foot = splat_real3(0);
+  real2 footParam = splat_real2(0);
   // --- surface/surface Newton (eq. 4) with trust region and backtracking -------------------
   {
     __global const real* fd = faceDomain + FACE_REALS * face;
@@ -889,7 +899,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       type = CONTACT_SURFACE_SURFACE;
       oppPatch = ss.patch;
       foot = ss.foot;
-      footParam = (real2)(ss.u, ss.v);
+      footParam = make_real2(ss.u, ss.v);
       goto out;
     }
     const int seg = ss.seg;
@@ -906,7 +916,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
     const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
     const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
     int atEnd = 0, edgeCapped = 1;
-    real3 C = (real3)(0), Ct = (real3)(0), Ctt = (real3)(0);
+    real3 C = splat_real3(0), Ct = splat_real3(0), Ctt = splat_real3(0);
     for (int it = 0; it < maxEdgeIterations; ++it)
     {
       eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
@@ -988,7 +998,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
           t = sn.t;
           res = sn.res;
           foot = sn.foot;
-          footParam = (real2)(sn.u, sn.v);
+          footParam = make_real2(sn.u, sn.v);
           goto out;
         }
       }
@@ -1011,7 +1021,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
     type = atEnd || at_edge_end(m, edge, T) ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
     foot = C;
     edgeT = T;
-    footParam = (real2)(T, 0);
+    footParam = make_real2(T, 0);
   }
 
 out:;
@@ -1128,7 +1138,7 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
       const real uc = clamp(un, fd[0], fd[1]), vc = clamp(vn, fd[2], fd[3]);
       int seg;
       real param, dist;
-      const int inside = classify(m, face, (real2)(uc, vc), &seg, &param, &dist);
+      const int inside = classify(m, face, make_real2(uc, vc), &seg, &param, &dist);
       if (!(inside || dist <= fd[6]) || uc != un || vc != vn)
       {
         if (*crossing < 0)
@@ -1245,7 +1255,7 @@ Result edge_contact(const Model* m, int sampleFace, int face, int edge, const Ed
   r.edge = edge;
   r.t = t;
   r.foot = em->C;
-  r.param = (real2)(em->T, 0);
+  r.param = make_real2(em->T, 0);
   type_tangent_edge_contact(m, em->T, d, &r);
   return r;
 }
@@ -1287,7 +1297,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
         fr.edge = -1;
         fr.t = cur.t;
         fr.foot = cur.e.P;
-        fr.param = (real2)(cur.u, cur.v);
+        fr.param = make_real2(cur.u, cur.v);
       }
     }
     const int faceOk = fr.type != CONTACT_FAILED; // the face point itself is a tangent sphere
@@ -1298,7 +1308,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
     // The edge: the trimming segment nearest the last point, else the crossed one.
     int nearSeg;
     real nearAt, nearDist;
-    classify(m, face, (real2)(cur.u, cur.v), &nearSeg, &nearAt, &nearDist);
+    classify(m, face, make_real2(cur.u, cur.v), &nearSeg, &nearAt, &nearDist);
     int segment = crossing;
     real at;
     if (nearSeg >= 0 && m->trimEdge[nearSeg] >= 0)
@@ -1309,7 +1319,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
     else
     {
       real dist;
-      at = project_segment(m->trim + 8 * crossing, (real2)(cur.u, cur.v), &dist);
+      at = project_segment(m->trim + 8 * crossing, make_real2(cur.u, cur.v), &dist);
     }
     const int edge = m->trimEdge[segment];
     if (edge < 0 || m->edgeInfo[4 * edge + 1] == 0)
@@ -1370,7 +1380,7 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
   if (!edge_point_into_face(m, nb, edge, T, &u0, &v0, &nu, &nv))
     return none;
   __global const real* fd = m->faceDomain + FACE_REALS * nb;
-  const real diag = length((real2)(fd[1] - fd[0], fd[3] - fd[2]));
+  const real diag = length(make_real2(fd[1] - fd[0], fd[3] - fd[2]));
   real bestT = REAL_MAX, bu = 0, bv = 0;
   for (real h = (real)1e-6; h < (real)0.2; h *= (real)10)
   {
@@ -1378,7 +1388,7 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
     const real v = clamp(v0 + h * diag * nv, fd[2], fd[3]);
     int sg;
     real pr, ds;
-    if (!classify(m, nb, (real2)(u, v), &sg, &pr, &ds))
+    if (!classify(m, nb, make_real2(u, v), &sg, &pr, &ds))
       continue;
     DescentState st;
     descent_eval(m, nb, Ohi, Olo, d, u, v, &st);
@@ -1425,7 +1435,7 @@ inline Result surface_result(int face, const SurfaceSolve* ss)
   c.t = ss->t;
   c.res = ss->res;
   c.foot = ss->foot;
-  c.param = (real2)(ss->u, ss->v);
+  c.param = make_real2(ss->u, ss->v);
   return c;
 }
 
@@ -1607,7 +1617,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-    REAL_MAX, m->delta, 0, (real3)(0), &t);
+    REAL_MAX, m->delta, 0, splat_real3(0), &t);
   Result r = no_result();
   if (best < 0)
   {
@@ -1622,7 +1632,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // That start led nowhere: try the best start on any other face once.
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-      REAL_MAX, m->delta, 0, (real3)(0), &t);
+      REAL_MAX, m->delta, 0, splat_real3(0), &t);
     if (best >= 0)
     {
       const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best),
@@ -1651,7 +1661,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      r.t * (real)(1.0 - 1e-6), depth, 0, (real3)(0), &t);
+      r.t * (real)(1.0 - 1e-6), depth, 0, splat_real3(0), &t);
     if (best < 0)
     {
       // no s1 point inside: maximal at the resolution of s1
@@ -1693,6 +1703,53 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   return r;
 }
 
+// The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
+// the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
+void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
+  __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
+  __global const real* sp, int ownFace, real scale, real stepTol, real newtonTol,
+  int maxIterations, int maxEdgeIterations, __global real* oR, __global int* oI)
+{
+  const real clearance = mm.delta;
+  const real3 Ohi = make_real3(sp[0], sp[1], sp[2]), Olo = make_real3(sp[3], sp[4], sp[5]);
+  const real3 d = make_real3(sp[6], sp[7], sp[8]);
+  const real2 ownUV = make_real2(sp[9], sp[10]);
+  int iterations = 0, exactPass = 0;
+  Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
+    Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+  if (r.type == CONTACT_FAILED && clearance > (real)0)
+  {
+    // Failed with the clearance (next to an acute convex edge, say): solve without it
+    // (brt::SolveOne).
+    mm.delta = 0;
+    const Result exact = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo,
+      ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+      &iterations);
+    if (exact.type != CONTACT_FAILED)
+    {
+      r = exact;
+      exactPass = 1;
+    }
+  }
+  // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
+  const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
+  oR[0] = t;
+  oR[1] = r.foot.x;
+  oR[2] = r.foot.y;
+  oR[3] = r.foot.z;
+  oR[4] = r.res;
+  oR[5] = r.param.x;
+  oR[6] = r.param.y;
+  oI[0] = r.type;
+  oI[1] = r.reason;
+  oI[2] = r.face;
+  oI[3] = r.patch;
+  oI[4] = r.edge;
+  oI[5] = iterations;
+  oI[6] = exactPass;
+}
+
+#ifdef __OPENCL_VERSION__
 __kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
   __global const real* patchDomain,
   __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
@@ -1716,44 +1773,8 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
     trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,
     clearance, s1Spacing };
-  __global const real* sp = samples + SAMPLE_REALS * gid;
-  const real3 Ohi = (real3)(sp[0], sp[1], sp[2]), Olo = (real3)(sp[3], sp[4], sp[5]);
-  const real3 d = (real3)(sp[6], sp[7], sp[8]);
-  const real2 ownUV = (real2)(sp[9], sp[10]);
-  const int ownFace = sampleFace[gid];
-  int iterations = 0, exactPass = 0;
-  Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
-    Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
-  if (r.type == CONTACT_FAILED && clearance > (real)0)
-  {
-    // Failed with the clearance (next to an acute convex edge, say): solve without it
-    // (brt::SolveOne).
-    mm.delta = 0;
-    const Result exact = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo,
-      ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-      &iterations);
-    if (exact.type != CONTACT_FAILED)
-    {
-      r = exact;
-      exactPass = 1;
-    }
-  }
-  // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
-  const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
-  __global real* oR = outReal + OUT_REALS * gid;
-  __global int* oI = outInt + OUT_INTS * gid;
-  oR[0] = t;
-  oR[1] = r.foot.x;
-  oR[2] = r.foot.y;
-  oR[3] = r.foot.z;
-  oR[4] = r.res;
-  oR[5] = r.param.x;
-  oR[6] = r.param.y;
-  oI[0] = r.type;
-  oI[1] = r.reason;
-  oI[2] = r.face;
-  oI[3] = r.patch;
-  oI[4] = r.edge;
-  oI[5] = iterations;
-  oI[6] = exactPass;
+  solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, samples + SAMPLE_REALS * gid,
+    sampleFace[gid], scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
+    outReal + OUT_REALS * gid, outInt + OUT_INTS * gid);
 }
+#endif

@@ -1,0 +1,182 @@
+#include "KernelData.h"
+
+#include <array>
+
+namespace brt
+{
+namespace
+{
+/// Appends a as hi (3) and lo (3) parts of T.
+template <class T>
+void PushSplit(std::vector<T>& out, const std::array<double, 3>& a)
+{
+  for (int k = 0; k < 3; ++k)
+    out.push_back(static_cast<T>(a[k]));
+  for (int k = 0; k < 3; ++k)
+    out.push_back(static_cast<T>(a[k] - static_cast<double>(static_cast<T>(a[k]))));
+}
+
+/// A BVH's nodes as boxes (6 per node, relative to c) and (First, Count, Right) triples.
+template <class T>
+void PushNodes(const std::vector<BVHNode>& nodes, const std::array<double, 3>& c,
+  std::vector<T>& box, std::vector<int>& info)
+{
+  for (const auto& n : nodes)
+  {
+    for (int k = 0; k < 3; ++k)
+      box.push_back(static_cast<T>(n.Min[k] - c[k]));
+    for (int k = 0; k < 3; ++k)
+      box.push_back(static_cast<T>(n.Max[k] - c[k]));
+    info.insert(info.end(), { n.First, n.Count, n.Right });
+  }
+}
+
+/// Boxes stored as (min x, y, z, max x, y, z) in absolute coordinates, relative to c.
+template <class T>
+std::vector<T> RelativeBoxes(const std::vector<double>& boxes, const std::array<double, 3>& c)
+{
+  std::vector<T> out(boxes.size());
+  for (size_t i = 0; i < boxes.size(); ++i)
+    out[i] = static_cast<T>(boxes[i] - c[i % 3]);
+  return out;
+}
+} // namespace
+
+template <class T>
+KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
+{
+  KernelModel<T> k;
+  const auto& c = data.Centre;
+  k.Breaks.assign(data.Breaks.begin(), data.Breaks.end());
+  for (const auto& p : m.Patches)
+  {
+    // Anchor: the first control point, relative to the centre.
+    const std::array<double, 3> a{ p.ControlPoints[0] - c[0], p.ControlPoints[1] - c[1],
+      p.ControlPoints[2] - c[2] };
+    PushSplit(k.PatchAnchor, a);
+    for (int i = 0; i < 48; ++i)
+      k.Patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
+    k.PatchDomain.insert(k.PatchDomain.end(), p.Domain.begin(), p.Domain.end());
+  }
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const Face& F = m.Faces[f];
+    k.FaceInfo.insert(k.FaceInfo.end(),
+      { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
+        F.Reversed ? 1 : 0, F.Solid });
+    k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
+    k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
+      static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });
+  }
+  for (const auto& l : m.Loops)
+    k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });
+  for (const auto& s : m.TrimSegments)
+  {
+    k.Trim.insert(k.Trim.end(), s.ControlPoints.begin(), s.ControlPoints.end());
+    k.TrimEdge.push_back(s.Edge);
+    k.TrimRange.insert(k.TrimRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
+  }
+  for (const auto& e : m.Edges)
+  {
+    k.EdgeInfo.insert(k.EdgeInfo.end(), { e.FirstSegment, e.SegmentCount, e.Faces[0], e.Faces[1] });
+    k.EdgeRange.insert(k.EdgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1) });
+  }
+  for (const auto& s : m.EdgeSegments)
+  {
+    const std::array<double, 3> a{ s.ControlPoints[0] - c[0], s.ControlPoints[1] - c[1],
+      s.ControlPoints[2] - c[2] };
+    PushSplit(k.EdgeAnchor, a);
+    for (int i = 0; i < 12; ++i)
+      k.EdgeSeg.push_back(static_cast<T>(s.ControlPoints[i] - c[i % 3] - a[i % 3]));
+    k.EdgeSegRange.insert(k.EdgeSegRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
+  }
+  for (const auto& p : data.S1)
+  {
+    for (int j = 0; j < 3; ++j)
+      k.S1Point.push_back(static_cast<T>(p.Point[j] - c[j]));
+    k.S1Face.push_back(p.OnEdge ? ~p.Face : p.Face); // edge points: verification only (s1_face)
+    k.S1UV.insert(k.S1UV.end(), { static_cast<T>(p.U), static_cast<T>(p.V) });
+  }
+  PushNodes(data.Nodes, c, k.NodeBox, k.NodeInfo);
+  // (SolverData built without BuildVertices or BuildPatchBoxes: no vertices and no boxes, rather
+  // than reads past the arrays; the certification is then skipped.)
+  k.VertexInfo = data.VertexInfo.size() >= 2 * m.Edges.size()
+    ? data.VertexInfo
+    : std::vector<int>(2 * m.Edges.size(), -1);
+  if (data.PatchBoxes.size() == 6 * m.Patches.size() &&
+    data.EdgeBoxes.size() == 6 * m.EdgeSegments.size() && !data.BoxNodes.empty())
+  {
+    k.PatchBoxes = RelativeBoxes<T>(data.PatchBoxes, c);
+    k.EdgeBoxes = RelativeBoxes<T>(data.EdgeBoxes, c);
+    PushNodes(data.BoxNodes, c, k.BoxNodeBox, k.BoxNodeInfo);
+    k.BoxItems = data.BoxItems;
+  }
+  return k;
+}
+
+template <class T>
+KernelScalars GetKernelScalars(const BRepModel& m, const SolverData& data, const SolverOptions& options)
+{
+  KernelScalars s;
+  s.Scale = data.Scale;
+  s.StepTol = (sizeof(T) == 8 ? 1e-13 : 2e-7) * data.Scale;
+  s.NewtonTol = options.NewtonTolerance;
+  s.Slack = 2.0 * m.Tolerance;
+  s.Clearance = options.Clearance < 0.0 ? 2.0 * m.Tolerance : options.Clearance;
+  s.S1Spacing = data.S1Spacing;
+  s.MaxIterations = options.MaxIterations;
+  s.MaxEdgeIterations = options.MaxEdgeIterations;
+  s.Certify = options.Certify ? 1 : 0;
+  return s;
+}
+
+template <class T>
+void PackSample(const SolverData& data, const Sample& s, T* out)
+{
+  const auto& c = data.Centre;
+  for (int j = 0; j < 3; ++j)
+  {
+    const double o = s.Point[j] - c[j];
+    out[j] = static_cast<T>(o);
+    out[3 + j] = static_cast<T>(o - static_cast<double>(static_cast<T>(o)));
+    out[6 + j] = static_cast<T>(s.Direction[j]);
+  }
+  out[9] = static_cast<T>(s.U);
+  out[10] = static_cast<T>(s.V);
+}
+
+template <class T>
+bool UnpackResult(const Sample& s, const T* oR, const int* oI, SampleResult& r)
+{
+  r = SampleResult();
+  r.Type = static_cast<ContactType>(oI[0]);
+  r.Reason = static_cast<FailReason>(oI[1]);
+  r.OppositeFace = oI[2];
+  r.OppositePatch = oI[3];
+  r.OppositeEdge = oI[4];
+  r.Iterations = oI[5];
+  r.Residual = static_cast<double>(oR[4]);
+  if (r.Type == ContactType::Failed)
+    return oI[6] != 0;
+  const double t = static_cast<double>(oR[0]);
+  r.Radius = t;
+  r.Thickness = 2.0 * t;
+  for (int j = 0; j < 3; ++j)
+  {
+    r.Center[j] = s.Point[j] + t * s.Direction[j];
+    r.Foot[j] = s.Point[j] + static_cast<double>(oR[1 + j]);
+  }
+  r.FootParameter = { static_cast<double>(oR[5]), static_cast<double>(oR[6]) };
+  return oI[6] != 0;
+}
+
+template KernelModel<float> PackKernelModel<float>(const BRepModel&, const SolverData&);
+template KernelModel<double> PackKernelModel<double>(const BRepModel&, const SolverData&);
+template KernelScalars GetKernelScalars<float>(const BRepModel&, const SolverData&, const SolverOptions&);
+template KernelScalars GetKernelScalars<double>(const BRepModel&, const SolverData&, const SolverOptions&);
+template void PackSample<float>(const SolverData&, const Sample&, float*);
+template void PackSample<double>(const SolverData&, const Sample&, double*);
+template bool UnpackResult<float>(const Sample&, const float*, const int*, SampleResult&);
+template bool UnpackResult<double>(const Sample&, const double*, const int*, SampleResult&);
+
+} // namespace brt

@@ -1,0 +1,58 @@
+// BRepThickness: the solver's model, samples and results in the flat arrays of the kernel source
+// (Kernels/thickness.cl), in the kernel's precision T (float or double). One packing for every
+// device: the OpenCL kernels (Kernels/OpenCLSolver) upload these arrays, the native device
+// (NativeSolver) points its Model at them. Coordinates are relative to the model's centre
+// (SolverData::Centre); anchors and sample points are split into hi + lo parts of T.
+#pragma once
+
+#include "Solver.h"
+
+#include <vector>
+
+namespace brt
+{
+
+/// Reals per sample (SAMPLE_REALS in thickness.cl): O as hi + lo parts, the inward normal, (u, v).
+constexpr size_t KernelSampleReals = 11;
+/// Reals per result (OUT_REALS): t, foot - O (3), residual, the foot's parameters.
+constexpr size_t KernelOutReals = 7;
+/// Ints per result (OUT_INTS): type, reason, face, patch, edge, iterations, exact pass.
+constexpr size_t KernelOutInts = 7;
+
+template <class T>
+struct KernelModel
+{
+  std::vector<T> Patches, PatchAnchor, PatchDomain, FaceDomain, Breaks, Trim, TrimRange, EdgeRange,
+    EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox;
+  std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, BoxNodeInfo,
+    BoxItems;
+};
+
+/// The scalars every launch gets, from the model, its data and the options.
+struct KernelScalars
+{
+  double Scale = 1.0;     ///< bounding-box diagonal
+  double StepTol = 0.0;   ///< Newton step tolerance (model units, by precision)
+  double NewtonTol = 0.0; ///< SolverOptions::NewtonTolerance
+  double Slack = 0.0;     ///< the patches' accuracy: 2x the conversion tolerance
+  double Clearance = 0.0; ///< SolverOptions::Clearance resolved (negative: 2x the tolerance)
+  double S1Spacing = 0.0;
+  int MaxIterations = 50, MaxEdgeIterations = 50;
+  int Certify = 1;
+};
+
+template <class T>
+KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data);
+
+template <class T>
+KernelScalars GetKernelScalars(const BRepModel& m, const SolverData& data, const SolverOptions& options);
+
+/// Writes KernelSampleReals values of s at out.
+template <class T>
+void PackSample(const SolverData& data, const Sample& s, T* out);
+
+/// Reads one kernel result into r (r reset first); returns the exact-pass flag.
+template <class T>
+bool UnpackResult(const Sample& s, const T* outReal, const int* outInt, SampleResult& r);
+
+} // namespace brt
