@@ -19,6 +19,8 @@
 #include <cfloat>
 #include <cmath>
 
+// The C++ build is the double one.
+#define BRT_DOUBLE 1
 #define __global
 #define __kernel
 #define __constant const
@@ -72,12 +74,13 @@ inline real3 normalize(real3 a) { return a / length(a); }
 
 using std::fabs;
 using std::floor;
-using std::fmax;
-using std::fmin;
 using std::sqrt;
-inline real3 fmax(real3 a, real3 b) { return { std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z) }; }
-inline real3 fmin(real3 a, real3 b) { return { std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z) }; }
-inline double clamp(double x, double lo, double hi) { return std::fmin(std::fmax(x, lo), hi); }
+// OpenCL's fmin/fmax (a NaN argument gives the other), inline: the C library's are calls.
+inline double fmax(double a, double b) { return (b > a || a != a) ? b : a; }
+inline double fmin(double a, double b) { return (b < a || a != a) ? b : a; }
+inline real3 fmax(real3 a, real3 b) { return { fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z) }; }
+inline real3 fmin(real3 a, real3 b) { return { fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z) }; }
+inline double clamp(double x, double lo, double hi) { return fmin(fmax(x, lo), hi); }
 inline int clamp(int x, int lo, int hi) { return std::min(std::max(x, lo), hi); }
 } // namespace kernel
 } // namespace brt

@@ -193,8 +193,11 @@ struct Buffer
 struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
-  // Model buffers: 0..19 are kernel arguments 0..19, the last (the vertex table) argument 33.
-  static constexpr int ModelBuffers = 21;
+  // Model buffers: 0..19 are kernel arguments 0..19, 20 (the vertex table) argument 33, 21..27
+  // (the certification's) arguments 34..40.
+  static constexpr int ModelBuffers = 28;
+  int PatchCount = 0;
+  bool HasBoxes = false;
   Buffer Model[ModelBuffers];
   Buffer Samples, SampleFace, OutReal, OutInt;
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
@@ -309,6 +312,15 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   Model[18].Write(ctx, q, k.NodeBox);
   Model[19].Write(ctx, q, k.NodeInfo);
   Model[20].Write(ctx, q, k.VertexInfo);
+  Model[21].Write(ctx, q, k.PatchFace);
+  Model[22].Write(ctx, q, k.EdgeSegEdge);
+  Model[23].Write(ctx, q, k.PatchBoxes);
+  Model[24].Write(ctx, q, k.EdgeBoxes);
+  Model[25].Write(ctx, q, k.BoxNodeBox);
+  Model[26].Write(ctx, q, k.BoxNodeInfo);
+  Model[27].Write(ctx, q, k.BoxItems);
+  PatchCount = static_cast<int>(m.Patches.size());
+  HasBoxes = k.HasBoxes();
   Check(clFinish(q), "clFinish");
 }
 
@@ -347,9 +359,14 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   std::vector<int> outI(chunk * OutInts), faces(chunk);
 
   std::lock_guard<std::mutex> guard(RT->Lock);
-  for (cl_uint a = 0; a + 1 < ModelBuffers; ++a)
+  for (cl_uint a = 0; a < 20; ++a)
     Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
-  Check(clSetKernelArg(k, 33, sizeof(cl_mem), &Model[ModelBuffers - 1].Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, 33, sizeof(cl_mem), &Model[20].Mem), "clSetKernelArg");
+  for (cl_uint a = 21; a < ModelBuffers; ++a)
+    Check(clSetKernelArg(k, a + 13, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
+  const cl_int patchCount = PatchCount, certify = ks.Certify && HasBoxes ? 1 : 0;
+  Check(clSetKernelArg(k, 41, sizeof(cl_int), &patchCount), "clSetKernelArg");
+  Check(clSetKernelArg(k, 42, sizeof(cl_int), &certify), "clSetKernelArg");
   for (size_t first = 0; first < samples.size(); first += chunk)
   {
     const size_t n = std::min(chunk, samples.size() - first);

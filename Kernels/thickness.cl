@@ -86,6 +86,17 @@ typedef struct
   real slack; // the patches' accuracy: 2x the conversion tolerance (model units)
   real delta; // the clearance of this pass (brt::SolverOptions::Clearance; 0: eq. 1 exactly)
   real s1Spacing; // the spacing s1 was sampled at (brt::SolverData::S1Spacing)
+  // The certification against the patches (brt::SolverOptions::Certify): the control-point boxes
+  // of the patches and edge segments (6 each, min then max) and their BVH (brt::SolverData).
+  __global const int* patchFace;   // face per patch
+  __global const int* edgeSegEdge; // edge per edge segment
+  __global const real* patchBoxes;
+  __global const real* edgeBoxes;
+  __global const real* boxNodeBox;  // 6 per node
+  __global const int* boxNodeInfo;  // first, count, right per node
+  __global const int* boxItems;     // patch p, or edge segment e as patchCount + e
+  int patchCount;
+  int certify; // 1: certify every sphere (needs at least one box node)
 } Model;
 
 // The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
@@ -184,6 +195,28 @@ inline int find_patch(const Model* m, int face, real u, real v)
   return fi[0] + upper_index(bu, nu, u) + upper_index(bv, nv, v) * nu;
 }
 
+// The point of patch p at face parameters (u, v) only, relative to the patch's anchor.
+real3 eval_patch_point(const Model* m, int p, real u, real v)
+{
+  __global const real* d = m->patchDomain + 4 * p;
+  __global const real* c = m->patches + 48 * p;
+  real Bu[4], Du[4], DDu[4], Bv[4], Dv[4], DDv[4];
+  bernstein((u - d[0]) / (d[1] - d[0]), Bu, Du, DDu);
+  bernstein((v - d[2]) / (d[3] - d[2]), Bv, Dv, DDv);
+  real3 P = splat_real3(0);
+  for (int i = 0; i < 4; ++i)
+  {
+    real3 q0 = splat_real3(0);
+    for (int j = 0; j < 4; ++j)
+    {
+      const int k = (4 * i + j) * 3;
+      q0 += Bv[j] * make_real3(c[k], c[k + 1], c[k + 2]);
+    }
+    P += Bu[i] * q0;
+  }
+  return P;
+}
+
 PatchEval eval_patch(const Model* m, int p, real u, real v)
 {
   __global const real* d = m->patchDomain + 4 * p;
@@ -192,21 +225,26 @@ PatchEval eval_patch(const Model* m, int p, real u, real v)
   real Bu[4], Du[4], DDu[4], Bv[4], Dv[4], DDv[4];
   bernstein((u - d[0]) / du, Bu, Du, DDu);
   bernstein((v - d[2]) / dv, Bv, Dv, DDv);
+  // Tensor product in two stages: the rows against the v basis, then the u basis.
   PatchEval e;
   e.P = e.Du = e.Dv = e.Duu = e.Duv = e.Dvv = splat_real3(0);
   for (int i = 0; i < 4; ++i)
   {
+    real3 q0 = splat_real3(0), q1 = splat_real3(0), q2 = splat_real3(0);
     for (int j = 0; j < 4; ++j)
     {
       const int k = (4 * i + j) * 3;
       const real3 q = make_real3(c[k], c[k + 1], c[k + 2]);
-      e.P += Bu[i] * Bv[j] * q;
-      e.Du += Du[i] * Bv[j] * q;
-      e.Dv += Bu[i] * Dv[j] * q;
-      e.Duu += DDu[i] * Bv[j] * q;
-      e.Duv += Du[i] * Dv[j] * q;
-      e.Dvv += Bu[i] * DDv[j] * q;
+      q0 += Bv[j] * q;
+      q1 += Dv[j] * q;
+      q2 += DDv[j] * q;
     }
+    e.P += Bu[i] * q0;
+    e.Du += Du[i] * q0;
+    e.Duu += DDu[i] * q0;
+    e.Dv += Bu[i] * q1;
+    e.Duv += Du[i] * q1;
+    e.Dvv += Bu[i] * q2;
   }
   e.Du /= du;
   e.Dv /= dv;
@@ -1599,6 +1637,260 @@ void second_look(const Model* m, __global const real* s1Point, __global const in
     maxEdgeIterations, iterations, r);
 }
 
+// --- the certification against the patches (brt::FindPointInside) -------------------------
+// Even-odd count of the crossings of a ray in +u with the face's trimming loops, each segment
+// as 16 chords (brt::InsideByCrossings): the second opinion for points far from the loops.
+int inside_by_crossings(const Model* m, int face, real u, real v)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  int inside = 0;
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      real2 d1, d2;
+      real2 a = seg_point(m->trim + 8 * s, (real)0, &d1, &d2);
+      for (int k = 1; k <= 16; ++k)
+      {
+        const real2 b = seg_point(m->trim + 8 * s, (real)k / (real)16, &d1, &d2);
+        // Half-open in v, so that a vertex on the ray counts once.
+        if ((a.y > v) != (b.y > v) && a.x + (v - a.y) * (b.x - a.x) / (b.y - a.y) > u)
+          inside = !inside;
+        a = b;
+      }
+    }
+  }
+  return inside;
+}
+
+// The deepest point found so far (brt::PointInside): face, (u, v) and eq. 1's radius through it
+// with the depth as clearance.
+typedef struct
+{
+  real best; // its distance from the centre M
+  int found, face;
+  real u, v, t;
+} PointInside;
+
+// Squared distance from p to a box (min x, y, z, max x, y, z); p and the box relative to the
+// model's centre.
+inline real box_gap2(__global const real* b, real3 p)
+{
+  const real3 e = fmax(fmax(make_real3(b[0], b[1], b[2]) - p, splat_real3(0)),
+    p - make_real3(b[3], b[4], b[5]));
+  return dot(e, e);
+}
+
+// A candidate point w = P - O on `face` at (u, v), the centre at M = O + mr: kept when it lies
+// inside the trim, deeper than the depth in d, deeper than the best so far, and not the sample's
+// own point (brt::FindPointInside's consider and NearSampleOnOwnFace).
+void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
+  real3 d, real depth, real reach, PointInside* st)
+{
+  const real dist = length(w - mr);
+  if (!(dist < st->best))
+    return;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  int seg;
+  real param, trimDist;
+  // A point far from the loops also passes the crossing test: the nearest-segment test can
+  // misjudge a point equidistant from several parts of a loop (seen at a face's UV corner).
+  if (!classify(m, face, make_real2(u, v), &seg, &param, &trimDist) ||
+    (trimDist > (real)1e-3 * (fd[1] - fd[0] + fd[3] - fd[2]) && !inside_by_crossings(m, face, u, v)))
+    return;
+  const real dn = dot(d, w);
+  const real tol = (real)0.5 * m->slack;
+  if (!(dn > depth) || (face == ownFace && !(dist < reach - (real)2 * tol)) ||
+    dot(w, w) <= (real)16 * tol * tol)
+    return;
+  st->best = dist;
+  st->found = 1;
+  st->face = face;
+  st->u = u;
+  st->v = v;
+  st->t = (real)0.5 * (dot(w, w) - depth * depth) / (dn - depth);
+}
+
+// The nearest point of patch p to the centre: a 5x5 grid (its points inside the trim are
+// candidates themselves), then Newton on |S - M|^2 / 2 in (u, v), clamped to the patch.
+void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
+  real depth, real reach, PointInside* st)
+{
+  const int face = m->patchFace[p];
+  __global const real* pd = m->patchDomain + 4 * p;
+  const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+  real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+    {
+      const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
+      const real v = pd[2] + (real)0.25 * (real)j * (pd[3] - pd[2]);
+      const real3 w = anchor + eval_patch_point(m, p, u, v);
+      const real dd = dot(w - mr, w - mr);
+      if (dd < bd)
+      {
+        bd = dd;
+        bu = u;
+        bv = v;
+      }
+      if (dd < st->best * st->best)
+        consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
+    }
+  real u = bu, v = bv;
+  for (int it = 0; it < 8; ++it)
+  {
+    const PatchEval e = eval_patch(m, p, u, v);
+    const real3 w = anchor + e.P - mr;
+    const real g0 = dot(e.Du, w), g1 = dot(e.Dv, w);
+    real h00 = dot(e.Du, e.Du) + dot(e.Duu, w), h01 = dot(e.Du, e.Dv) + dot(e.Duv, w),
+         h11 = dot(e.Dv, e.Dv) + dot(e.Dvv, w);
+    real det = h00 * h11 - h01 * h01;
+    if (!(h00 > (real)0) || !(det > (real)0))
+    {
+      // Not convex here: Gauss-Newton.
+      h00 = dot(e.Du, e.Du);
+      h01 = dot(e.Du, e.Dv);
+      h11 = dot(e.Dv, e.Dv);
+      det = h00 * h11 - h01 * h01;
+      if (!(det > (real)0))
+        break;
+    }
+    const real nu = clamp(u - (h11 * g0 - h01 * g1) / det, pd[0], pd[1]);
+    const real nv = clamp(v - (h00 * g1 - h01 * g0) / det, pd[2], pd[3]);
+    const int done =
+      fabs(nu - u) / (pd[1] - pd[0]) + fabs(nv - v) / (pd[3] - pd[2]) < (real)1e-12;
+    u = nu;
+    v = nv;
+    if (done)
+      break;
+  }
+  consider_point(m, ownFace, face, u, v, anchor + eval_patch_point(m, p, u, v), mr, d, depth,
+    reach, st);
+}
+
+// The nearest point of edge segment es to the centre (a 9-point grid, then Newton in T, clamped):
+// where a face's part inside the sphere ends at its trim (a corner cutting in), the deepest
+// point lies on an edge; the restart starts from it, moved a hair into a face.
+void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
+  real depth, real reach, PointInside* st)
+{
+  const int edge = m->edgeSegEdge[es];
+  const real T0 = m->edgeSegRange[2 * es], T1 = m->edgeSegRange[2 * es + 1];
+  real3 C, Ct, Ctt;
+  real T = T0, bd = REAL_MAX;
+  for (int i = 0; i <= 8; ++i)
+  {
+    const real Ti = T0 + (T1 - T0) * (real)i / (real)8;
+    eval_edge(m, edge, Ti, Ohi, Olo, &C, &Ct, &Ctt);
+    if (dot(C - mr, C - mr) < bd)
+    {
+      bd = dot(C - mr, C - mr);
+      T = Ti;
+    }
+  }
+  for (int it = 0; it < 8; ++it)
+  {
+    eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+    const real3 w = C - mr;
+    const real g = dot(Ct, w), h = dot(Ct, Ct) + dot(Ctt, w);
+    const real h2 = h > (real)0 ? h : dot(Ct, Ct);
+    if (!(h2 > (real)0))
+      break;
+    const real next = clamp(T - g / h2, fmin(T0, T1), fmax(T0, T1));
+    const int done = fabs(next - T) <= (real)1e-12 * (fabs(T) + (real)1);
+    T = next;
+    if (done)
+      break;
+  }
+  eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+  const real dist = length(C - mr);
+  const real dn = dot(d, C);
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  const real tol = (real)0.5 * m->slack;
+  if (!(dist < st->best) || !(dn > depth) ||
+    ((f0 == ownFace || f1 == ownFace) && !(dist < reach - (real)2 * tol)) ||
+    dot(C, C) <= (real)16 * tol * tol)
+    return;
+  for (int k = 0; k < 2; ++k)
+  {
+    const int face = k == 0 ? f0 : f1;
+    if (face < 0)
+      continue;
+    __global const int* fi = m->faceInfo + FACE_INTS * face;
+    real u, v, nu, nv;
+    if (fi[1] * fi[2] == 0 || !edge_point_into_face(m, face, edge, T, &u, &v, &nu, &nv))
+      continue;
+    __global const real* fd = m->faceDomain + FACE_REALS * face;
+    const real hair = (real)1e-6 * (fd[1] - fd[0] + fd[3] - fd[2]);
+    st->best = dist;
+    st->found = 1;
+    st->face = face;
+    st->u = u + hair * nu;
+    st->v = v + hair * nv;
+    st->t = (real)0.5 * (dot(C, C) - depth * depth) / (dn - depth);
+    break;
+  }
+}
+
+// The certification of the sphere of radius t tangent at O (brt::FindPointInside): the deepest
+// point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
+// conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
+// segment whose control-point box reaches into the sphere is searched. 0 where none is that
+// deep: the sphere is empty up to the depth, at the patches' accuracy.
+int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
+  real depth, PointInside* st)
+{
+  st->found = 0;
+  const real reach = t - depth - (real)0.25 * m->slack;
+  if (!m->certify || !(reach > (real)0))
+    return 0;
+  const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
+  const real3 mr = t * d;               // M - O
+  const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
+  st->best = reach;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const int node = stack[--top];
+    if (box_gap2(m->boxNodeBox + 6 * node, M) >= st->best * st->best)
+      continue;
+    __global const int* ni = m->boxNodeInfo + 3 * node;
+    if (ni[1] > 0)
+    {
+      for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
+      {
+        const int item = m->boxItems[i];
+        if (item < m->patchCount)
+        {
+          if (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid &&
+            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best)
+            certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+        }
+        else
+        {
+          const int es = item - m->patchCount;
+          const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
+          if (f0 >= 0 && m->faceInfo[FACE_INTS * f0 + 7] == solid &&
+            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best)
+            certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+        }
+      }
+      continue;
+    }
+    if (top + 2 > 64)
+      continue; // cannot happen for a balanced tree
+    const int left = node + 1, right = ni[2];
+    const int leftFirst =
+      box_gap2(m->boxNodeBox + 6 * left, M) <= box_gap2(m->boxNodeBox + 6 * right, M);
+    stack[top++] = leftFirst ? right : left;
+    stack[top++] = leftFirst ? left : right;
+  }
+  return st->found;
+}
+
 // One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
@@ -1662,26 +1954,40 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
       r.t * (real)(1.0 - 1e-6), depth, 0, splat_real3(0), &t);
-    if (best < 0)
+    int inFace;
+    real inU, inV;
+    if (best >= 0)
+    {
+      inFace = s1_face(s1Face, best);
+      inU = s1UV[2 * best];
+      inV = s1UV[2 * best + 1];
+    }
+    else
     {
       // no s1 point inside: maximal at the resolution of s1
       second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, ownSeg, ownParam,
         Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
-      break;
+      // Then the patches themselves: a wall narrower than s1's spacing can still reach in.
+      PointInside inside;
+      if (!find_point_inside(m, ownFace, Ohi, Olo, d, r.t, depth, &inside))
+        break;
+      inFace = inside.face;
+      inU = inside.u;
+      inV = inside.v;
+      t = inside.t;
     }
     // A point inside proves the true radius is below t(best) < r.t: restart, and the restart
     // must shrink the sphere.
     Result again = no_result();
     if (check < 3)
-      again = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
-        s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-        iterations);
+      again = solve_from(m, ownFace, Ohi, Olo, d, inFace, inU, inV, t, scale, stepTol, newtonTol,
+        maxIterations, maxEdgeIterations, iterations);
     if (check < 3 && (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6))))
     {
       // Newton went back to the same sphere or failed: descend on t from the point inside,
       // else on the face across the edge nearest O.
-      again = descend(m, ownFace, s1_face(s1Face, best), Ohi, Olo, d, s1UV[2 * best],
-        s1UV[2 * best + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
+      again = descend(m, ownFace, inFace, Ohi, Olo, d, inU, inV, scale, newtonTol, maxIterations,
+        maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
         const Result across = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo,
@@ -1765,14 +2071,18 @@ __kernel void brt_solve(__global const real* patches, __global const real* patch
   __global real* outReal, // OUT_REALS per sample
   __global int* outInt,   // OUT_INTS per sample: type, reason, face, patch, edge, iterations,
                           // and 1 where the pass without clearance found the contact
-  const real s1Spacing, __global const int* vertexInfo)
+  const real s1Spacing, __global const int* vertexInfo, __global const int* patchFace,
+  __global const int* edgeSegEdge, __global const real* patchBoxes, __global const real* edgeBoxes,
+  __global const real* boxNodeBox, __global const int* boxNodeInfo, __global const int* boxItems,
+  const int patchCount, const int certify)
 {
   const int gid = get_global_id(0);
   if (gid >= count)
     return;
   Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
     trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,
-    clearance, s1Spacing };
+    clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox, boxNodeInfo,
+    boxItems, patchCount, certify };
   solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, samples + SAMPLE_REALS * gid,
     sampleFace[gid], scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
     outReal + OUT_REALS * gid, outInt + OUT_INTS * gid);

@@ -57,6 +57,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 0; i < 48; ++i)
       k.Patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
     k.PatchDomain.insert(k.PatchDomain.end(), p.Domain.begin(), p.Domain.end());
+    k.PatchFace.push_back(p.Face);
   }
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
@@ -89,6 +90,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 0; i < 12; ++i)
       k.EdgeSeg.push_back(static_cast<T>(s.ControlPoints[i] - c[i % 3] - a[i % 3]));
     k.EdgeSegRange.insert(k.EdgeSegRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
+    k.EdgeSegEdge.push_back(s.Edge);
   }
   for (const auto& p : data.S1)
   {

@@ -24,8 +24,10 @@ struct KernelModel
 {
   std::vector<T> Patches, PatchAnchor, PatchDomain, FaceDomain, Breaks, Trim, TrimRange, EdgeRange,
     EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox;
-  std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, BoxNodeInfo,
-    BoxItems;
+  std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, PatchFace,
+    EdgeSegEdge, BoxNodeInfo, BoxItems;
+  /// Whether the boxes for the certification are there (BuildPatchBoxes ran).
+  bool HasBoxes() const { return !BoxNodeInfo.empty(); }
 };
 
 /// The scalars every launch gets, from the model, its data and the options.

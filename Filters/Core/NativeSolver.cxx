@@ -30,7 +30,9 @@ struct NativeSolver::Impl
       K.FaceInfo.data(), K.FaceDomain.data(), K.Breaks.data(), K.Loops.data(), K.Trim.data(),
       K.TrimEdge.data(), K.TrimRange.data(), K.EdgeInfo.data(), K.EdgeRange.data(),
       K.EdgeSeg.data(), K.EdgeAnchor.data(), K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack,
-      s.Clearance, s.S1Spacing };
+      s.Clearance, s.S1Spacing, K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(),
+      K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
+      static_cast<int>(Model.Patches.size()), s.Certify && K.HasBoxes() ? 1 : 0 };
   }
 };
 

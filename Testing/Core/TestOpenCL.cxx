@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -420,3 +421,40 @@ TEST(OpenCLKernels, DeviceChoiceFailureListsDevices)
   }
 }
 } // namespace
+
+namespace
+{
+TEST(NativeDeviceTmp, AgainstOldReference)
+{
+  for (const auto& name : test::DataModels())
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    SolverOptions options;
+    const SolverData data = PrepareSolver(m, options);
+    const std::vector<Sample> samples = SamplesFromMesh(m, data);
+    std::vector<SampleResult> native, ref;
+    auto t0 = std::chrono::steady_clock::now();
+    NativeSolver(m, data).Solve(options, samples, native);
+    auto t1 = std::chrono::steady_clock::now();
+    std::vector<size_t> all(samples.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    ref.resize(samples.size());
+    SolveReferenceParallel(m, data, options, samples, ref, all);
+    auto t2 = std::chrono::steady_clock::now();
+    size_t typeDiffers = 0, radiusDiffers = 0, nf = 0, rf = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+    {
+      nf += native[i].Type == ContactType::Failed;
+      rf += ref[i].Type == ContactType::Failed;
+      if (native[i].Type != ref[i].Type)
+        ++typeDiffers;
+      else if (native[i].Type != ContactType::Failed &&
+        std::fabs(native[i].Radius - ref[i].Radius) > 1e-6 * native[i].Radius)
+        ++radiusDiffers;
+    }
+    std::printf("[native vs old reference] %s: %zu samples, %zu other type, %zu other radius, failed %zu vs %zu; %.2f s vs %.2f s\n",
+      name.c_str(), samples.size(), typeDiffers, radiusDiffers, nf, rf,
+      std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count());
+  }
+}
+}
