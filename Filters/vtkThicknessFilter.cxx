@@ -3,6 +3,7 @@
 #include "Statistics.h"
 
 #include "BRepFieldData.h"
+#include "NativeSolver.h"
 #include "OpenCLSolver.h"
 #include "ResultCheck.h"
 #include "Solver.h"
@@ -403,13 +404,21 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   I.Areas = brt::VertexAreas(model.Mesh.Points, model.Mesh.Triangles);
   this->UpdateProgress(0.05);
 
-  // Device.
+  // Device: "native" (the kernel source compiled for this CPU, double, every core; "reference"
+  // is its old name), an OpenCL device, or "auto": the first OpenCL GPU, else native.
   const std::string device = Lower(this->Device ? this->Device : "auto");
   const bool useDouble = this->Precision == DOUBLE;
-  bool reference = device == "reference";
-  if (!reference)
+  bool native = device == "native" || device == "reference";
+  if (device == "auto")
   {
-    const std::string clDevice = device == "auto" ? "any" : device;
+    bool gpu = false;
+    for (const auto& label : brt::OpenCLSolver::ListDevices())
+      gpu = gpu || label.size() >= 5 && label.compare(label.size() - 5, 5, "(GPU)") == 0;
+    native = !gpu;
+  }
+  if (!native)
+  {
+    const std::string clDevice = device == "auto" ? "gpu" : device;
     const std::string clKey = clDevice + (useDouble ? " double" : " float");
     try
     {
@@ -429,12 +438,15 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
         vtkErrorMacro(<< "Device '" << this->Device << "': " << e.what());
         return false;
       }
-      vtkWarningMacro(<< e.what() << "\nSolving with the CPU reference instead.");
-      reference = true;
+      vtkWarningMacro(<< e.what() << "\nSolving with the native CPU device instead.");
+      native = true;
     }
   }
-  I.DeviceUsed = reference
-    ? "CPU reference (double, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+  std::unique_ptr<brt::NativeSolver> cpu;
+  if (native)
+    cpu = std::make_unique<brt::NativeSolver>(model, data);
+  I.DeviceUsed = native
+    ? "native CPU (double, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
       " threads)"
     : std::string("OpenCL ") + (useDouble ? "double" : "float") + ": " + I.CL->DeviceName();
   I.PrepareSeconds = Seconds(t0);
@@ -447,11 +459,11 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   for (size_t first = 0; first < n; first += chunk)
   {
     const size_t last = std::min(n, first + chunk);
-    if (reference)
+    if (native)
     {
       std::vector<size_t> which(last - first);
       std::iota(which.begin(), which.end(), first);
-      brt::SolveReferenceParallel(model, data, options, samples, I.Results, which);
+      cpu->Solve(options, samples, I.Results, &which);
     }
     else
     {

@@ -1,6 +1,7 @@
 #include "OpenCLSolver.h"
 
 #include "KernelData.h"
+#include "NativeSolver.h"
 
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
@@ -198,6 +199,8 @@ struct OpenCLSolver::Impl
   static constexpr int ModelBuffers = 28;
   int PatchCount = 0;
   bool HasBoxes = false;
+  /// The same model for the native device: the float kernels' finish in double.
+  std::unique_ptr<NativeSolver> Native;
   Buffer Model[ModelBuffers];
   Buffer Samples, SampleFace, OutReal, OutInt;
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
@@ -321,6 +324,9 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   Model[27].Write(ctx, q, k.BoxItems);
   PatchCount = static_cast<int>(m.Patches.size());
   HasBoxes = k.HasBoxes();
+  Native.reset();
+  if (!RT->Double)
+    Native = std::make_unique<NativeSolver>(m, data); // the float kernels' finish
   Check(clFinish(q), "clFinish");
 }
 
@@ -423,14 +429,12 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     P->SolveAs<double>(model, data, options, samples, results, chunk);
   else
     P->SolveAs<float>(model, data, options, samples, results, chunk);
-  // The float kernels' contacts are refined on the host in double (PolishResult: the contact's
-  // own Newton, then the local part of the second look), and the few samples they fail that
-  // double solves are finished by the reference; both on every core. The double kernels run the
-  // reference's steps in the same precision, so neither would change their results.
-  // Then every sphere is certified against the patches (SolverOptions::Certify; the kernels
-  // verify against s1 only): one that holds a point of the trimmed faces deeper than the
-  // clearance is solved again by the reference, which restarts from that point.
-  if (!HostFinish)
+  // The double kernels run the whole solve, the certification included: nothing is left to
+  // the host. The float kernels' contacts are refined in double (NativeSolver::Polish: the
+  // contact's own Newton, then the local part of the second look), every sphere is certified
+  // again in double, and the samples the float kernels fail or that fail the certification are
+  // solved by the native device: the same source in double, on every core.
+  if (!HostFinish || P->RT->Double || !P->Native)
     return;
   std::vector<size_t> hard, solved;
   for (size_t i = 0; i < samples.size(); ++i)
@@ -439,19 +443,18 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   exact.Clearance = 0.0;
   const std::vector<unsigned char>& pass = P->ExactPass;
   std::vector<unsigned char> redo(samples.size(), 0);
+  const NativeSolver& native = *P->Native;
   ParallelFor(solved.size(), 0, [&](size_t j) {
     const size_t i = solved[j];
     const SolverOptions& o = pass[i] ? exact : options;
-    if (!P->RT->Double)
-      PolishResult(model, data, o, samples[i], results[i]);
-    redo[i] = options.Certify && SphereHoldsBoundary(model, data, o, samples[i], results[i]);
+    native.Polish(o, samples[i], results[i]);
+    redo[i] = options.Certify && native.HoldsBoundary(o, samples[i], results[i]);
   });
-  if (P->RT->Double)
-    hard.clear(); // the double kernels' failures are the reference's too
   for (size_t i : solved)
     if (redo[i])
       hard.push_back(i);
-  SolveReferenceParallel(model, data, options, samples, results, hard);
+  if (!hard.empty())
+    native.Solve(options, samples, results, &hard);
 }
 
 } // namespace brt

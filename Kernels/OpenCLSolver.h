@@ -37,7 +37,8 @@ public:
   const std::string& DeviceName() const;
   bool DoublePrecision() const;
 
-  /// Copies the model and the solver data to the device (done once per model).
+  /// Copies the model and the solver data to the device (done once per model). Both must stay
+  /// alive, unchanged, while Solve is called with them (the float finish reads them).
   void Upload(const BRepModel& model, const SolverData& data);
 
   /// Solves `samples` (after Upload with the same model and data), `chunk` samples per launch
@@ -49,9 +50,10 @@ public:
   size_t DeviceBytes() const;
 
   /// Whether Solve finishes the float kernels' results on the host, in double (default on; the
-  /// double kernels' results are returned as they are): each contact refined (brt::PolishResult)
-  /// and the samples the kernels leave failed solved by the reference. Off, Solve returns the
-  /// kernels' own results: the tests measure the kernels alone that way.
+  /// double kernels' results are final): each contact refined and certified again
+  /// (NativeSolver::Polish, NativeSolver::HoldsBoundary), and the samples the float kernels
+  /// leave failed or that fail the certification solved by the native device. Off, Solve
+  /// returns the kernels' own results: the tests measure the kernels alone that way.
   void SetHostFinish(bool on) { HostFinish = on; }
   bool GetHostFinish() const { return HostFinish; }
 

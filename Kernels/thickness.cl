@@ -2009,6 +2009,61 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   return r;
 }
 
+// Refines a contact found in lower precision (brt::PolishResult): the same contact's Newton from
+// its foot (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then
+// the local part of the second look, and keeps the result where the Newton converged within rho
+// of the old foot. r carries the foot relative to O and the foot's parameters; m->delta is the
+// clearance of the pass that found it. 1 where r was replaced.
+int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
+  Result* r)
+{
+  if (r->type == CONTACT_FAILED)
+    return 0;
+  const real reported = sphere_radius(d, r->foot, (real)0);
+  const real tDelta = sphere_radius(d, r->foot, m->delta);
+  Result c = no_result();
+  if (r->type == CONTACT_SURFACE_SURFACE &&
+    shallow_own_face_contact(m, ownFace, r->face, r->foot, d, reported))
+  {
+    // Only the descent finds such a contact (an osculating sphere next to O, on a concave
+    // round): Newton from it goes to the trivial solution P = O. Descend again.
+    c = descend(m, ownFace, r->face, Ohi, Olo, d, r->param.x, r->param.y, scale, newtonTol,
+      maxIterations, maxEdgeIterations, iterations);
+  }
+  else if (r->type == CONTACT_SURFACE_SURFACE)
+  {
+    const SurfaceSolve ss = surface_newton(m, r->face, Ohi, Olo, d, r->param.x, r->param.y,
+      tDelta > (real)0 && tDelta < REAL_MAX ? tDelta : reported, scale, stepTol, newtonTol,
+      maxIterations, iterations);
+    if (valid_surface_solve(m, ownFace, r->face, &ss, d, scale, newtonTol))
+      c = surface_result(r->face, &ss);
+  }
+  else if (r->edge >= 0)
+  {
+    // A vertex: the edge's end exactly (a float T is the end rounded).
+    real T = r->param.x;
+    if (r->type == CONTACT_SURFACE_VERTEX)
+    {
+      const real T0 = m->edgeRange[2 * r->edge], T1 = m->edgeRange[2 * r->edge + 1];
+      T = fabs(T - T1) < fabs(T - T0) ? T1 : T0;
+    }
+    const EdgeMinimum em =
+      minimise_on_edge(m, r->edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
+    c = edge_contact(m, ownFace, r->face, r->edge, &em, d, newtonTol);
+  }
+  if (c.type == CONTACT_FAILED)
+    return 0;
+  const real rho = fmax((real)1e-2 * reported, (real)10 * m->slack);
+  const real3 moved = c.foot - r->foot;
+  if (dot(moved, moved) > rho * rho)
+    return 0;
+  second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+    maxEdgeIterations, iterations, &c);
+  *r = c;
+  return 1;
+}
+
 // The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
 // the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
 void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,

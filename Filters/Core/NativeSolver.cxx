@@ -3,6 +3,8 @@
 #include "KernelData.h"
 #include "KernelLanguage.h"
 
+#include <algorithm>
+
 namespace brt
 {
 namespace kernel
@@ -79,15 +81,70 @@ void NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   });
 }
 
+namespace
+{
+/// A result as the kernel source's Result (foot relative to O, t at the clearance `delta`).
+kernel::Result ToKernel(const Sample& s, const SampleResult& r, double delta)
+{
+  kernel::Result k = kernel::no_result();
+  k.type = static_cast<int>(r.Type);
+  k.reason = static_cast<int>(r.Reason);
+  k.face = r.OppositeFace;
+  k.patch = r.OppositePatch;
+  k.edge = r.OppositeEdge;
+  k.res = r.Residual;
+  k.foot = kernel::real3{ r.Foot[0] - s.Point[0], r.Foot[1] - s.Point[1], r.Foot[2] - s.Point[2] };
+  k.param = kernel::real2{ r.FootParameter[0], r.FootParameter[1] };
+  const kernel::real3 d{ s.Direction[0], s.Direction[1], s.Direction[2] };
+  k.t = kernel::sphere_radius(d, k.foot, delta);
+  return k;
+}
+} // namespace
+
 bool NativeSolver::HoldsBoundary(
   const SolverOptions& options, const Sample& sample, const SampleResult& r) const
 {
-  return SphereHoldsBoundary(P->Model, P->Data, options, sample, r);
+  if (r.Type == ContactType::Failed || P->Data.Nodes.empty())
+    return false;
+  KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
+  s.Certify = 1;
+  const kernel::Model view = P->View(s);
+  double in[KernelSampleReals];
+  PackSample(P->Data, sample, in);
+  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
+    d{ in[6], in[7], in[8] };
+  kernel::PointInside inside;
+  return kernel::find_point_inside(&view, sample.Face, Ohi, Olo, d, r.Radius,
+           std::max(s.Clearance, s.Slack), &inside) != 0;
 }
 
 void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const
 {
-  PolishResult(P->Model, P->Data, options, sample, r);
+  if (r.Type == ContactType::Failed || P->Data.Nodes.empty())
+    return;
+  const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
+  const kernel::Model view = P->View(s);
+  double in[KernelSampleReals];
+  PackSample(P->Data, sample, in);
+  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
+    d{ in[6], in[7], in[8] };
+  kernel::Result k = ToKernel(sample, r, s.Clearance);
+  int iterations = 0;
+  if (!kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
+        s.MaxIterations, s.MaxEdgeIterations, &iterations, &k))
+    return;
+  // Back through the kernel's own output layout, so that one function reads results.
+  double outR[KernelOutReals] = { kernel::sphere_radius(d, k.foot, 0.0), k.foot.x, k.foot.y,
+    k.foot.z, k.res, k.param.x, k.param.y };
+  int outI[KernelOutInts] = { k.type, k.reason, k.face, k.patch, k.edge,
+    r.Iterations + iterations, 0 };
+  UnpackResult(sample, outR, outI, r);
+}
+
+void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+  const std::vector<Sample>& samples, std::vector<SampleResult>& results, unsigned threads)
+{
+  NativeSolver(model, data).Solve(options, samples, results, nullptr, threads);
 }
 
 } // namespace brt

@@ -28,10 +28,18 @@ public:
     std::vector<SampleResult>& results, const std::vector<size_t>* which = nullptr,
     unsigned threads = 0, std::vector<unsigned char>* exactPass = nullptr) const;
 
-  /// SphereHoldsBoundary (Solver.h) on the packed model.
+  /// True when a point of the trimmed faces of the sample's solid lies inside r's sphere deeper
+  /// than the verification allows (the larger of `options`' clearance and twice the conversion
+  /// tolerance): the certification (SolverOptions::Certify) of a result found elsewhere (the
+  /// float kernels). False for a failed result.
   bool HoldsBoundary(const SolverOptions& options, const Sample& sample, const SampleResult& r) const;
 
-  /// PolishResult (Solver.h) on the packed model.
+  /// Refines in double a contact found in lower precision (the float kernels), `options` being
+  /// those it was found with (the clearance of its pass): the same contact's Newton from its foot
+  /// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the
+  /// local part of the second look (the edge, faces and vertex next to the contact), and the
+  /// radius of eq. 1 at the new foot. Keeps r where that Newton fails or lands farther than the
+  /// second look's reach from r's foot.
   void Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const;
 
 private:

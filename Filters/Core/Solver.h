@@ -1,6 +1,7 @@
-// BRepThickness: the maximal-sphere solver (Lemasson et al. 2014, sections 2.1-2.3).
-// VTK-free and OpenCL-free: this is the double-precision CPU reference; the OpenCL kernels in
-// Kernels/ implement the same steps on the same prepared data (SolverData).
+// BRepThickness: the maximal-sphere solver (Lemasson et al. 2014, sections 2.1-2.3): its types,
+// options, and the host-only preparation (s1, the BVHs, the samples). VTK-free and OpenCL-free.
+// The solve itself is written once, in Kernels/thickness.cl, and runs as OpenCL kernels
+// (Kernels/OpenCLSolver) or compiled as C++ on the CPU (NativeSolver, the reference).
 #pragma once
 
 #include "BRepModel.h"
@@ -155,39 +156,12 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options);
 /// a face's boundary are moved a tiny step into the face (see the implementation).
 std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data);
 
-/// Double-precision reference of steps 3-8 (docs/Solver.md) for every sample; results[i] is
-/// samples[i]'s.
+/// The solver's reference: steps 3-8 (docs/Solver.md) for every sample, by the native device
+/// (NativeSolver: the kernel source compiled as C++ in double) on `threads` threads (0: one per
+/// core); results[i] is samples[i]'s. Packs the model on every call: a caller solving in several
+/// calls keeps a NativeSolver instead.
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,
-  const std::vector<Sample>& samples, std::vector<SampleResult>& results);
-
-/// The same for samples[first, last) only, into results[first, last) (results sized by the
-/// caller). Calls on disjoint ranges may run on different threads at once.
-void SolveReferenceRange(const BRepModel& model, const SolverData& data,
-  const SolverOptions& options, const std::vector<Sample>& samples,
-  std::vector<SampleResult>& results, size_t first, size_t last);
-
-/// samples[i] for every i in `which`, into results[i] (results sized by the caller), on
-/// `threads` threads (0: one per core), the indices dealt out in turn so that a run of hard
-/// samples spreads over the threads.
-void SolveReferenceParallel(const BRepModel& model, const SolverData& data,
-  const SolverOptions& options, const std::vector<Sample>& samples,
-  std::vector<SampleResult>& results, const std::vector<size_t>& which, unsigned threads = 0);
-
-/// Refines in double a contact found in lower precision (the float kernels), `options` being
-/// those it was found with (the clearance of its pass): the same contact's Newton from its foot
-/// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the
-/// local part of the second look (the edge, faces and vertex next to the contact, where a tie
-/// between contacts of one sphere is decided), and the radius of eq. 1 at the new foot. Keeps r
-/// where that Newton fails or lands farther than the second look's reach from r's foot.
-void PolishResult(const BRepModel& model, const SolverData& data, const SolverOptions& options,
-  const Sample& sample, SampleResult& r);
-
-/// True when a point of the trimmed faces of the sample's solid lies inside r's sphere deeper
-/// than the verification allows (the larger of `options`' clearance and twice the conversion
-/// tolerance): the certification of SolverOptions::Certify, for results found elsewhere (the
-/// kernels). False for a failed result.
-bool SphereHoldsBoundary(const BRepModel& model, const SolverData& data,
-  const SolverOptions& options, const Sample& sample, const SampleResult& r);
+  const std::vector<Sample>& samples, std::vector<SampleResult>& results, unsigned threads = 0);
 
 /// Calls f(i) for i in [0, n) on `threads` threads (0: one per core), the indices dealt out in
 /// turn.

@@ -11,7 +11,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -219,17 +218,14 @@ TEST_P(KernelVsReference, EveryDataModel)
       100.0 * clFailed / samples.size());
     for (const auto& l : listed)
       std::printf("[disagreement] %s\n", l.c_str());
-    // The target: 99.9% agreement. Measured on PoCL (docs/Solver.md), with the certification
-    // against the patches (SolverOptions::Certify) in both paths: 100% on every analytic model
-    // in both precisions; on the real parts 99.960-100% in double and, with the host's finish
-    // (float contacts polished in double), 99.890-99.991% in float. The FRAMEWORK tile's 99.890%
-    // (60 samples; 50 before the certification) is the one under the target: ties between
-    // osculating spheres next to O in its four corner pockets, where the certification's
-    // restarts in the reference settle on another of several spheres within 1e-2 of each other
-    // that the polished float contact does not reach; the bound in float is 0.12% for that.
+    // The target: 99.9% agreement. Measured on PoCL (docs/Solver.md): in double 100% on every
+    // model (the kernels are the reference's source); in float, with the host's finish, 100% on
+    // the analytic models and 99.90-99.99% on the real parts. The FRAMEWORK tile's 99.90% (54
+    // samples) is the lowest: ties between osculating spheres next to O in its four corner
+    // pockets, within 1e-2 of each other; the bound in float is 0.12% for that.
     EXPECT_LE(bad, samples.size() * (useDouble ? 10 : 12) / 10000) << name;
-    // Different spheres (Compare), not ties between contacts of one sphere: measured
-    // 0-0.009% in double and 0.009-0.040% in float on the real parts.
+    // Different spheres (Compare), not ties between contacts of one sphere: measured 0 in
+    // double and 0.009-0.047% in float on the real parts.
     EXPECT_LE(dis.Different, samples.size() * 10 / 10000) << name;
     // Failed samples (flagged, never reported as thicknesses): measured at most 0.18% of the
     // samples on the real parts (FRAMEWORK tile), in the reference and in the kernels with their
@@ -241,24 +237,20 @@ TEST_P(KernelVsReference, EveryDataModel)
       refFailed += r.Type == ContactType::Failed;
     EXPECT_LE(refFailed, samples.size() * 20 / 10000) << name;
     EXPECT_LE(clFailed, samples.size() * 20 / 10000) << name;
-    // In float, the figures above include the host's finish: every contact polished in double
-    // (brt::PolishResult) and the samples the kernels leave failed (0-0.18%) solved by the
-    // reference (double kernels are only certified). The float kernels alone, against the
-    // reference without the certification: 99.76-99.98% on the real parts.
-    // The kernels alone verify against s1 only, like the reference without the certification:
-    // that is the algorithm they mirror, so that is what they are compared with.
-    std::vector<SampleResult> alone, uncertified;
-    SolverOptions s1Only = options;
-    s1Only.Certify = false;
-    SolveReference(m, data, s1Only, samples, uncertified);
+    // In float, the figures above include the host's finish: every contact polished and
+    // certified again in double (NativeSolver::Polish, HoldsBoundary) and the samples the float
+    // kernels leave failed solved by the native device. The kernels alone (the certification
+    // included, in their precision) against the reference: in double the same code, so the same
+    // results; in float measured 99.75-100% (FRAMEWORK tile the lowest: float ties between
+    // osculating spheres in its corner pockets).
+    std::vector<SampleResult> alone;
     cl->SetHostFinish(false);
     cl->Solve(m, data, options, samples, alone, 4096);
     cl->SetHostFinish(true);
     size_t handedBack = 0;
     for (const auto& r : alone)
       handedBack += r.Type == ContactType::Failed;
-    const Disagreements disAlone =
-      Compare(name, samples, uncertified, alone, 1e-4, data.Scale, accuracy, nullptr);
+    const Disagreements disAlone = Compare(name, samples, ref, alone, 1e-4, data.Scale, accuracy, nullptr);
     EXPECT_EQ(AtTheSample(m, data, samples, alone), 0u) << name;
     const size_t badAlone = disAlone.Count;
     std::printf("[kernel alone] %s (%s): %zu disagree (%.3f%%), %zu different spheres "
@@ -266,7 +258,7 @@ TEST_P(KernelVsReference, EveryDataModel)
       name.c_str(), useDouble ? "double" : "float", badAlone, 100.0 * badAlone / samples.size(),
       disAlone.Different, 100.0 * disAlone.Different / samples.size(), handedBack,
       100.0 * handedBack / samples.size());
-    EXPECT_LE(badAlone, samples.size() * (useDouble ? 10 : 30) / 10000) << name;
+    EXPECT_LE(badAlone, useDouble ? 0 : samples.size() * 40 / 10000) << name;
     if (!useDouble)
       test::PrintResidualSummary(name + " (reference)", ref);
     test::PrintResidualSummary(name + (useDouble ? " (kernel double)" : " (kernel float)"), got);
@@ -422,39 +414,3 @@ TEST(OpenCLKernels, DeviceChoiceFailureListsDevices)
 }
 } // namespace
 
-namespace
-{
-TEST(NativeDeviceTmp, AgainstOldReference)
-{
-  for (const auto& name : test::DataModels())
-  {
-    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
-    SolverOptions options;
-    const SolverData data = PrepareSolver(m, options);
-    const std::vector<Sample> samples = SamplesFromMesh(m, data);
-    std::vector<SampleResult> native, ref;
-    auto t0 = std::chrono::steady_clock::now();
-    NativeSolver(m, data).Solve(options, samples, native);
-    auto t1 = std::chrono::steady_clock::now();
-    std::vector<size_t> all(samples.size());
-    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-    ref.resize(samples.size());
-    SolveReferenceParallel(m, data, options, samples, ref, all);
-    auto t2 = std::chrono::steady_clock::now();
-    size_t typeDiffers = 0, radiusDiffers = 0, nf = 0, rf = 0;
-    for (size_t i = 0; i < samples.size(); ++i)
-    {
-      nf += native[i].Type == ContactType::Failed;
-      rf += ref[i].Type == ContactType::Failed;
-      if (native[i].Type != ref[i].Type)
-        ++typeDiffers;
-      else if (native[i].Type != ContactType::Failed &&
-        std::fabs(native[i].Radius - ref[i].Radius) > 1e-6 * native[i].Radius)
-        ++radiusDiffers;
-    }
-    std::printf("[native vs old reference] %s: %zu samples, %zu other type, %zu other radius, failed %zu vs %zu; %.2f s vs %.2f s\n",
-      name.c_str(), samples.size(), typeDiffers, radiusDiffers, nf, rf,
-      std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count());
-  }
-}
-}
