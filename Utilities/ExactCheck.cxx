@@ -1,11 +1,11 @@
 // brt_exact_check: how many maximal spheres hold boundary of their own solid, measured against
 // OpenCASCADE's exact distance (a program that prints figures, not a test).
 //
-//   brt_exact_check [--samples N] [--seed S] [--device reference|any|cpu|gpu|NAME] [--double]
+//   brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] [--double]
 //                   [--list K] FILE.step ...
 //
 // For each file: N samples drawn at random from the display-mesh vertices (default 2,500), solved
-// with the CPU reference or an OpenCL device (float, with the host's polish, unless --double);
+// with the native CPU device (the reference) or an OpenCL device (float, with the host's polish, unless --double);
 // for each solved sample the distance from its sphere's centre to the exact faces of the
 // sample's own solid (BRepExtrema). A sphere overlaps when its radius exceeds that distance by
 // more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
@@ -38,9 +38,9 @@
 namespace
 {
 const char* const Usage =
-  "usage: brt_exact_check [--samples N] [--seed S] [--device reference|any|cpu|gpu|NAME] "
+  "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
   "[--double] [--no-certify] [--list K] FILE.step ...\n"
-  "Solves N random samples of each file (default 2500, CPU reference) and measures each sphere\n"
+  "Solves N random samples of each file (default 2500, native CPU device) and measures each sphere\n"
   "against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid.\n"
   "Prints solved, failed (per reason) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list).\n";
@@ -51,7 +51,7 @@ int main(int argc, char** argv)
   size_t count = 2500;
   unsigned seed = 1;
   int list = 5;
-  std::string device = "reference";
+  std::string device = "native";
   [[maybe_unused]] bool useDouble = false;
   bool certify = true;
   std::vector<std::string> files;
@@ -132,14 +132,22 @@ int main(int argc, char** argv)
     for (size_t i : pick)
       samples.push_back(all[i]);
     std::vector<brt::SampleResult> res(samples.size());
-    if (device == "reference")
+    if (device == "native" || device == "reference")
       brt::SolveReference(m, data, options, samples, res);
     else
     {
 #ifdef BRT_HAVE_OPENCL
-      brt::OpenCLSolver cl(device, useDouble);
-      cl.Upload(m, data);
-      cl.Solve(m, data, options, samples, res);
+      try
+      {
+        brt::OpenCLSolver cl(device, useDouble);
+        cl.Upload(m, data);
+        cl.Solve(m, data, options, samples, res);
+      }
+      catch (const brt::OpenCLError& e)
+      {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+      }
 #else
       std::fprintf(stderr, "error: built without OpenCL\n");
       return 2;

@@ -1,7 +1,8 @@
 // Benchmark of the maximal-sphere solver (a program that prints figures, not a test).
-//   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--no-reference]
+//   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--no-native]
 //                       [--counts N1,N2,...] [--export DIR] FILE.step|FILE.brtsolve ...
-// For each model and sample count: samples/s of the CPU reference and of the OpenCL kernels,
+// For each model and sample count: samples/s of the native CPU device (the kernel source in double
+// on every core, the reference) and of the OpenCL kernels,
 // failed share, peak host memory and the kernels' device memory, as a table. --export writes
 // each prepared model as DIR/<name>.brtsolve; the solver-only build (BRT_SOLVER_ONLY, no
 // OpenCASCADE) reads those, e.g. on a GPU machine.
@@ -72,7 +73,7 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool reference = true, help = false, certify = true;
+  bool native = true, help = false, certify = true;
   brt::ConversionOptions conversion;
   for (int i = 1; i < argc; ++i)
   {
@@ -86,8 +87,8 @@ int main(int argc, char** argv)
       exportDir = argv[++i];
     else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
       conversion.Tolerance = std::stod(argv[++i]);
-    else if (!std::strcmp(argv[i], "--no-reference"))
-      reference = false;
+    else if (!std::strcmp(argv[i], "--no-native") || !std::strcmp(argv[i], "--no-reference"))
+      native = false;
     else if (!std::strcmp(argv[i], "--no-certify"))
       certify = false;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
@@ -105,12 +106,13 @@ int main(int argc, char** argv)
   {
     std::fprintf(help ? stdout : stderr,
       "usage: %s [options] FILE.step|FILE.brtsolve ...\n"
-      "Benchmark of the thickness solver: for each model and sample count, samples/s of the CPU\n"
-      "reference and of the OpenCL kernels, failed share, agreement, peak host memory and the\n"
+      "Benchmark of the thickness solver: for each model and sample count, samples/s of the native\n"
+      "CPU device (the reference) and of the OpenCL kernels, failed share, agreement with the\n"
+      "native results, peak host memory and the\n"
       "kernels' device memory, as a table.\n"
       "  --device NAME     OpenCL device: any (default), cpu, gpu, none, or a name\n"
       "  --double          double-precision kernels (default float)\n"
-      "  --no-reference    skip the CPU reference\n"
+      "  --no-native       skip the native CPU device (--no-reference: the same)\n"
       "  --no-certify      skip the check of the spheres against the patches\n"
       "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
       "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
@@ -135,7 +137,7 @@ int main(int argc, char** argv)
   }
 #endif
   std::printf("%-32s %8s %8s %8s %12s %8s %12s %8s %8s %9s %9s\n", "model", "samples", "s1",
-    "patches", "ref_samp/s", "ref_fail", "cl_samp/s", "cl_fail", "agree", "host_MiB", "dev_MiB");
+    "patches", "nat_samp/s", "nat_fail", "cl_samp/s", "cl_fail", "agree", "host_MiB", "dev_MiB");
   for (const auto& file : files)
   {
     brt::BRepModel model;
@@ -177,13 +179,13 @@ int main(int argc, char** argv)
       const std::vector<brt::Sample> samples = Take(all, n);
       std::vector<brt::SampleResult> results;
       double refRate = 0.0, refFail = 0.0, clRate = 0.0, clFail = 0.0, devMiB = 0.0, agree = -1.0;
-      if (reference)
+      if (native)
       {
         const auto t0 = std::chrono::steady_clock::now();
         brt::SolveReference(model, data, options, samples, results);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         refRate = n / s;
-        refFail = FailedPercent(results, "reference");
+        refFail = FailedPercent(results, "native");
       }
 #ifdef BRT_HAVE_OPENCL
       if (cl)
