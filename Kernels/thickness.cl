@@ -1,8 +1,11 @@
-// BRepThickness: maximal-sphere solver kernel (Lemasson et al. 2014, sections 2.1-2.3).
-// One work-item per sample O: BVH initialisation (eq. 1), surface/surface Newton (eq. 4), trim
-// test (eq. 6 and the corner rule), surface/edge Newton (eq. 7). It mirrors the double-precision
-// reference (Filters/Core/Solver.cxx) step for step; the host builds it with -DBRT_DOUBLE for
-// double precision, else it runs in float. Coordinates arrive relative to the model's centre.
+// BRepThickness: the maximal-sphere solver (Lemasson et al. 2014, sections 2.1-2.3), written
+// once. One work-item per sample O: BVH initialisation (eq. 1), surface/surface Newton (eq. 4),
+// trim test (eq. 6 and the corner rule), surface/edge Newton (eq. 7), the verification against
+// s1 and the certification against the patches, with restarts from any point found inside.
+// The same source is compiled as OpenCL C (Kernels/OpenCLSolver: float, or double with
+// -DBRT_DOUBLE) and as C++ in double (Filters/Core/NativeSolver: the native CPU device and the
+// reference), in the common subset of the two languages (Kernels/KernelLanguage.h states its
+// rules). Coordinates arrive relative to the model's centre.
 
 #ifdef __OPENCL_VERSION__
 #pragma OPENCL FP_CONTRACT OFF
@@ -101,27 +104,31 @@ typedef struct
 
 // The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
 // or, on a face other than the sample's, at most the clearance plus the patches' error outside
-// it (brt::FromInside, brt::OutsideSlack).
+// it. A sample on a convex edge (a mesh vertex on it) lies within the conversion tolerance of
+// the face across, possibly on its outer side; its sphere is about the clearance, and touches
+// the face across from "outside" by up to that much. A sphere touching a face really from
+// outside has its centre t - delta beyond it: only spheres below twice the clearance plus the
+// tolerance are affected.
 inline int from_inside(const Model* m, int sampleFace, int face, real side)
 {
   return !(side > (face == sampleFace ? (real)0 : m->delta + (real)0.5 * m->slack));
 }
 
-// A point P (relative to O) within the patches' accuracy of O (brt::NearSample).
+// A point P (relative to O) within the patches' accuracy of O.
 inline int near_sample(const Model* m, real3 P)
 {
   return dot(P, P) <= m->slack * m->slack;
 }
 
 // A foot on the sample's own face next to O: the trivial solution P = O of eq. 4
-// (brt::AtSample).
+//.
 inline int at_sample(const Model* m, int sampleFace, int face, real3 P)
 {
   return face == sampleFace && near_sample(m, P);
 }
 
 // An edge point next to O on an edge of O's own face: the trivial solution C = O
-// (brt::EdgeAtSample).
+//.
 inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
 {
   const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
@@ -129,7 +136,7 @@ inline int edge_at_sample(const Model* m, int sampleFace, int edge, real3 C)
 }
 
 // A foot next to O on a face whose normal n there is within 2e-3 rad of O's: the trivial
-// solution across a tangent edge (brt::TangentAtSample).
+// solution across a tangent edge.
 inline int tangent_at_sample(const Model* m, real3 P, real3 n, real3 d)
 {
   const real3 c = cross(n, d);
@@ -139,7 +146,7 @@ inline int tangent_at_sample(const Model* m, real3 P, real3 n, real3 d)
 // A foot point on the sample's own face within the patches' accuracy of O is the trivial
 // solution of eq. 4 (P = O solves it for every t), and one shallower than t/2 an osculating
 // sphere whose radius the patches' accuracy does not fix: no contact
-// (brt::ShallowOwnFaceContact). P is relative to O.
+//. P is relative to O.
 inline int shallow_own_face_contact(const Model* m, int sampleFace, int face, real3 P, real3 d,
   real t)
 {
@@ -398,7 +405,8 @@ inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, i
   }
 }
 
-// Point-in-face test on the cubic trimming segments (same steps as brt::ClassifyPoint).
+// Point-in-face test on the cubic trimming segments (the same steps as the host's
+// brt::ClassifyPoint, Readers/Core/TrimClassifier).
 int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
@@ -672,7 +680,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
 
 // (u, v) on `face` of the point at edge parameter T of `edge`, from that face's trimming
 // segments on the edge, with the unit direction (nu, nv) in (u, v) pointing from the edge into
-// the face (0 where the segment's tangent vanishes); 0 if none covers T (brt::EdgePointIntoFace).
+// the face (0 where the segment's tangent vanishes); 0 if none covers T.
 int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, real* v, real* nu,
   real* nv)
 {
@@ -713,14 +721,12 @@ inline int s1_face(__global const int* s1Face, int i)
   return f < 0 ? ~f : f;
 }
 
-// Eq. 1 with the clearance over the BVH (brt::Initialise): the s1 point with the smallest
+// Eq. 1 with the clearance over the BVH: the s1 point with the smallest
 // t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
 // finite bound it finds the s1 points more than delta deep inside that sphere (the verification).
-// With useBehind, only points with (P - O).behind < 0 count (the second look).
 int initialise(__global const real* s1Point, __global const int* s1Face,
   __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
-  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta,
-  int useBehind, real3 behind, real* tOut)
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta, real* tOut)
 {
   int best = -1;
   real t = bound;
@@ -764,8 +770,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
             continue;
           const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist ||
-            (useBehind && !(dot(w, behind) < (real)0)))
+          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
             continue;
           const real tt = (real)0.5 * (l2 - delta * delta) / (dn - delta);
           if (tt < t)
@@ -801,7 +806,7 @@ typedef struct
 } Result;
 
 // T within 1e-9 of the edge's parameter range of one of its ends: that vertex
-// (brt::AtEdgeEnd).
+//.
 inline int at_edge_end(const Model* m, int edge, real T)
 {
   const real T0 = m->edgeRange[2 * edge], T1 = m->edgeRange[2 * edge + 1];
@@ -811,7 +816,7 @@ inline int at_edge_end(const Model* m, int edge, real T)
 
 // A surface/edge or surface/vertex contact where the faces meet tangentially is a tangent
 // contact with them: reported as surface/surface on the first face whose normal at the foot is
-// within 1e-3 rad of the sphere's (brt::TypeTangentEdgeContact). foot is relative to O.
+// within 1e-3 rad of the sphere's. foot is relative to O.
 void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
 {
   if ((r->type != CONTACT_SURFACE_EDGE && r->type != CONTACT_SURFACE_VERTEX) || r->edge < 0)
@@ -850,8 +855,17 @@ void type_tangent_edge_contact(const Model* m, real T, real3 d, Result* r)
 }
 
 // t_delta(P) = (|P-O|^2 - delta^2) / (2 (d.(P-O) - delta)) for the boundary point P, given
-// w = P - O: the radius at which the sphere tangent at O holds P delta deep (brt::SphereRadius;
-// delta = 0: eq. 1); REAL_MAX when P is not more than delta in front of O.
+// w = P - O: the radius at which the sphere tangent at O holds P delta deep (delta = 0:
+// eq. 1); REAL_MAX when P is not more than delta in front of O.
+// Why a clearance: where the sphere touches a whole arc (an osculating sphere on a round, a
+// spherical corner blend) t(P) is flat along the arc up to the patches' error e, which it
+// amplifies by 1 / (1 - cos theta) (theta the angle at M between O and P): minimising t, double
+// and float picked different noise minima, up to 2% apart. t_delta adds about
+// delta / (1 - cos theta), which the patches' error (< delta / 2) cannot cancel, so its minimum
+// is the arc point farthest from O, well defined in both precisions. Near O, t_delta is large
+// (P within delta of O's tangent plane gives none): the trivial and osculating solutions next to
+// O disappear. The reported radius is eq. 1's t(P) at the foot found: exact wherever the contact
+// is a strict minimum of t (plates, tubes, shells), within delta^2 / (2 t) elsewhere.
 inline real sphere_radius(real3 d, real3 w, real delta)
 {
   const real b = dot(d, w) - delta;
@@ -874,7 +888,7 @@ inline Result no_result(void)
   return r;
 }
 
-// A surface Newton's result is a valid contact (brt::ValidSurfaceSolve): converged on the face,
+// A surface Newton's result is a valid contact: converged on the face,
 // positive and below the model's size, from inside, no osculating contact near O.
 int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceSolve* sn, real3 d,
   real scale, real newtonTol)
@@ -886,7 +900,7 @@ int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceS
 }
 
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
-// v0) with the initial radius t; mirrors brt::SolveFrom.
+// v0) with the initial radius t.
 Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
   real t, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
   int* iterations)
@@ -1077,7 +1091,7 @@ out:;
   return r;
 }
 
-// --- the descent fallback (brt::Descend) ------------------------------------------------------
+// --- the descent fallback ------------------------------------------------------
 // Steps shorter than this fraction of the model size end a descent (rounding).
 #ifdef BRT_DOUBLE
 #define DESCENT_TINY ((real)1e-14)
@@ -1118,7 +1132,7 @@ inline real tangential_residual(const DescentState* st, real3 d)
   return sqrt(a * a + b * b);
 }
 
-// One face's part of the descent (brt::DescendOnFace): minimises t(u, v) over the trimmed face
+// One face's part of the descent: minimises t(u, v) over the trimmed face
 // from (u, v). A step is accepted when it lowers t by a sufficient amount, or, once t no longer
 // changes beyond rounding (float near the minimum), when it lowers the tangential residual.
 // *crossing: the trimming segment the last step wanted to cross (-1: a minimum inside).
@@ -1199,7 +1213,7 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
   return cur;
 }
 
-// The minimum of t_delta(C(T)) along `edge` from T (brt::MinimiseOnEdge): Newton on t'(T) where
+// The minimum of t_delta(C(T)) along `edge` from T: Newton on t'(T) where
 // t(T) is convex, else the longest step downhill, with line search; stops at the edge's ends.
 typedef struct
 {
@@ -1269,7 +1283,7 @@ EdgeMinimum minimise_on_edge(const Model* m, int edge, real T, real3 Ohi, real3 
   return em;
 }
 
-// The contact at an edge minimum on `face`'s edge (brt::EdgeContact): surface/edge, or
+// The contact at an edge minimum on `face`'s edge: surface/edge, or
 // surface/vertex at an end (typed surface/surface where the faces meet tangentially); failed
 // where t is not positive or eq. 7's residual is above the tolerance.
 Result edge_contact(const Model* m, int sampleFace, int face, int edge, const EdgeMinimum* em,
@@ -1298,7 +1312,7 @@ Result edge_contact(const Model* m, int sampleFace, int face, int edge, const Ed
   return r;
 }
 
-// The descent fallback (brt::Descend): minimises t over the trimmed face from (u, v); where the
+// The descent fallback: minimises t over the trimmed face from (u, v); where the
 // minimum lies on the face's boundary, along the nearest edge, and from the edge's minimum into
 // the face across it where t falls that way, up to 4 faces. Mirrors the reference step for step.
 Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, real3 d, real u,
@@ -1396,7 +1410,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
   return best;
 }
 
-// Descends on the face across the edge nearest O (brt::DescendAcrossNearestEdge; ownSeg and
+// Descends on the face across the edge nearest O (ownSeg and
 // ownParam: O's projection on its own trim, from classify): a sample next to a convex edge has a
 // sphere of about its distance from the edge, closer to O than any s1 point. The start is moved
 // into that face by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t.
@@ -1443,10 +1457,12 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real
     maxEdgeIterations, iterations);
 }
 
-// The second look at a verified contact (brt::SecondLook): the other end of an arc; the face
-// across the edge nearest O where that edge is within t and one s1 spacing of O; the minimum
-// along the edge next to a surface contact (within rho); the surface Newton on the faces beside an
-// edge contact. The smallest sphere wins (each is inside the verified one).
+// The second look at a verified contact (docs/Solver.md): the minimum along the edge next to a
+// surface contact (within rho); the surface Newton on the faces beside an edge contact; the
+// edges and faces around a vertex next to the contact. Each is a Newton from the contact itself,
+// a sphere tangent at O inside the verified one: the smallest wins. (The far end of an arc and
+// the face across the edge nearest O, looked at before the certification against the patches,
+// bought nothing measurable since and cost a third of the solve: docs/Solver.md.)
 // The vertex at the end of `edge` nearer T, when within rho of `foot` (relative to O).
 void near_vertex(const Model* m, int edge, real T, real3 foot, real rho, real3 Ohi, real3 Olo,
   int* vertexEdge, int* vertexEnd)
@@ -1463,7 +1479,7 @@ void near_vertex(const Model* m, int edge, real T, real3 foot, real rho, real3 O
   }
 }
 
-// The surface/surface contact of a surface Newton's result on `face` (brt::SurfaceContact).
+// The surface/surface contact of a surface Newton's result on `face`.
 inline Result surface_result(int face, const SurfaceSolve* ss)
 {
   Result c = no_result();
@@ -1479,7 +1495,7 @@ inline Result surface_result(int face, const SurfaceSolve* ss)
 
 // The edges and faces at the vertex at end `end` of `edge`, from a contact of radius t at or
 // next to it: the minimum along each edge from the vertex and the surface Newton on each face
-// from it (but skipFace) replace *r where lower (brt::AroundVertex).
+// from it (but skipFace) replace *r where lower.
 void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int end, int skipFace,
   real t, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol, real newtonTol,
   int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
@@ -1523,7 +1539,7 @@ void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int en
   }
 }
 
-// The local part of the second look (brt::SecondLookNear): the minimum along the edge next to
+// The local part of the second look: the minimum along the edge next to
 // a surface contact, the surface Newton on the faces beside an edge contact, and the edges and
 // faces around the vertex at or next to the contact.
 void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
@@ -1588,58 +1604,9 @@ void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
       stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, r);
 }
 
-// The second look at a verified contact (brt::SecondLook): the far end of an arc, the face
-// across the edge nearest O, then second_look_near.
-void second_look(const Model* m, __global const real* s1Point, __global const int* s1Face,
-  __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
-  int solid, int ownFace, int ownSeg, real ownParam, real3 Ohi, real3 Olo, real3 d, real scale,
-  real stepTol,
-  real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
-{
-  if (r->type == CONTACT_FAILED)
-    return;
-  const real rho = fmax((real)1e-2 * r->t, (real)10 * m->slack);
-  // Lower by more than rounding: a tie within it keeps the first contact (brt::SecondLook).
-  const real roundoff = REAL_EPS;
-  const real a = dot(d, r->foot);
-  const real3 wt = r->foot - a * d;
-  Result c;
-  if (a < (real)1.2 * r->t && dot(wt, wt) > rho * rho)
-  {
-    real t;
-    const int p = initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, Ohi + Olo, d, solid,
-      -1, scale, (real)1.2 * r->t, m->delta, 1, wt, &t);
-    if (p >= 0)
-    {
-      c = descend(m, ownFace, s1_face(s1Face, p), Ohi, Olo, d, s1UV[2 * p], s1UV[2 * p + 1],
-        scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
-      if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
-        *r = c;
-    }
-  }
-  // O within t and one s1 spacing of its face's boundary: the face across the nearest edge.
-  if (ownSeg >= 0 && m->trimEdge[ownSeg] >= 0)
-  {
-    const real T = m->trimRange[2 * ownSeg] +
-      ownParam * (m->trimRange[2 * ownSeg + 1] - m->trimRange[2 * ownSeg]);
-    real3 C, Ct, Ctt;
-    eval_edge(m, m->trimEdge[ownSeg], T, Ohi, Olo, &C, &Ct, &Ctt);
-    const real reach = fmin(r->t, m->s1Spacing);
-    if (dot(C, C) < reach * reach)
-    {
-      c = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d, scale,
-        newtonTol, maxIterations, maxEdgeIterations, iterations);
-      if (c.type != CONTACT_FAILED && c.t < r->t * ((real)1 - roundoff))
-        *r = c;
-    }
-  }
-  second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
-    maxEdgeIterations, iterations, r);
-}
-
-// --- the certification against the patches (brt::FindPointInside) -------------------------
+// --- the certification against the patches -------------------------
 // Even-odd count of the crossings of a ray in +u with the face's trimming loops, each segment
-// as 16 chords (brt::InsideByCrossings): the second opinion for points far from the loops.
+// as 16 chords (as the host's brt::InsideByCrossings): the second opinion for points far from the loops.
 int inside_by_crossings(const Model* m, int face, real u, real v)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
@@ -1664,7 +1631,7 @@ int inside_by_crossings(const Model* m, int face, real u, real v)
   return inside;
 }
 
-// The deepest point found so far (brt::PointInside): face, (u, v) and eq. 1's radius through it
+// The deepest point found so far: face, (u, v) and eq. 1's radius through it
 // with the depth as clearance.
 typedef struct
 {
@@ -1684,7 +1651,10 @@ inline real box_gap2(__global const real* b, real3 p)
 
 // A candidate point w = P - O on `face` at (u, v), the centre at M = O + mr: kept when it lies
 // inside the trim, deeper than the depth in d, deeper than the best so far, and not the sample's
-// own point (brt::FindPointInside's consider and NearSampleOnOwnFace).
+// own point: on O's own face a point must lie deeper by twice the tolerance more (the patches
+// there may lie a little more than the tolerance off O's exact point: a toroidal shell converted
+// within 1e-6 showed 2.75e-6 at O's own patch point), and within 4 tolerances of O nothing
+// counts.
 void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
   real3 d, real depth, real reach, PointInside* st)
 {
@@ -1833,7 +1803,7 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
   }
 }
 
-// The certification of the sphere of radius t tangent at O (brt::FindPointInside): the deepest
+// The certification of the sphere of radius t tangent at O: the deepest
 // point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
 // conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
 // segment whose control-point box reaches into the sphere is searched. 0 where none is that
@@ -1891,7 +1861,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   return st->found;
 }
 
-// One sample at the clearance m->delta (brt::SolveWithClearance): initialisation (eq. 1),
+// One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
 Result solve_with_clearance(const Model* m, __global const real* s1Point,
@@ -1909,7 +1879,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-    REAL_MAX, m->delta, 0, splat_real3(0), &t);
+    REAL_MAX, m->delta, &t);
   Result r = no_result();
   if (best < 0)
   {
@@ -1924,7 +1894,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // That start led nowhere: try the best start on any other face once.
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-      REAL_MAX, m->delta, 0, splat_real3(0), &t);
+      REAL_MAX, m->delta, &t);
     if (best >= 0)
     {
       const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best),
@@ -1948,12 +1918,12 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       r = a;
   }
   // Points inside by less than the patches' accuracy (slack) prove nothing, whatever the
-  // clearance (brt::SolveWithClearance).
+  // clearance.
   const real depth = fmax(m->delta, m->slack);
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      r.t * (real)(1.0 - 1e-6), depth, 0, splat_real3(0), &t);
+      r.t * (real)(1.0 - 1e-6), depth, &t);
     int inFace;
     real inU, inV;
     if (best >= 0)
@@ -1964,9 +1934,10 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     }
     else
     {
-      // no s1 point inside: maximal at the resolution of s1
-      second_look(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, solid, ownFace, ownSeg, ownParam,
-        Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, iterations, &r);
+      // No s1 point inside: maximal at the resolution of s1. The second look decides between
+      // the contacts of one sphere at an edge or vertex next to the contact.
+      second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+        maxEdgeIterations, iterations, &r);
       // Then the patches themselves: a wall narrower than s1's spacing can still reach in.
       PointInside inside;
       if (!find_point_inside(m, ownFace, Ohi, Olo, d, r.t, depth, &inside))
@@ -2009,7 +1980,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   return r;
 }
 
-// Refines a contact found in lower precision (brt::PolishResult): the same contact's Newton from
+// Refines a contact found in lower precision: the same contact's Newton from
 // its foot (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then
 // the local part of the second look, and keeps the result where the Newton converged within rho
 // of the old foot. r carries the foot relative to O and the foot's parameters; m->delta is the
@@ -2081,7 +2052,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
   if (r.type == CONTACT_FAILED && clearance > (real)0)
   {
     // Failed with the clearance (next to an acute convex edge, say): solve without it
-    // (brt::SolveOne).
+    //.
     mm.delta = 0;
     const Result exact = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo,
       ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
