@@ -89,61 +89,91 @@ std::vector<DeviceEntry> Devices()
   return out;
 }
 
-/// Context, queue and built program of one device and precision; built once, kept for the
-/// process (the kernel source is compiled once per context).
+/// Context and queue of one device, with its programs: the float one and, on a device with
+/// cl_khr_fp64, the double one (built on first use; kept for the process, so the kernel source
+/// is compiled once per device and precision).
 struct Runtime
 {
+  cl_device_id Device = nullptr;
   cl_context Context = nullptr;
   cl_command_queue Queue = nullptr;
-  cl_program Program = nullptr;
-  cl_kernel Kernel = nullptr;
+  cl_program Program[2] = { nullptr, nullptr }; ///< [0] float, [1] double
+  cl_kernel Solve[2] = { nullptr, nullptr };
+  cl_kernel Finish = nullptr; ///< the double program's brt_finish
   std::string Name;
-  bool Double = false;
-  std::mutex Lock; ///< one launch sequence at a time on the shared kernel object
+  bool HasDouble = false;
+  std::mutex Lock; ///< one launch sequence at a time on the shared kernel objects
   ~Runtime()
   {
-    if (Kernel)
-      clReleaseKernel(Kernel);
-    if (Program)
-      clReleaseProgram(Program);
+    for (int k = 0; k < 2; ++k)
+    {
+      if (Solve[k])
+        clReleaseKernel(Solve[k]);
+      if (Program[k])
+        clReleaseProgram(Program[k]);
+    }
+    if (Finish)
+      clReleaseKernel(Finish);
     if (Queue)
       clReleaseCommandQueue(Queue);
     if (Context)
       clReleaseContext(Context);
+  }
+  /// Builds the program of one precision (with its kernels) unless built.
+  void Build(bool useDouble)
+  {
+    const int k = useDouble ? 1 : 0;
+    if (Program[k])
+      return;
+    cl_int err = CL_SUCCESS;
+    const char* src = ThicknessKernelSource;
+    Program[k] = clCreateProgramWithSource(Context, 1, &src, nullptr, &err);
+    Check(err, "clCreateProgramWithSource");
+    const char* options = useDouble ? "-DBRT_DOUBLE" : "";
+    if (clBuildProgram(Program[k], 1, &Device, options, nullptr, nullptr) != CL_SUCCESS)
+    {
+      size_t n = 0;
+      clGetProgramBuildInfo(Program[k], Device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+      std::string log(n, '\0');
+      clGetProgramBuildInfo(Program[k], Device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+      clReleaseProgram(Program[k]);
+      Program[k] = nullptr;
+      throw OpenCLError("OpenCL: the thickness kernel does not build on " + Name + " (" +
+        (useDouble ? "double" : "float") + "):\n" + log);
+    }
+    Solve[k] = clCreateKernel(Program[k], "brt_solve", &err);
+    Check(err, "clCreateKernel");
+    if (useDouble)
+    {
+      Finish = clCreateKernel(Program[k], "brt_finish", &err);
+      Check(err, "clCreateKernel");
+    }
   }
 };
 
 std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
 {
   static std::mutex mutex;
-  static std::map<std::pair<cl_device_id, bool>, std::shared_ptr<Runtime>> cache;
+  static std::map<cl_device_id, std::shared_ptr<Runtime>> cache;
   std::lock_guard<std::mutex> guard(mutex);
-  auto it = cache.find({ dev.Device, useDouble });
-  if (it != cache.end())
-    return it->second;
-  auto rt = std::make_shared<Runtime>();
-  rt->Name = dev.Label;
-  rt->Double = useDouble;
-  cl_int err = CL_SUCCESS;
-  rt->Context = clCreateContext(nullptr, 1, &dev.Device, nullptr, nullptr, &err);
-  Check(err, "clCreateContext");
-  rt->Queue = clCreateCommandQueue(rt->Context, dev.Device, 0, &err);
-  Check(err, "clCreateCommandQueue");
-  const char* src = ThicknessKernelSource;
-  rt->Program = clCreateProgramWithSource(rt->Context, 1, &src, nullptr, &err);
-  Check(err, "clCreateProgramWithSource");
-  const char* options = useDouble ? "-DBRT_DOUBLE" : "";
-  if (clBuildProgram(rt->Program, 1, &dev.Device, options, nullptr, nullptr) != CL_SUCCESS)
+  std::shared_ptr<Runtime>& rt = cache[dev.Device];
+  if (!rt)
   {
-    size_t n = 0;
-    clGetProgramBuildInfo(rt->Program, dev.Device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
-    std::string log(n, '\0');
-    clGetProgramBuildInfo(rt->Program, dev.Device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
-    throw OpenCLError("OpenCL: the thickness kernel does not build on " + dev.Label + ":\n" + log);
+    auto made = std::make_shared<Runtime>();
+    made->Device = dev.Device;
+    made->Name = dev.Label;
+    made->HasDouble = Info(dev.Device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos;
+    cl_int err = CL_SUCCESS;
+    made->Context = clCreateContext(nullptr, 1, &dev.Device, nullptr, nullptr, &err);
+    Check(err, "clCreateContext");
+    made->Queue = clCreateCommandQueue(made->Context, dev.Device, 0, &err);
+    Check(err, "clCreateCommandQueue");
+    rt = made;
   }
-  rt->Kernel = clCreateKernel(rt->Program, "brt_solve", &err);
-  Check(err, "clCreateKernel");
-  cache[{ dev.Device, useDouble }] = rt;
+  std::lock_guard<std::mutex> launch(rt->Lock);
+  rt->Build(useDouble);
+  if (!useDouble && rt->HasDouble)
+    rt->Build(true); // the float solve's finish on the device
   return rt;
 }
 
@@ -194,23 +224,30 @@ struct Buffer
 struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
-  // Model buffers: 0..19 are kernel arguments 0..19, 20 (the vertex table) argument 33, 21..27
-  // (the certification's) arguments 34..40.
+  bool Double = false; ///< the precision asked for
+  /// The model's buffers (kernel arguments 0..27), per precision: [0] float, [1] double.
   static constexpr int ModelBuffers = 28;
+  Buffer Model[2][ModelBuffers];
   int PatchCount = 0;
   bool HasBoxes = false;
-  /// The same model for the native device: the float kernels' finish in double.
+  /// The float kernels' finish on the host, where the device has no double precision.
   std::unique_ptr<NativeSolver> Native;
-  Buffer Model[ModelBuffers];
-  Buffer Samples, SampleFace, OutReal, OutInt;
+  Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo;
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
   std::vector<unsigned char> ExactPass;
 
   template <class T>
   void UploadAs(const BRepModel& m, const SolverData& data);
+  /// Solves samples[which[j]] (all when which is null) with the kernels of precision T, `chunk`
+  /// per launch; with `finish` (float only), each chunk is finished on the device in double.
+  /// Returns the samples whose finish asks for a solve in double.
   template <class T>
-  void SolveAs(const BRepModel& m, const SolverData& data, const SolverOptions& options,
-    const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk);
+  std::vector<size_t> SolveAs(const BRepModel& m, const SolverData& data,
+    const SolverOptions& options, const std::vector<Sample>& samples,
+    std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk,
+    bool finish);
+  void SetArgs(cl_kernel k, int set, const Buffer& samples, int count, const KernelScalars& ks,
+    bool asDouble);
 };
 
 OpenCLSolver::OpenCLSolver(const std::string& device, bool useDouble)
@@ -257,6 +294,7 @@ OpenCLSolver::OpenCLSolver(const std::string& device, bool useDouble)
   if (useDouble && Info(pick->Device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") == std::string::npos)
     throw OpenCLError("OpenCL: " + pick->Label + " has no double precision (cl_khr_fp64)");
   P->RT = GetRuntime(*pick, useDouble);
+  P->Double = useDouble;
 }
 
 OpenCLSolver::~OpenCLSolver() = default;
@@ -276,14 +314,23 @@ const std::string& OpenCLSolver::DeviceName() const
 
 bool OpenCLSolver::DoublePrecision() const
 {
-  return P->RT->Double;
+  return P->Double;
+}
+
+bool OpenCLSolver::FinishesOnDevice() const
+{
+  return !P->Double && P->RT->HasDouble && !FinishOnHost;
 }
 
 size_t OpenCLSolver::DeviceBytes() const
 {
-  size_t n = P->Samples.Bytes + P->SampleFace.Bytes + P->OutReal.Bytes + P->OutInt.Bytes;
-  for (const auto& b : P->Model)
-    n += b.Bytes;
+  size_t n = P->SampleFace.Bytes + P->Redo.Bytes;
+  for (int k = 0; k < 2; ++k)
+  {
+    n += P->Samples[k].Bytes + P->OutReal[k].Bytes + P->OutInt[k].Bytes;
+    for (const auto& b : P->Model[k])
+      n += b.Bytes;
+  }
   return n;
 }
 
@@ -294,49 +341,188 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   const KernelModel<T> k = PackKernelModel<T>(m, data);
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
-  Model[0].Write(ctx, q, k.Patches);
-  Model[1].Write(ctx, q, k.PatchAnchor);
-  Model[2].Write(ctx, q, k.PatchDomain);
-  Model[3].Write(ctx, q, k.FaceInfo);
-  Model[4].Write(ctx, q, k.FaceDomain);
-  Model[5].Write(ctx, q, k.Breaks);
-  Model[6].Write(ctx, q, k.Loops);
-  Model[7].Write(ctx, q, k.Trim);
-  Model[8].Write(ctx, q, k.TrimEdge);
-  Model[9].Write(ctx, q, k.TrimRange);
-  Model[10].Write(ctx, q, k.EdgeInfo);
-  Model[11].Write(ctx, q, k.EdgeRange);
-  Model[12].Write(ctx, q, k.EdgeSeg);
-  Model[13].Write(ctx, q, k.EdgeAnchor);
-  Model[14].Write(ctx, q, k.EdgeSegRange);
-  Model[15].Write(ctx, q, k.S1Point);
-  Model[16].Write(ctx, q, k.S1Face);
-  Model[17].Write(ctx, q, k.S1UV);
-  Model[18].Write(ctx, q, k.NodeBox);
-  Model[19].Write(ctx, q, k.NodeInfo);
-  Model[20].Write(ctx, q, k.VertexInfo);
-  Model[21].Write(ctx, q, k.PatchFace);
-  Model[22].Write(ctx, q, k.EdgeSegEdge);
-  Model[23].Write(ctx, q, k.PatchBoxes);
-  Model[24].Write(ctx, q, k.EdgeBoxes);
-  Model[25].Write(ctx, q, k.BoxNodeBox);
-  Model[26].Write(ctx, q, k.BoxNodeInfo);
-  Model[27].Write(ctx, q, k.BoxItems);
+  Buffer* b = Model[sizeof(T) == 8 ? 1 : 0];
+  b[0].Write(ctx, q, k.Patches);
+  b[1].Write(ctx, q, k.PatchAnchor);
+  b[2].Write(ctx, q, k.PatchDomain);
+  b[3].Write(ctx, q, k.FaceInfo);
+  b[4].Write(ctx, q, k.FaceDomain);
+  b[5].Write(ctx, q, k.Breaks);
+  b[6].Write(ctx, q, k.Loops);
+  b[7].Write(ctx, q, k.Trim);
+  b[8].Write(ctx, q, k.TrimEdge);
+  b[9].Write(ctx, q, k.TrimRange);
+  b[10].Write(ctx, q, k.EdgeInfo);
+  b[11].Write(ctx, q, k.EdgeRange);
+  b[12].Write(ctx, q, k.EdgeSeg);
+  b[13].Write(ctx, q, k.EdgeAnchor);
+  b[14].Write(ctx, q, k.EdgeSegRange);
+  b[15].Write(ctx, q, k.S1Point);
+  b[16].Write(ctx, q, k.S1Face);
+  b[17].Write(ctx, q, k.S1UV);
+  b[18].Write(ctx, q, k.NodeBox);
+  b[19].Write(ctx, q, k.NodeInfo);
+  b[20].Write(ctx, q, k.VertexInfo);
+  b[21].Write(ctx, q, k.PatchFace);
+  b[22].Write(ctx, q, k.EdgeSegEdge);
+  b[23].Write(ctx, q, k.PatchBoxes);
+  b[24].Write(ctx, q, k.EdgeBoxes);
+  b[25].Write(ctx, q, k.BoxNodeBox);
+  b[26].Write(ctx, q, k.BoxNodeInfo);
+  b[27].Write(ctx, q, k.BoxItems);
   PatchCount = static_cast<int>(m.Patches.size());
   HasBoxes = k.HasBoxes();
-  Native.reset();
-  if (!RT->Double)
-    Native = std::make_unique<NativeSolver>(m, data); // the float kernels' finish
   Check(clFinish(q), "clFinish");
 }
 
+void OpenCLSolver::Impl::SetArgs(cl_kernel k, int set, const Buffer& samples, int count,
+  const KernelScalars& ks, bool asDouble)
+{
+  for (cl_uint a = 0; a < ModelBuffers; ++a)
+    Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[set][a].Mem), "clSetKernelArg");
+  const cl_int n = count, maxIt = ks.MaxIterations, maxEdgeIt = ks.MaxEdgeIterations,
+               patchCount = PatchCount, certify = ks.Certify && HasBoxes ? 1 : 0;
+  Check(clSetKernelArg(k, 28, sizeof(cl_mem), &samples.Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, 29, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, 30, sizeof(cl_int), &n), "clSetKernelArg");
+  const double reals[] = { ks.Scale, ks.StepTol, ks.NewtonTol, ks.Slack, ks.Clearance };
+  for (cl_uint a = 0; a < 5; ++a)
+  {
+    if (asDouble)
+      Check(clSetKernelArg(k, 31 + a, sizeof(double), &reals[a]), "clSetKernelArg");
+    else
+    {
+      const float f = static_cast<float>(reals[a]);
+      Check(clSetKernelArg(k, 31 + a, sizeof(float), &f), "clSetKernelArg");
+    }
+  }
+  Check(clSetKernelArg(k, 36, sizeof(cl_int), &maxIt), "clSetKernelArg");
+  Check(clSetKernelArg(k, 37, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+  if (asDouble)
+    Check(clSetKernelArg(k, 38, sizeof(double), &ks.S1Spacing), "clSetKernelArg");
+  else
+  {
+    const float f = static_cast<float>(ks.S1Spacing);
+    Check(clSetKernelArg(k, 38, sizeof(float), &f), "clSetKernelArg");
+  }
+  Check(clSetKernelArg(k, 39, sizeof(cl_int), &patchCount), "clSetKernelArg");
+  Check(clSetKernelArg(k, 40, sizeof(cl_int), &certify), "clSetKernelArg");
+}
+
 template <class T>
-void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
+std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
+  const SolverOptions& options, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk, bool finish)
+{
+  std::vector<size_t> again;
+  const size_t total = which ? which->size() : samples.size();
+  if (total == 0)
+    return again;
+  const int set = sizeof(T) == 8 ? 1 : 0;
+  const size_t perSample = (SampleReals + OutReals) * (sizeof(T) + (finish ? 8 : 0)) +
+    (2 * OutInts + 2) * sizeof(int);
+  if (chunk == 0)
+    chunk = std::max<size_t>(1024, (64u << 20) / perSample);
+  chunk = std::min(chunk, total);
+  cl_context ctx = RT->Context;
+  cl_command_queue q = RT->Queue;
+  Samples[set].Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
+  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
+  OutReal[set].Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_READ_WRITE);
+  OutInt[set].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_READ_WRITE);
+  if (finish)
+  {
+    Samples[1].Allocate(ctx, chunk * SampleReals * sizeof(double), CL_MEM_READ_ONLY);
+    OutReal[1].Allocate(ctx, chunk * OutReals * sizeof(double), CL_MEM_WRITE_ONLY);
+    OutInt[1].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_WRITE_ONLY);
+    Redo.Allocate(ctx, chunk * sizeof(int), CL_MEM_WRITE_ONLY);
+  }
+  const KernelScalars ks = GetKernelScalars<T>(model, data, options);
+  const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
+  std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
+  std::vector<double> in64(finish ? chunk * SampleReals : 0), outR64(finish ? chunk * OutReals : 0);
+  std::vector<int> outI(chunk * OutInts), faces(chunk), redo(finish ? chunk : 0);
+
+  std::lock_guard<std::mutex> guard(RT->Lock);
+  cl_kernel k = RT->Solve[set];
+  for (size_t first = 0; first < total; first += chunk)
+  {
+    const size_t n = std::min(chunk, total - first);
+    auto index = [&](size_t i) { return which ? (*which)[first + i] : first + i; };
+    for (size_t i = 0; i < n; ++i)
+    {
+      PackSample(data, samples[index(i)], &in[SampleReals * i]);
+      if (finish)
+        PackSample(data, samples[index(i)], &in64[SampleReals * i]);
+      faces[i] = samples[index(i)].Face;
+    }
+    Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
+      "clEnqueueWriteBuffer");
+    Check(clEnqueueWriteBuffer(q, Samples[set].Mem, CL_FALSE, 0, n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
+      "clEnqueueWriteBuffer");
+    const size_t local = 64;
+    const size_t global = (n + local - 1) / local * local;
+    SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
+    Check(clSetKernelArg(k, 41, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, 42, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
+    Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
+      "clEnqueueNDRangeKernel");
+    if (finish)
+    {
+      cl_kernel f = RT->Finish;
+      Check(clEnqueueWriteBuffer(q, Samples[1].Mem, CL_FALSE, 0, n * SampleReals * sizeof(double), in64.data(), 0, nullptr, nullptr),
+        "clEnqueueWriteBuffer");
+      SetArgs(f, 1, Samples[1], static_cast<int>(n), ks64, true);
+      Check(clSetKernelArg(f, 41, sizeof(cl_mem), &OutReal[0].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, 42, sizeof(cl_mem), &OutInt[0].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, 43, sizeof(cl_mem), &OutReal[1].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, 44, sizeof(cl_mem), &OutInt[1].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, 45, sizeof(cl_mem), &Redo.Mem), "clSetKernelArg");
+      Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &global, &local, 0, nullptr, nullptr),
+        "clEnqueueNDRangeKernel");
+      Check(clEnqueueReadBuffer(q, OutReal[1].Mem, CL_FALSE, 0, n * OutReals * sizeof(double), outR64.data(), 0, nullptr, nullptr),
+        "clEnqueueReadBuffer");
+      Check(clEnqueueReadBuffer(q, Redo.Mem, CL_FALSE, 0, n * sizeof(int), redo.data(), 0, nullptr, nullptr),
+        "clEnqueueReadBuffer");
+      Check(clEnqueueReadBuffer(q, OutInt[1].Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
+        "clEnqueueReadBuffer");
+      for (size_t i = 0; i < n; ++i)
+      {
+        ExactPass[index(i)] = UnpackResult(samples[index(i)], &outR64[OutReals * i],
+          &outI[OutInts * i], results[index(i)]) ? 1 : 0;
+        if (redo[i])
+          again.push_back(index(i));
+      }
+      continue;
+    }
+    Check(clEnqueueReadBuffer(q, OutReal[set].Mem, CL_FALSE, 0, n * OutReals * sizeof(T), outR.data(), 0, nullptr, nullptr),
+      "clEnqueueReadBuffer");
+    Check(clEnqueueReadBuffer(q, OutInt[set].Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
+      "clEnqueueReadBuffer");
+    for (size_t i = 0; i < n; ++i)
+      ExactPass[index(i)] = UnpackResult(samples[index(i)], &outR[OutReals * i],
+        &outI[OutInts * i], results[index(i)]) ? 1 : 0;
+  }
+  return again;
+}
+
+void OpenCLSolver::Upload(const BRepModel& model, const SolverData& data)
+{
+  P->Native.reset();
+  if (P->Double || P->RT->HasDouble)
+    P->UploadAs<double>(model, data);
+  if (!P->Double)
+    P->UploadAs<float>(model, data);
+  if (!P->Double)
+    P->Native = std::make_unique<NativeSolver>(model, data); // the float finish on the host
+}
+
+void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, size_t chunk)
 {
   results.assign(samples.size(), SampleResult());
-  ExactPass.assign(samples.size(), 0);
+  P->ExactPass.assign(samples.size(), 0);
   if (samples.empty())
     return;
   if (data.Nodes.empty())
@@ -345,98 +531,29 @@ void OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
-  const size_t perSample = (SampleReals + OutReals) * sizeof(T) + (OutInts + 1) * sizeof(int);
-  if (chunk == 0)
-    chunk = std::max<size_t>(1024, (64u << 20) / perSample);
-  chunk = std::min(chunk, samples.size());
-  cl_context ctx = RT->Context;
-  cl_command_queue q = RT->Queue;
-  cl_kernel k = RT->Kernel;
-  Samples.Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
-  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
-  OutReal.Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_WRITE_ONLY);
-  OutInt.Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_WRITE_ONLY);
-  const KernelScalars ks = GetKernelScalars<T>(model, data, options);
-  const T scale = static_cast<T>(ks.Scale), stepTol = static_cast<T>(ks.StepTol),
-          newtonTol = static_cast<T>(ks.NewtonTol), slack = static_cast<T>(ks.Slack),
-          clearance = static_cast<T>(ks.Clearance), s1Spacing = static_cast<T>(ks.S1Spacing);
-  const cl_int maxIt = ks.MaxIterations, maxEdgeIt = ks.MaxEdgeIterations;
-  std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
-  std::vector<int> outI(chunk * OutInts), faces(chunk);
-
-  std::lock_guard<std::mutex> guard(RT->Lock);
-  for (cl_uint a = 0; a < 20; ++a)
-    Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
-  Check(clSetKernelArg(k, 33, sizeof(cl_mem), &Model[20].Mem), "clSetKernelArg");
-  for (cl_uint a = 21; a < ModelBuffers; ++a)
-    Check(clSetKernelArg(k, a + 13, sizeof(cl_mem), &Model[a].Mem), "clSetKernelArg");
-  const cl_int patchCount = PatchCount, certify = ks.Certify && HasBoxes ? 1 : 0;
-  Check(clSetKernelArg(k, 41, sizeof(cl_int), &patchCount), "clSetKernelArg");
-  Check(clSetKernelArg(k, 42, sizeof(cl_int), &certify), "clSetKernelArg");
-  for (size_t first = 0; first < samples.size(); first += chunk)
+  // The double kernels run the whole solve, the certification included: they are final.
+  if (P->Double)
   {
-    const size_t n = std::min(chunk, samples.size() - first);
-    for (size_t i = 0; i < n; ++i)
-    {
-      PackSample(data, samples[first + i], &in[SampleReals * i]);
-      faces[i] = samples[first + i].Face;
-    }
-    Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
-    Check(clEnqueueWriteBuffer(q, Samples.Mem, CL_FALSE, 0, n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
-    const cl_int count = static_cast<cl_int>(n);
-    Check(clSetKernelArg(k, 20, sizeof(cl_mem), &Samples.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 21, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 22, sizeof(cl_int), &count), "clSetKernelArg");
-    Check(clSetKernelArg(k, 23, sizeof(T), &scale), "clSetKernelArg");
-    Check(clSetKernelArg(k, 24, sizeof(T), &stepTol), "clSetKernelArg");
-    Check(clSetKernelArg(k, 25, sizeof(T), &newtonTol), "clSetKernelArg");
-    Check(clSetKernelArg(k, 26, sizeof(T), &slack), "clSetKernelArg");
-    Check(clSetKernelArg(k, 27, sizeof(T), &clearance), "clSetKernelArg");
-    Check(clSetKernelArg(k, 28, sizeof(cl_int), &maxIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 29, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
-    Check(clSetKernelArg(k, 30, sizeof(cl_mem), &OutReal.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 31, sizeof(cl_mem), &OutInt.Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 32, sizeof(T), &s1Spacing), "clSetKernelArg");
-    const size_t local = 64;
-    const size_t global = (n + local - 1) / local * local;
-    Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
-      "clEnqueueNDRangeKernel");
-    Check(clEnqueueReadBuffer(q, OutReal.Mem, CL_FALSE, 0, n * OutReals * sizeof(T), outR.data(), 0, nullptr, nullptr),
-      "clEnqueueReadBuffer");
-    Check(clEnqueueReadBuffer(q, OutInt.Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
-      "clEnqueueReadBuffer");
-    for (size_t i = 0; i < n; ++i)
-      ExactPass[first + i] = UnpackResult(samples[first + i], &outR[OutReals * i],
-        &outI[OutInts * i], results[first + i]) ? 1 : 0;
-  }
-}
-
-void OpenCLSolver::Upload(const BRepModel& model, const SolverData& data)
-{
-  if (P->RT->Double)
-    P->UploadAs<double>(model, data);
-  else
-    P->UploadAs<float>(model, data);
-}
-
-void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
-  const SolverOptions& options, const std::vector<Sample>& samples,
-  std::vector<SampleResult>& results, size_t chunk)
-{
-  if (P->RT->Double)
-    P->SolveAs<double>(model, data, options, samples, results, chunk);
-  else
-    P->SolveAs<float>(model, data, options, samples, results, chunk);
-  // The double kernels run the whole solve, the certification included: nothing is left to
-  // the host. The float kernels' contacts are refined in double (NativeSolver::Polish: the
-  // contact's own Newton, then the local part of the second look), every sphere is certified
-  // again in double, and the samples the float kernels fail or that fail the certification are
-  // solved by the native device: the same source in double, on every core.
-  if (!HostFinish || P->RT->Double || !P->Native)
+    P->SolveAs<double>(model, data, options, samples, results, nullptr, chunk, false);
     return;
-  std::vector<size_t> hard, solved;
+  }
+  // The float kernels, then their finish in double: every contact polished (polish_result: its
+  // own Newton, then the local part of the second look) and certified again, and the samples the
+  // float kernels fail or whose sphere holds boundary solved again by the double kernels. On a
+  // device with double precision all of it runs there (brt_finish); elsewhere on the host, by
+  // the native device (the same source).
+  const bool onDevice = Finish && FinishesOnDevice();
+  std::vector<size_t> hard =
+    P->SolveAs<float>(model, data, options, samples, results, nullptr, chunk, onDevice);
+  if (!Finish)
+    return;
+  if (onDevice)
+  {
+    if (!hard.empty())
+      P->SolveAs<double>(model, data, options, samples, results, &hard, chunk, false);
+    return;
+  }
+  std::vector<size_t> solved;
   for (size_t i = 0; i < samples.size(); ++i)
     (results[i].Type == ContactType::Failed ? hard : solved).push_back(i);
   SolverOptions exact = options;

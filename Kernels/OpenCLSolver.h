@@ -49,16 +49,27 @@ public:
   /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
   size_t DeviceBytes() const;
 
-  /// Whether Solve finishes the float kernels' results on the host, in double (default on; the
-  /// double kernels' results are final): each contact refined and certified again
-  /// (NativeSolver::Polish, NativeSolver::HoldsBoundary), and the samples the float kernels
-  /// leave failed or that fail the certification solved by the native device. Off, Solve
-  /// returns the kernels' own results: the tests measure the kernels alone that way.
-  void SetHostFinish(bool on) { HostFinish = on; }
-  bool GetHostFinish() const { return HostFinish; }
+  /// Whether Solve finishes the float kernels' results in double (default on; the double
+  /// kernels' results are final): each contact polished and certified again, and the samples the
+  /// float kernels leave failed or whose sphere holds boundary solved again in double. On a
+  /// device with double precision (cl_khr_fp64) all of it runs on the device (FinishesOnDevice);
+  /// elsewhere on the host, by the native device. Off, Solve returns the float kernels' own
+  /// results: the tests measure the kernels alone that way.
+  void SetFinish(bool on) { Finish = on; }
+  bool GetFinish() const { return Finish; }
+
+  /// True where the float kernels' finish runs on the device (float asked, cl_khr_fp64 there,
+  /// not SetFinishOnHost).
+  bool FinishesOnDevice() const;
+
+  /// Runs the float kernels' finish on the host (the native device) even where the device has
+  /// double precision: for a device whose double precision is slow (consumer GPUs run it at
+  /// 1/16 to 1/64 of float), and for the tests that compare the two places.
+  void SetFinishOnHost(bool on) { FinishOnHost = on; }
 
 private:
-  bool HostFinish = true;
+  bool Finish = true;
+  bool FinishOnHost = false;
   struct Impl;
   std::unique_ptr<Impl> P;
 };

@@ -2082,35 +2082,101 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
 }
 
 #ifdef __OPENCL_VERSION__
-__kernel void brt_solve(__global const real* patches, __global const real* patchAnchor,
-  __global const real* patchDomain,
-  __global const int* faceInfo, __global const real* faceDomain, __global const real* breaks,
-  __global const int* loops, __global const real* trim, __global const int* trimEdge,
-  __global const real* trimRange, __global const int* edgeInfo, __global const real* edgeRange,
-  __global const real* edgeSeg, __global const real* edgeAnchor,
-  __global const real* edgeSegRange, __global const real* s1Point, __global const int* s1Face, __global const real* s1UV,
-  __global const real* nodeBox, __global const int* nodeInfo,
-  __global const real* samples, // O hi (3), O lo (3), d (3), u, v per sample
-  __global const int* sampleFace, // the face of each sample
-  const int count, const real scale, const real stepTol, const real newtonTol, const real slack,
-  const real clearance, const int maxIterations, const int maxEdgeIterations,
-  __global real* outReal, // OUT_REALS per sample
-  __global int* outInt,   // OUT_INTS per sample: type, reason, face, patch, edge, iterations,
-                          // and 1 where the pass without clearance found the contact
-  const real s1Spacing, __global const int* vertexInfo, __global const int* patchFace,
-  __global const int* edgeSegEdge, __global const real* patchBoxes, __global const real* edgeBoxes,
-  __global const real* boxNodeBox, __global const int* boxNodeInfo, __global const int* boxItems,
-  const int patchCount, const int certify)
+// The model's buffers, kernel arguments 0..27 of every kernel (brt::KernelModel, in this order).
+#define MODEL_PARAMS                                                                             \
+  __global const real *patches, __global const real *patchAnchor,                                \
+    __global const real *patchDomain, __global const int *faceInfo,                             \
+    __global const real *faceDomain, __global const real *breaks, __global const int *loops,     \
+    __global const real *trim, __global const int *trimEdge, __global const real *trimRange,     \
+    __global const int *edgeInfo, __global const real *edgeRange, __global const real *edgeSeg,  \
+    __global const real *edgeAnchor, __global const real *edgeSegRange,                         \
+    __global const real *s1Point, __global const int *s1Face, __global const real *s1UV,         \
+    __global const real *nodeBox, __global const int *nodeInfo, __global const int *vertexInfo,  \
+    __global const int *patchFace, __global const int *edgeSegEdge,                              \
+    __global const real *patchBoxes, __global const real *edgeBoxes,                             \
+    __global const real *boxNodeBox, __global const int *boxNodeInfo, __global const int *boxItems
+// Then the launch's: the samples (SAMPLE_REALS each) and their faces, the count, the scalars
+// (brt::KernelScalars), arguments 28..40.
+#define LAUNCH_PARAMS                                                                            \
+  __global const real *samples, __global const int *sampleFace, const int count,                \
+    const real scale, const real stepTol, const real newtonTol, const real slack,                \
+    const real clearance, const int maxIterations, const int maxEdgeIterations,                 \
+    const real s1Spacing, const int patchCount, const int certify
+#define MODEL_INIT                                                                               \
+  { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim, trimEdge,      \
+    trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,        \
+    clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox,            \
+    boxNodeInfo, boxItems, patchCount, certify }
+
+// The solve: one work-item per sample; results in OUT_REALS and OUT_INTS per sample (arguments
+// 41, 42).
+__kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __global int* outInt)
 {
   const int gid = get_global_id(0);
   if (gid >= count)
     return;
-  Model mm = { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim,
-    trimEdge, trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,
-    clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox, boxNodeInfo,
-    boxItems, patchCount, certify };
+  const Model mm = MODEL_INIT;
   solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, samples + SAMPLE_REALS * gid,
     sampleFace[gid], scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
     outReal + OUT_REALS * gid, outInt + OUT_INTS * gid);
 }
+
+#ifdef BRT_DOUBLE
+// The float solve's finish on the device, in double (built in the double program of a device
+// with cl_khr_fp64): each float contact polished (polish_result) and certified again; the
+// results in double in outReal/outInt, and redo[gid] = 1 where the sample must be solved again
+// in double (the float solve failed it, or its sphere holds boundary). Arguments 41..45.
+__kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floatReal,
+  __global const int* floatInt, __global real* outReal, __global int* outInt, __global int* redo)
+{
+  const int gid = get_global_id(0);
+  if (gid >= count)
+    return;
+  __global const real* sp = samples + SAMPLE_REALS * gid;
+  __global const float* fR = floatReal + OUT_REALS * gid;
+  __global const int* fI = floatInt + OUT_INTS * gid;
+  __global real* oR = outReal + OUT_REALS * gid;
+  __global int* oI = outInt + OUT_INTS * gid;
+  const int ownFace = sampleFace[gid];
+  Model mm = MODEL_INIT;
+  if (fI[6])
+    mm.delta = 0; // found by the pass without clearance
+  const real3 Ohi = make_real3(sp[0], sp[1], sp[2]), Olo = make_real3(sp[3], sp[4], sp[5]);
+  const real3 d = make_real3(sp[6], sp[7], sp[8]);
+  Result r = no_result();
+  r.type = fI[0];
+  r.reason = fI[1];
+  r.face = fI[2];
+  r.patch = fI[3];
+  r.edge = fI[4];
+  r.res = fR[4];
+  r.foot = make_real3(fR[1], fR[2], fR[3]);
+  r.param = make_real2(fR[5], fR[6]);
+  r.t = sphere_radius(d, r.foot, mm.delta);
+  int iterations = fI[5], again = r.type == CONTACT_FAILED;
+  if (!again)
+  {
+    polish_result(&mm, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+      maxEdgeIterations, &iterations, &r);
+    PointInside inside;
+    again = find_point_inside(&mm, ownFace, Ohi, Olo, d, sphere_radius(d, r.foot, (real)0),
+      fmax(mm.delta, mm.slack), &inside);
+  }
+  oR[0] = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
+  oR[1] = r.foot.x;
+  oR[2] = r.foot.y;
+  oR[3] = r.foot.z;
+  oR[4] = r.res;
+  oR[5] = r.param.x;
+  oR[6] = r.param.y;
+  oI[0] = r.type;
+  oI[1] = r.reason;
+  oI[2] = r.face;
+  oI[3] = r.patch;
+  oI[4] = r.edge;
+  oI[5] = iterations;
+  oI[6] = fI[6];
+  redo[gid] = again;
+}
+#endif
 #endif

@@ -73,7 +73,7 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool native = true, help = false, certify = true;
+  bool finishOnHost = false, native = true, help = false, certify = true;
   brt::ConversionOptions conversion;
   for (int i = 1; i < argc; ++i)
   {
@@ -83,6 +83,8 @@ int main(int argc, char** argv)
       device = argv[++i];
     else if (!std::strcmp(argv[i], "--double"))
       useDouble = true;
+    else if (!std::strcmp(argv[i], "--finish-on-host"))
+      finishOnHost = true;
     else if (!std::strcmp(argv[i], "--export") && i + 1 < argc)
       exportDir = argv[++i];
     else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
@@ -112,6 +114,7 @@ int main(int argc, char** argv)
       "kernels' device memory, as a table.\n"
       "  --device NAME     OpenCL device: any (default), cpu, gpu, none, or a name\n"
       "  --double          double-precision kernels (default float)\n"
+      "  --finish-on-host  float kernels: their finish in double on the host, not the device\n"
       "  --no-native       skip the native CPU device (--no-reference: the same)\n"
       "  --no-certify      skip the check of the spheres against the patches\n"
       "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
@@ -128,7 +131,9 @@ int main(int argc, char** argv)
     try
     {
       cl = std::make_unique<brt::OpenCLSolver>(device, useDouble);
-      std::printf("OpenCL device: %s (%s)\n", cl->DeviceName().c_str(), useDouble ? "double" : "float");
+      cl->SetFinishOnHost(finishOnHost);
+      std::printf("OpenCL device: %s (%s%s)\n", cl->DeviceName().c_str(), useDouble ? "double" : "float",
+        useDouble ? "" : cl->FinishesOnDevice() ? ", finished on the device" : ", finished on the host");
     }
     catch (const std::exception& e)
     {

@@ -130,10 +130,10 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
     d{ in[6], in[7], in[8] };
   kernel::Result k = ToKernel(sample, r, s.Clearance);
   int iterations = 0;
-  if (!kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
-        s.MaxIterations, s.MaxEdgeIterations, &iterations, &k))
-    return;
-  // Back through the kernel's own output layout, so that one function reads results.
+  kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
+    s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
+  // Back through the kernel's own output layout, so that one function reads results; a contact
+  // the polish kept gets its radius from its foot in double, as brt_finish gives it.
   double outR[KernelOutReals] = { kernel::sphere_radius(d, k.foot, 0.0), k.foot.x, k.foot.y,
     k.foot.z, k.res, k.param.x, k.param.y };
   int outI[KernelOutInts] = { k.type, k.reason, k.face, k.patch, k.edge,

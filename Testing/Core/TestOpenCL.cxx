@@ -244,9 +244,9 @@ TEST_P(KernelVsReference, EveryDataModel)
     // results; in float measured 99.75-100% (FRAMEWORK tile the lowest: float ties between
     // osculating spheres in its corner pockets).
     std::vector<SampleResult> alone;
-    cl->SetHostFinish(false);
+    cl->SetFinish(false);
     cl->Solve(m, data, options, samples, alone, 4096);
-    cl->SetHostFinish(true);
+    cl->SetFinish(true);
     size_t handedBack = 0;
     for (const auto& r : alone)
       handedBack += r.Type == ContactType::Failed;
@@ -277,7 +277,7 @@ TEST(NativeDevice, SameAsOpenCLDoubleKernels)
   auto cl = Device(true, &why);
   if (!cl)
     GTEST_SKIP() << why;
-  cl->SetHostFinish(false);
+  cl->SetFinish(false);
   for (const auto& name : test::DataModels())
   {
     const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
@@ -310,6 +310,45 @@ TEST(NativeDevice, SameAsOpenCLDoubleKernels)
     // Measured on PoCL: identical on the analytic models; 0-0.16% of the samples on the real
     // parts, where two compilers' rounding picks another of nearly tied spheres or contacts.
     EXPECT_LE(typeDiffers + radiusDiffers, samples.size() * 25 / 10000 + 1) << name;
+  }
+}
+
+// The float kernels' finish (polish, certification, solve again in double) runs on the device
+// where it has double precision and on the host elsewhere: the same source, so the same results.
+TEST(OpenCLKernels, FinishOnDeviceSameAsOnHost)
+{
+  std::string why;
+  auto cl = Device(false, &why);
+  if (!cl)
+    GTEST_SKIP() << why;
+  if (!cl->FinishesOnDevice())
+    GTEST_SKIP() << cl->DeviceName() << " has no double precision: the finish runs on the host";
+  for (const char* name : { "FRAMEWORK_DESKTOP_BLANK_TILE.stp", "l_bracket.step" })
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    SolverOptions options;
+    const SolverData data = PrepareSolver(m, options);
+    const std::vector<Sample> samples = SamplesFromMesh(m, data);
+    std::vector<SampleResult> device, host;
+    cl->Upload(m, data);
+    cl->Solve(m, data, options, samples, device);
+    cl->SetFinishOnHost(true);
+    cl->Solve(m, data, options, samples, host);
+    cl->SetFinishOnHost(false);
+    size_t differ = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+    {
+      const bool d = device[i].Type != host[i].Type ||
+        std::fabs(device[i].Radius - host[i].Radius) > 1e-9 * std::max(1.0, host[i].Radius);
+      if (d && differ < 5)
+        std::printf("[finish differs] %s sample %zu: device %s 2t=%.12g, host %s 2t=%.12g\n", name, i,
+          ContactTypeName(device[i].Type), device[i].Thickness, ContactTypeName(host[i].Type),
+          host[i].Thickness);
+      differ += d;
+    }
+    std::printf("[finish] %s: %zu samples, %zu differ between the device's and the host's finish\n",
+      name, samples.size(), differ);
+    EXPECT_EQ(differ, 0u) << name;
   }
 }
 
