@@ -7,7 +7,7 @@
  * field data. For every vertex O with inward normal d the filter finds the largest sphere tangent
  * to the surface at O that stays inside the solid; its diameter 2t is the thickness at O and its
  * centre a sample of the medial axis. The solve runs in OpenCL (any GPU, or the CPU through
- * PoCL) or in the double-precision CPU reference (docs/Solver.md).
+ * PoCL) or on the native CPU device, the same solver source compiled as C++ (docs/Solver.md).
  *
  * Outputs:
  * - port 0 "Thickness": the input mesh with point arrays Thickness (2t; NaN where the sample
@@ -88,17 +88,17 @@ public:
   ///@}
 
   ///@{
-  /// Where to solve: "auto" (default: the first OpenCL GPU, else the first OpenCL device, else
-  /// the CPU reference with a warning), "reference" (the double-precision CPU reference, on all
-  /// cores), "gpu", "cpu" (an OpenCL device of that type, e.g. PoCL), or part of an OpenCL device
-  /// or platform name. A named device that is not found is an error listing the devices.
+  /// Where to solve: "auto" (default: the first OpenCL GPU, else the native device), "native"
+  /// (the solver compiled for this CPU, double, all cores; "reference" is its old name), "gpu",
+  /// "cpu" (an OpenCL device of that type, e.g. PoCL), or part of an OpenCL device or platform
+  /// name. A named device that is not found is an error listing the devices.
   vtkSetStringMacro(Device);
   vtkGetStringMacro(Device);
   ///@}
 
   ///@{
   /// Arithmetic of the OpenCL kernels: FLOAT (default, the paper's) or DOUBLE (needs
-  /// cl_khr_fp64). The CPU reference is always double.
+  /// cl_khr_fp64). The native device is always double.
   vtkSetClampMacro(Precision, int, FLOAT, DOUBLE);
   vtkGetMacro(Precision, int);
   ///@}

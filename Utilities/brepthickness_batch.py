@@ -37,7 +37,7 @@ def parse_args(argv=None):
     ap.add_argument("--time-limit", type=float, default=300.0,
                     help="seconds reading, healing and converting the STEP file may take (0: none; "
                          "OpenCASCADE runs in a separate process, a crash or a time-out there is an error)")
-    ap.add_argument("--device", default="auto", help="auto, reference, gpu, cpu or an OpenCL device name")
+    ap.add_argument("--device", default="auto", help="auto, native, gpu, cpu or an OpenCL device name")
     ap.add_argument("--precision", choices=("float", "double"), default="float")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")

@@ -4,15 +4,16 @@ max_sphere and ray thickness, MeshLib's in-sphere and ray thickness.
 
   python3 Utilities/compare_mesh_tools.py MODEL.step [MODEL.step ...] [--trimesh-samples N]
 
-For each model, pvpython with the built plugin reads the STEP file, solves it with the CPU
-reference (double) and with the default device, and writes the display mesh (the samples are
+For each model, pvpython with the built plugin reads the STEP file, solves it with the native CPU
+device (the solver's source compiled for the CPU, double: the reference) and with the OpenCL CPU
+device in float (PoCL; its finish in double on the device), and writes the display mesh (the samples are
 its vertices) and the exact thicknesses to an .npz. A private virtual environment
 (build/compare-venv, made on first use with pip from PyPI: numpy, scipy, trimesh, rtree, meshlib; never
 a dependency of the build or the tests) then runs the mesh tools on the same mesh, welded as an
 STL user would have it. Printed per tool: samples/s, and the error against the exact values on
 the samples inside faces (vertices of one face only: at face boundaries the welded mesh has one
 normal where the B-Rep has two): median, 99th percentile and maximum of |T - T_exact|, and the
-share within 1e-4 mm. The exact values are the CPU reference's; failed samples are left out.
+share within 1e-4 mm. The exact values are the native device's; failed samples are left out.
 Ours is timed for the solve alone (the Summary's SolveSeconds), as the tools are.
 """
 import argparse
@@ -32,7 +33,7 @@ LoadPlugin(sys.argv[1], ns=globals())
 model, out = sys.argv[2], sys.argv[3]
 reader = STEPReader(FileName=model)
 def solve(device):
-    f = BRepThickness(Input=reader, Device=device, Precision="Double" if device == "reference" else "Float")
+    f = BRepThickness(Input=reader, Device=device, Precision="Double" if device == "native" else "Float")
     f.UpdatePipeline()
     mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))
     summary = sm.Fetch(f, idx=3)
@@ -44,8 +45,8 @@ def solve(device):
             name = dev.GetValue(0)
     Delete(f)
     return mesh, rows, name
-mesh, rows_ref, _ = solve("reference")
-_, rows_dev, dev_name = solve("auto")
+mesh, rows_ref, _ = solve("native")
+_, rows_dev, dev_name = solve("cpu")
 polys = dsa.vtkDataArrayToVTKArray(mesh.VTKObject.GetPolys().GetConnectivityArray())
 np.savez(out, points=np.asarray(mesh.Points), triangles=np.asarray(polys).reshape(-1, 3),
          normals=np.asarray(mesh.PointData["Normals"]), face=np.asarray(mesh.PointData["FaceId"]),
@@ -163,13 +164,13 @@ def main(argv=None):
         for line in out.splitlines():
             p = line.split("\t")
             if p[0] == "OURS":
-                print("%-34s %-22s %12.0f %12s" % (name, "ours, CPU reference", float(p[1]), "(exact)"))
-                print("%-34s %-22s %12.0f" % (name, "ours, default device", float(p[2])))
+                print("%-34s %-22s %12.0f %12s" % (name, "ours, native CPU", float(p[1]), "(exact)"))
+                print("%-34s %-22s %12.0f" % (name, "ours, OpenCL CPU float", float(p[2])))
             elif p[0] == "ROW":
                 print("%-34s %-22s %12.0f %12.3g %12.3g %12.3g %9.1f%% %7.1f%%" % (
                     name, p[1], float(p[2]), float(p[3]), float(p[4]), float(p[5]), 100 * float(p[6]), 100 * float(p[7])))
             elif p[0] == "COUNTS":
-                print("%-34s   samples %s, welded vertices %s, face-interior samples compared %s; default device: %s"
+                print("%-34s   samples %s, welded vertices %s, face-interior samples compared %s; OpenCL CPU device: %s"
                       % (name, p[1], p[2], p[3], p[4]))
         sys.stdout.flush()
     print("(*) ray thickness: the distance along the inward normal to the opposite wall, a different "

@@ -34,7 +34,7 @@ def on_warning(obj, event, message):
 
 
 reader.GetClientSideObject().AddObserver("WarningEvent", on_warning)
-f = BRepThickness(Input=reader, Device="reference")
+f = BRepThickness(Input=reader, Device="native")
 f.UpdatePipeline()
 check(any("is open" in w for w in warnings), "the reader warns about the open shell")
 mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))

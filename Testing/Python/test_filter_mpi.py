@@ -26,7 +26,7 @@ def worker(plugin, model, out):
 
     simple.LoadPlugin(plugin)  # adds the plugin's proxies to paraview.simple
     reader = simple.STEPReader(FileName=model)
-    f = simple.BRepThickness(Input=reader, Device="reference")
+    f = simple.BRepThickness(Input=reader, Device="native")
     f.UpdatePipeline()
     arrays = {}
     for port, label in ((0, "thickness"), (1, "medial")):

@@ -19,7 +19,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm
 plugin, model = sys.argv[1], sys.argv[2]
 simple.LoadPlugin(plugin)
 reader = simple.STEPReader(FileName=model)
-f = simple.BRepThickness(Input=reader, Device="reference")
+f = simple.BRepThickness(Input=reader, Device="reference")  # the native device's old name
 algo = f.GetClientSideObject()
 failures = []
 progress, warnings = [], []

@@ -24,7 +24,7 @@ THRESHOLD = 10.0
 name = os.path.splitext(os.path.basename(model))[0]
 out = os.path.join(work, name)
 shutil.rmtree(out, ignore_errors=True)
-status = brepthickness_batch.main([model, "--out", out, "--plugin", plugin, "--device", "reference",
+status = brepthickness_batch.main([model, "--out", out, "--plugin", plugin, "--device", "native",
                                    "--size", "640", "480"])
 if status:
     sys.exit("batch script failed with status %s" % status)

@@ -84,7 +84,7 @@ reader, out, messages, seconds = read(good)
 if messages or out.GetNumberOfPoints() == 0:
     failures.append("good file after the crash: %r" % messages)
 else:
-    thick = BRepThickness(Input=reader, Device="reference")
+    thick = BRepThickness(Input=reader, Device="native")
     result = sm.Fetch(thick)
     arr = result.GetPointData().GetArray("Thickness")
     lo, hi = arr.GetRange()
