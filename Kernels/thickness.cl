@@ -2035,6 +2035,27 @@ int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, re
   return 1;
 }
 
+// One result in the output layout (OUT_REALS, OUT_INTS): the reported radius is eq. 1's t(P) at
+// the foot point the clearance selected.
+void write_result(const Result* r, real3 d, int iterations, int exactPass, __global real* oR,
+  __global int* oI)
+{
+  oR[0] = r->type != CONTACT_FAILED ? sphere_radius(d, r->foot, (real)0) : (real)0;
+  oR[1] = r->foot.x;
+  oR[2] = r->foot.y;
+  oR[3] = r->foot.z;
+  oR[4] = r->res;
+  oR[5] = r->param.x;
+  oR[6] = r->param.y;
+  oI[0] = r->type;
+  oI[1] = r->reason;
+  oI[2] = r->face;
+  oI[3] = r->patch;
+  oI[4] = r->edge;
+  oI[5] = iterations;
+  oI[6] = exactPass;
+}
+
 // The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
 // the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
 void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
@@ -2063,22 +2084,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
       exactPass = 1;
     }
   }
-  // The reported radius is eq. 1's t(P) at the foot point the clearance selected.
-  const real t = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
-  oR[0] = t;
-  oR[1] = r.foot.x;
-  oR[2] = r.foot.y;
-  oR[3] = r.foot.z;
-  oR[4] = r.res;
-  oR[5] = r.param.x;
-  oR[6] = r.param.y;
-  oI[0] = r.type;
-  oI[1] = r.reason;
-  oI[2] = r.face;
-  oI[3] = r.patch;
-  oI[4] = r.edge;
-  oI[5] = iterations;
-  oI[6] = exactPass;
+  write_result(&r, d, iterations, exactPass, oR, oI);
 }
 
 #ifdef __OPENCL_VERSION__
@@ -2162,20 +2168,7 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
     again = find_point_inside(&mm, ownFace, Ohi, Olo, d, sphere_radius(d, r.foot, (real)0),
       fmax(mm.delta, mm.slack), &inside);
   }
-  oR[0] = r.type != CONTACT_FAILED ? sphere_radius(d, r.foot, (real)0) : (real)0;
-  oR[1] = r.foot.x;
-  oR[2] = r.foot.y;
-  oR[3] = r.foot.z;
-  oR[4] = r.res;
-  oR[5] = r.param.x;
-  oR[6] = r.param.y;
-  oI[0] = r.type;
-  oI[1] = r.reason;
-  oI[2] = r.face;
-  oI[3] = r.patch;
-  oI[4] = r.edge;
-  oI[5] = iterations;
-  oI[6] = fI[6];
+  write_result(&r, d, iterations, fI[6], oR, oI);
   redo[gid] = again;
 }
 #endif

@@ -134,10 +134,9 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
     s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
   // Back through the kernel's own output layout, so that one function reads results; a contact
   // the polish kept gets its radius from its foot in double, as brt_finish gives it.
-  double outR[KernelOutReals] = { kernel::sphere_radius(d, k.foot, 0.0), k.foot.x, k.foot.y,
-    k.foot.z, k.res, k.param.x, k.param.y };
-  int outI[KernelOutInts] = { k.type, k.reason, k.face, k.patch, k.edge,
-    r.Iterations + iterations, 0 };
+  double outR[KernelOutReals];
+  int outI[KernelOutInts];
+  kernel::write_result(&k, d, r.Iterations + iterations, 0, outR, outI);
   UnpackResult(sample, outR, outI, r);
 }
 
