@@ -1861,6 +1861,53 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   return st->found;
 }
 
+// The shrinking ball: from the sphere of r (radius r->t, tangent at O), while a point of the
+// trimmed faces lies deeper than `depth` inside it, the sphere through the deepest one (eq. 1 with
+// the depth as clearance: that point then lies exactly `depth` inside) replaces it. Each step
+// shrinks the sphere; it stops when no point is deeper, and r becomes a contact at the last
+// point (residual: the last step). The fallback where no Newton or descent from a point inside
+// shrinks the sphere (a sample next to a convex edge, a drafted wall). 0 where nothing was found
+// inside, the certification is off, or it does not settle in 32 steps.
+int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
+  Result* r)
+{
+  if (!m->certify)
+    return 0;
+  real t = r->t, step = 0;
+  PointInside st, last;
+  last.found = 0;
+  for (int k = 0; k < 32; ++k)
+  {
+    if (!find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &st))
+    {
+      if (!last.found)
+        return 0;
+      const int patch = find_patch(m, last.face, last.u, last.v);
+      Result c = no_result();
+      c.type = CONTACT_SURFACE_SURFACE;
+      c.face = last.face;
+      c.patch = patch;
+      c.t = t;
+      c.res = step;
+      c.foot = anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) +
+        eval_patch_point(m, patch, last.u, last.v);
+      c.param = make_real2(last.u, last.v);
+      // A contact on O's own face next to O is the trivial or an osculating solution, not a
+      // wall (as for Newton's contacts).
+      if (shallow_own_face_contact(m, ownFace, c.face, c.foot, d, sphere_radius(d, c.foot, (real)0)))
+        return 0;
+      *r = c;
+      return 1;
+    }
+    if (!(st.t < t) || !(st.t > (real)0))
+      return 0;
+    step = t - st.t;
+    t = st.t;
+    last = st;
+  }
+  return 0;
+}
+
 // One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
@@ -1969,6 +2016,12 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     }
     if (check == 3 || again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
     {
+      // No Newton or descent shrinks the sphere from the point inside: shrink it through the
+      // deepest point of the faces instead (the shrinking ball), then check s1 once more.
+      if (shrink_ball(m, ownFace, Ohi, Olo, d, depth, &r) &&
+        initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+          r.t * (real)(1.0 - 1e-6), depth, &t) < 0)
+        break;
       r.type = CONTACT_FAILED;
       r.reason = FAIL_NOT_MAXIMAL;
       r.patch = -1;
