@@ -173,7 +173,18 @@ std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
   std::lock_guard<std::mutex> launch(rt->Lock);
   rt->Build(useDouble);
   if (!useDouble && rt->HasDouble)
-    rt->Build(true); // the float solve's finish on the device
+  {
+    // The float solve's finish on the device. A driver that cannot build the double program
+    // leaves the finish to the host rather than the float solve unusable.
+    try
+    {
+      rt->Build(true);
+    }
+    catch (const OpenCLError&)
+    {
+      rt->HasDouble = false;
+    }
+  }
   return rt;
 }
 
