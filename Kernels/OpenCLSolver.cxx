@@ -451,8 +451,14 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   const KernelScalars ks = GetKernelScalars<T>(model, data, options);
   const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
   std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
-  std::vector<double> in64(finish ? chunk * SampleReals : 0), outR64(finish ? chunk * OutReals : 0);
-  std::vector<int> outI(chunk * OutInts), faces(chunk), redo(finish ? chunk : 0);
+  std::vector<double> in64, outR64;
+  std::vector<int> outI(chunk * OutInts), faces(chunk), redo;
+  if (finish)
+  {
+    in64.resize(chunk * SampleReals);
+    outR64.resize(chunk * OutReals);
+    redo.resize(chunk);
+  }
 
   std::lock_guard<std::mutex> guard(RT->Lock);
   cl_kernel k = RT->Solve[set];

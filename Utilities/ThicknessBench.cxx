@@ -74,7 +74,8 @@ int main(int argc, char** argv)
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
   bool finishOnHost = false, native = true, help = false, certify = true;
-  brt::ConversionOptions conversion;
+  [[maybe_unused]] double tolerance = 1e-4; // the reader's default conversion tolerance
+
   for (int i = 1; i < argc; ++i)
   {
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h"))
@@ -88,7 +89,7 @@ int main(int argc, char** argv)
     else if (!std::strcmp(argv[i], "--export") && i + 1 < argc)
       exportDir = argv[++i];
     else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
-      conversion.Tolerance = std::stod(argv[++i]);
+      tolerance = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--no-native") || !std::strcmp(argv[i], "--no-reference"))
       native = false;
     else if (!std::strcmp(argv[i], "--no-certify"))
@@ -157,6 +158,8 @@ int main(int argc, char** argv)
       else
       {
 #ifdef BRT_HAVE_OCCT
+        brt::ConversionOptions conversion;
+        conversion.Tolerance = tolerance;
         model = brt::ConvertStepFile(file, conversion);
         data = brt::PrepareSolver(model, options);
         all = brt::SamplesFromMesh(model, data);
