@@ -1861,6 +1861,135 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   return st->found;
 }
 
+// --- ray thickness (issue 14) --------------------------------------------------------------
+// The first point where the ray from O along d (the inward normal) meets patch p beyond sMin and
+// before *best: Newton on S(u, v) - O - s d = 0 in (u, v, s) from the grid points nearest the ray,
+// kept inside the patch, accepted within the patches' accuracy and inside the face's trim.
+void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real* best,
+  int* hitFace)
+{
+  const int face = m->patchFace[p];
+  __global const real* pd = m->patchDomain + 4 * p;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+  // The three grid points nearest the ray (ahead of sMin) start Newton.
+  real seedU[3], seedV[3], seedS[3], seedD[3];
+  for (int k = 0; k < 3; ++k)
+    seedD[k] = REAL_MAX;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+    {
+      const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
+      const real v = pd[2] + (real)0.25 * (real)j * (pd[3] - pd[2]);
+      const real3 w = anchor + eval_patch_point(m, p, u, v);
+      const real sw = dot(w, d);
+      const real3 off = w - sw * d;
+      real dd = dot(off, off);
+      if (!(sw > sMin))
+        continue;
+      real cu = u, cv = v, cs = sw;
+      for (int k = 0; k < 3; ++k)
+        if (dd < seedD[k])
+        {
+          const real tu = seedU[k], tv = seedV[k], ts = seedS[k], td = seedD[k];
+          seedU[k] = cu;
+          seedV[k] = cv;
+          seedS[k] = cs;
+          seedD[k] = dd;
+          cu = tu;
+          cv = tv;
+          cs = ts;
+          dd = td;
+        }
+    }
+  for (int k = 0; k < 3 && seedD[k] < REAL_MAX; ++k)
+  {
+    real u = seedU[k], v = seedV[k], s = seedS[k], f2 = REAL_MAX;
+    for (int it = 0; it < 20; ++it)
+    {
+      const PatchEval e = eval_patch(m, p, u, v);
+      const real3 F = anchor + e.P - s * d;
+      f2 = dot(F, F);
+      if (f2 <= (real)1e-6 * m->slack * m->slack)
+        break;
+      const real J[3][3] = { { e.Du.x, e.Dv.x, -d.x }, { e.Du.y, e.Dv.y, -d.y },
+        { e.Du.z, e.Dv.z, -d.z } };
+      const real r[3] = { -F.x, -F.y, -F.z };
+      real x[3];
+      if (!solve3(J, r, x) && !damped3(J, r, x))
+        break;
+      u = clamp(u + x[0], pd[0], pd[1]);
+      v = clamp(v + x[1], pd[2], pd[3]);
+      s += x[2];
+    }
+    const real3 F = anchor + eval_patch_point(m, p, u, v) - s * d;
+    if (!(dot(F, F) <= (real)0.25 * m->slack * m->slack) || !(s > sMin) || !(s < *best))
+      continue;
+    // Inside the trim, or on it within the face's UV tolerance (a hit on a seam or an edge
+    // belongs to the face, as in ss_on_face).
+    int seg;
+    real param, trimDist;
+    const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
+    if (!(trimDist <= fd[6]) &&
+      (!inside ||
+        (trimDist > (real)1e-3 * (fd[1] - fd[0] + fd[3] - fd[2]) && !inside_by_crossings(m, face, u, v))))
+      continue;
+    *best = s;
+    *hitFace = face;
+  }
+}
+
+// The ray thickness at O: the distance along d to the first point of the trimmed faces of O's
+// solid beyond twice the patches' accuracy (O itself lies on its face), over the box BVH of the
+// certification (slab test against the ray). REAL_MAX where nothing is hit (an open solid, or
+// the boxes are not there).
+real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, int* hitFace)
+{
+  real best = REAL_MAX;
+  *hitFace = -1;
+  if (!m->certify)
+    return best;
+  const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
+  const real sMin = (real)2 * m->slack;
+  const real3 O = Ohi + Olo; // relative to the model's centre, for the boxes
+  const real big = REAL_MAX;
+  const real3 inv = make_real3(d.x != (real)0 ? (real)1 / d.x : big,
+    d.y != (real)0 ? (real)1 / d.y : big, d.z != (real)0 ? (real)1 / d.z : big);
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const int node = stack[--top];
+    __global const real* b = m->boxNodeBox + 6 * node;
+    // Slab test: the ray's parameter interval inside the box, against [sMin, best].
+    const real tx0 = (b[0] - O.x) * inv.x, tx1 = (b[3] - O.x) * inv.x;
+    const real ty0 = (b[1] - O.y) * inv.y, ty1 = (b[4] - O.y) * inv.y;
+    const real tz0 = (b[2] - O.z) * inv.z, tz1 = (b[5] - O.z) * inv.z;
+    const real lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
+    const real hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
+    const real pad = m->slack; // boxes hold the patches; the ray may graze them
+    if (lo > hi + pad || hi < sMin - pad || lo > best + pad)
+      continue;
+    __global const int* ni = m->boxNodeInfo + 3 * node;
+    if (ni[1] > 0)
+    {
+      for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
+      {
+        const int item = m->boxItems[i];
+        if (item < m->patchCount && m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid)
+          ray_patch(m, item, Ohi, Olo, d, sMin, &best, hitFace);
+      }
+      continue;
+    }
+    if (top + 2 > 64)
+      continue;
+    stack[top++] = ni[2];
+    stack[top++] = node + 1;
+  }
+  return best;
+}
+
 // The shrinking ball: from the sphere of r (radius r->t, tangent at O), while a point of the
 // trimmed faces lies deeper than `depth` inside it, the sphere through the deepest one (eq. 1 with
 // the depth as clearance: that point then lies exactly `depth` inside) replaces it. Each step

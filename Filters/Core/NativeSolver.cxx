@@ -4,6 +4,7 @@
 #include "KernelLanguage.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace brt
 {
@@ -138,6 +139,33 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
   int outI[KernelOutInts];
   kernel::write_result(&k, d, r.Iterations + iterations, 0, outR, outI);
   UnpackResult(sample, outR, outI, r);
+}
+
+void NativeSolver::RayThickness(const std::vector<Sample>& samples,
+  std::vector<double>& thickness, std::vector<int>* face, unsigned threads) const
+{
+  thickness.assign(samples.size(), std::numeric_limits<double>::quiet_NaN());
+  if (face)
+    face->assign(samples.size(), -1);
+  if (!P->K.HasBoxes())
+    return;
+  KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, SolverOptions());
+  s.Certify = 1;
+  const kernel::Model view = P->View(s);
+  ParallelFor(samples.size(), threads, [&](size_t i) {
+    double in[KernelSampleReals];
+    PackSample(P->Data, samples[i], in);
+    const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
+      d{ in[6], in[7], in[8] };
+    int hit = -1;
+    const double t = kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, &hit);
+    if (hit >= 0 && t < std::numeric_limits<double>::max())
+    {
+      thickness[i] = t;
+      if (face)
+        (*face)[i] = hit;
+    }
+  });
 }
 
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,

@@ -42,6 +42,13 @@ public:
   /// second look's reach from r's foot.
   void Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const;
 
+  /// The ray thickness of every sample: the distance from O along the inward normal to the first
+  /// point of the trimmed faces of its solid (thickness[i], NaN where the ray meets nothing: an
+  /// open solid; face[i] the face hit, -1 then), on `threads` threads (0: one per core). Needs
+  /// the certification's boxes (PrepareSolver builds them).
+  void RayThickness(const std::vector<Sample>& samples, std::vector<double>& thickness,
+    std::vector<int>* face = nullptr, unsigned threads = 0) const;
+
 private:
   struct Impl;
   std::unique_ptr<Impl> P;
