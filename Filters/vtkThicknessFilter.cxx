@@ -75,6 +75,7 @@ struct vtkThicknessFilter::Internals
   // changing the Summary's limits does not solve again.
   std::string Key;
   std::vector<brt::SampleResult> Results;
+  std::vector<double> Ray; ///< per sample, with Method SPHERE_AND_RAY: the ray thickness (NaN: no hit)
   std::vector<double> Areas; ///< per sample (mesh vertex): a third of its triangles' area
   double PrepareSeconds = 0.0, SolveSeconds = 0.0;
   size_t S1Points = 0;
@@ -136,13 +137,14 @@ int vtkThicknessFilter::RequestData(
   keyStream.precision(17);
   keyStream << input << ' ' << input->GetMTime() << ' ' << this->S1Spacing << ' '
             << this->Clearance << ' ' << this->NewtonTolerance << ' ' << this->MaxIterations << ' '
-            << (this->Device ? this->Device : "") << ' ' << this->Precision;
+            << (this->Device ? this->Device : "") << ' ' << this->Precision << ' ' << this->Method;
   if (empty)
   {
     // Nothing upstream (a reader that failed has already said why): empty outputs.
     I.Key.clear();
     I.Results.clear();
     I.Areas.clear();
+    I.Ray.clear();
   }
   else if (keyStream.str() != I.Key)
   {
@@ -163,6 +165,7 @@ int vtkThicknessFilter::RequestData(
   {
     I.Results.clear();
     I.Areas.clear();
+    I.Ray.clear();
   }
 
   // --- local statistics ------------------------------------------------------------------------
@@ -172,6 +175,23 @@ int vtkThicknessFilter::RequestData(
   std::vector<double>& sums = stats.Sums;
   std::vector<double>& residualHist = stats.ResidualHistogram;
   double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
+  // The ray thickness's statistics: hits, missed, area of the hits, area x thickness; min; max.
+  const bool withRay = this->Method == SPHERE_AND_RAY;
+  double raySums[4] = { 0.0, 0.0, 0.0, 0.0 }, rayMin = std::numeric_limits<double>::max(),
+         rayMax = -std::numeric_limits<double>::max();
+  for (size_t i = 0; withRay && i < I.Ray.size() && i < area.size(); ++i)
+  {
+    if (!std::isfinite(I.Ray[i]))
+    {
+      raySums[1] += 1.0;
+      continue;
+    }
+    raySums[0] += 1.0;
+    raySums[2] += area[i];
+    raySums[3] += area[i] * I.Ray[i];
+    rayMin = std::min(rayMin, I.Ray[i]);
+    rayMax = std::max(rayMax, I.Ray[i]);
+  }
   long long localCount = static_cast<long long>(R.size()), offset = 0;
 
   // --- collective part: every process, in the same order -------------------------------------
@@ -194,6 +214,13 @@ int vtkThicknessFilter::RequestData(
     stats.Min = v;
     ctrl->AllReduce(&stats.Max, &v, 1, vtkCommunicator::MAX_OP);
     stats.Max = v;
+    double rs[4];
+    ctrl->AllReduce(raySums, rs, 4, vtkCommunicator::SUM_OP);
+    std::copy(rs, rs + 4, raySums);
+    ctrl->AllReduce(&rayMin, &v, 1, vtkCommunicator::MIN_OP);
+    rayMin = v;
+    ctrl->AllReduce(&rayMax, &v, 1, vtkCommunicator::MAX_OP);
+    rayMax = v;
     double t[2];
     ctrl->AllReduce(times, t, 2, vtkCommunicator::MAX_OP);
     times[0] = t[0];
@@ -242,6 +269,13 @@ int vtkThicknessFilter::RequestData(
   pointArray(residual.Get(), "Residual", 1);
   pointArray(iterations.Get(), "Iterations", 1);
   pointArray(opposite.Get(), "OppositeFaceId", 1);
+  vtkNew<vtkDoubleArray> rayThick;
+  if (withRay)
+  {
+    pointArray(rayThick.Get(), "RayThickness", 1);
+    for (size_t i = 0; i < R.size(); ++i)
+      rayThick->SetValue(static_cast<vtkIdType>(i), i < I.Ray.size() ? I.Ray[i] : NaN);
+  }
   vtkNew<vtkPoints> centres;
   centres->SetDataTypeToDouble();
   vtkNew<vtkDoubleArray> mRadius, mThick;
@@ -283,6 +317,8 @@ int vtkThicknessFilter::RequestData(
   // ParaView titles a scalar bar with the array name and its component name: "Thickness (mm)".
   const std::string unitTitle = "(" + I.LengthUnit + ")";
   thick->SetComponentName(0, unitTitle.c_str());
+  if (withRay)
+    rayThick->SetComponentName(0, unitTitle.c_str());
   radius->SetComponentName(0, unitTitle.c_str());
 
   // --- port 1: medial points -------------------------------------------------------------------
@@ -354,6 +390,13 @@ int vtkThicknessFilter::RequestData(
     row("MaximumThickness", this->MaximumThickness);
     row("AreaShareAboveMaximum",
       this->MaximumThickness > 0.0 && solvedArea > 0.0 ? sums[Stats::AreaAbove] / solvedArea : NaN);
+    if (withRay)
+    {
+      row("RayThicknessMin", raySums[0] > 0.0 ? rayMin : NaN);
+      row("RayThicknessMax", raySums[0] > 0.0 ? rayMax : NaN);
+      row("RayThicknessMean", raySums[2] > 0.0 ? raySums[3] / raySums[2] : NaN);
+      row("RayMissed", raySums[1]);
+    }
     row("S1Points", static_cast<double>(I.S1Points));
     row("PrepareSeconds", times[0]);
     row("SolveSeconds", times[1]);
@@ -413,7 +456,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   {
     bool gpu = false;
     for (const auto& label : brt::OpenCLSolver::ListDevices())
-      gpu = gpu || label.size() >= 5 && label.compare(label.size() - 5, 5, "(GPU)") == 0;
+      gpu = gpu || (label.size() >= 5 && label.compare(label.size() - 5, 5, "(GPU)") == 0);
     native = !gpu;
   }
   if (!native)
@@ -482,6 +525,14 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       return false;
     }
   }
+  if (this->Method == SPHERE_AND_RAY)
+  {
+    // The ray thickness, on the native device (the kernel source's ray_thickness).
+    brt::NativeSolver rays(model, data);
+    rays.RayThickness(samples, I.Ray);
+  }
+  else
+    I.Ray.clear();
   I.SolveSeconds = Seconds(t1);
   // Open or non-manifold solids and impossible values are flagged, never shown as thickness.
   const brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
@@ -508,6 +559,7 @@ void vtkThicknessFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxIterations: " << this->MaxIterations << "\n";
   os << indent << "Device: " << (this->Device ? this->Device : "(none)") << "\n";
   os << indent << "Precision: " << (this->Precision == DOUBLE ? "double" : "float") << "\n";
+  os << indent << "Method: " << (this->Method == SPHERE_AND_RAY ? "sphere and ray" : "sphere") << "\n";
   os << indent << "MinimumThickness: " << this->MinimumThickness << "\n";
   os << indent << "MaximumThickness: " << this->MaximumThickness << "\n";
   os << indent << "HistogramBins: " << this->HistogramBins << "\n";

@@ -56,6 +56,12 @@ public:
     DOUBLE = 1
   };
 
+  enum MethodTypes
+  {
+    SPHERE = 0,       ///< the maximal inscribed sphere (Thickness and its arrays)
+    SPHERE_AND_RAY = 1 ///< the sphere, and the ray thickness (RayThickness)
+  };
+
   ///@{
   /// Spacing of the coarse sample set s1 on the patches, in model units; 0 (default) picks 1/300
   /// of the bounding-box diagonal. Smaller is slower and finds thin features more surely.
@@ -104,6 +110,16 @@ public:
   ///@}
 
   ///@{
+  /// SPHERE (default): the maximal-sphere thickness. SPHERE_AND_RAY: also the ray thickness, the
+  /// distance from each sample along its inward normal to the first point of the exact trimmed
+  /// faces of its solid (point array RayThickness, NaN where the ray meets nothing; Summary rows
+  /// RayThicknessMin/Max/Mean, RayMissed). The ray runs on the native CPU device whatever Device
+  /// says (no OpenCL entry point yet).
+  vtkSetClampMacro(Method, int, SPHERE, SPHERE_AND_RAY);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
   /// Thickness limits for the Summary: the share of the area thinner than MinimumThickness and
   /// thicker than MaximumThickness (model units; 0 disables a limit). They do not change the
   /// solve, so changing them does not solve again.
@@ -141,6 +157,7 @@ protected:
   int MaxIterations = 50;
   char* Device = nullptr;
   int Precision = FLOAT;
+  int Method = SPHERE;
   double MinimumThickness = 0.0;
   double MaximumThickness = 0.0;
   int HistogramBins = 20;

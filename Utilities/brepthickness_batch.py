@@ -39,6 +39,9 @@ def parse_args(argv=None):
                          "OpenCASCADE runs in a separate process, a crash or a time-out there is an error)")
     ap.add_argument("--device", default="auto", help="auto, native, gpu, cpu or an OpenCL device name")
     ap.add_argument("--precision", choices=("float", "double"), default="float")
+    ap.add_argument("--method", choices=("sphere", "sphere-and-ray"), default="sphere",
+                    help="sphere: maximal-sphere thickness; sphere-and-ray: also the ray thickness "
+                         "(RayThickness array, Summary rows RayThicknessMin/Max/Mean, RayMissed)")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
     ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/300)")
@@ -140,7 +143,8 @@ def main(argv=None):
     thick = BRepThickness(Input=reader, Device=args.device,
                           Precision="Double" if args.precision == "double" else "Float",
                           MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
-                          S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins)
+                          S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins,
+                          Method="Sphere and ray" if args.method == "sphere-and-ray" else "Sphere")
     collect_errors(thick, errors)
     thick.UpdatePipeline()
     if errors:
