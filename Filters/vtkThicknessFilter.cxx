@@ -527,9 +527,11 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   }
   if (this->Method == SPHERE_AND_RAY)
   {
-    // The ray thickness, on the native device (the kernel source's ray_thickness).
-    brt::NativeSolver rays(model, data);
-    rays.RayThickness(samples, I.Ray);
+    // The ray thickness (the kernel source's ray_thickness) on the same device.
+    if (native)
+      cpu->RayThickness(samples, I.Ray);
+    else
+      I.CL->RayThickness(model, data, samples, I.Ray);
   }
   else
     I.Ray.clear();

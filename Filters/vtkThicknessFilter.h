@@ -113,8 +113,7 @@ public:
   /// SPHERE (default): the maximal-sphere thickness. SPHERE_AND_RAY: also the ray thickness, the
   /// distance from each sample along its inward normal to the first point of the exact trimmed
   /// faces of its solid (point array RayThickness, NaN where the ray meets nothing; Summary rows
-  /// RayThicknessMin/Max/Mean, RayMissed). The ray runs on the native CPU device whatever Device
-  /// says (no OpenCL entry point yet).
+  /// RayThicknessMin/Max/Mean, RayMissed), on the same device as the sphere.
   vtkSetClampMacro(Method, int, SPHERE, SPHERE_AND_RAY);
   vtkGetMacro(Method, int);
   ///@}

@@ -46,6 +46,13 @@ public:
   void Solve(const BRepModel& model, const SolverData& data, const SolverOptions& options,
     const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk = 0);
 
+  /// The ray thickness of every sample (after Upload with the same model and data):
+  /// NativeSolver::RayThickness on this device, in double wherever the device has it (in float
+  /// only on a device without cl_khr_fp64).
+  void RayThickness(const BRepModel& model, const SolverData& data,
+    const std::vector<Sample>& samples, std::vector<double>& thickness,
+    std::vector<int>* face = nullptr);
+
   /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
   size_t DeviceBytes() const;
 

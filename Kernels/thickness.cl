@@ -2309,6 +2309,22 @@ __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __g
     outReal + OUT_REALS * gid, outInt + OUT_INTS * gid);
 }
 
+// The ray thickness (ray_thickness): one work-item per sample; the distance in outRay (REAL_MAX
+// where the ray meets nothing) and the face hit in outFace (-1) (arguments 41, 42). Needs the
+// certification's boxes (certify = 1).
+__kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __global int* outFace)
+{
+  const int gid = get_global_id(0);
+  if (gid >= count)
+    return;
+  const Model mm = MODEL_INIT;
+  __global const real* sp = samples + SAMPLE_REALS * gid;
+  int face = -1;
+  outRay[gid] = ray_thickness(&mm, sampleFace[gid], make_real3(sp[0], sp[1], sp[2]),
+    make_real3(sp[3], sp[4], sp[5]), make_real3(sp[6], sp[7], sp[8]), &face);
+  outFace[gid] = face;
+}
+
 #ifdef BRT_DOUBLE
 // The float solve's finish on the device, in double (built in the double program of a device
 // with cl_khr_fp64): each float contact polished (polish_result) and certified again; the

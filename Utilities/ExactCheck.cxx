@@ -266,7 +266,7 @@ int main(int argc, char** argv)
         diffs.emplace_back(r.Thickness - exact, k);
       }
       std::sort(diffs.begin(), diffs.end(),
-        [](const auto& a, const auto& b) { return std::fabs(a.first) > std::fabs(b.first); });
+        [](const auto& x, const auto& y) { return std::fabs(x.first) > std::fabs(y.first); });
       std::printf("    exact thickness on %zu solved samples: %zu within 1e-4 relative (%.1f%%)\n",
         checked, agree, 100.0 * agree / std::max<size_t>(checked, 1));
       for (size_t w = 0; w < diffs.size() && static_cast<int>(w) < list; ++w)
