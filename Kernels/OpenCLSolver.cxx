@@ -265,6 +265,14 @@ struct OpenCLSolver::Impl
     bool finish);
   void SetArgs(cl_kernel k, int set, const Buffer& samples, int count, const KernelScalars& ks,
     bool asDouble);
+  /// The chunk buffers of precision T for `chunk` samples.
+  template <class T>
+  void AllocateChunk(size_t chunk);
+  /// Packs samples[index(i)], i < n, and queues them and their faces to the device (in and
+  /// faces: host staging, at least n samples; kept until the queue's next blocking read).
+  template <class T, class Index>
+  void WriteChunk(const SolverData& data, const std::vector<Sample>& samples, Index index,
+    size_t n, std::vector<T>& in, std::vector<int>& faces);
   template <class T>
   void RayAs(const BRepModel& m, const SolverData& data, const std::vector<Sample>& samples,
     std::vector<double>& thickness, std::vector<int>* face);
@@ -430,6 +438,35 @@ void OpenCLSolver::Impl::SetArgs(cl_kernel k, int set, const Buffer& samples, in
 }
 
 template <class T>
+void OpenCLSolver::Impl::AllocateChunk(size_t chunk)
+{
+  const int set = sizeof(T) == 8 ? 1 : 0;
+  cl_context ctx = RT->Context;
+  Samples[set].Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
+  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
+  OutReal[set].Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_READ_WRITE);
+  OutInt[set].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_READ_WRITE);
+}
+
+template <class T, class Index>
+void OpenCLSolver::Impl::WriteChunk(const SolverData& data, const std::vector<Sample>& samples,
+  Index index, size_t n, std::vector<T>& in, std::vector<int>& faces)
+{
+  const int set = sizeof(T) == 8 ? 1 : 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    PackSample(data, samples[index(i)], &in[SampleReals * i]);
+    faces[i] = samples[index(i)].Face;
+  }
+  Check(clEnqueueWriteBuffer(RT->Queue, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(),
+          0, nullptr, nullptr),
+    "clEnqueueWriteBuffer");
+  Check(clEnqueueWriteBuffer(RT->Queue, Samples[set].Mem, CL_FALSE, 0,
+          n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
+    "clEnqueueWriteBuffer");
+}
+
+template <class T>
 std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk, bool finish)
@@ -446,10 +483,7 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   chunk = std::min(chunk, total);
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
-  Samples[set].Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
-  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
-  OutReal[set].Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_READ_WRITE);
-  OutInt[set].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_READ_WRITE);
+  AllocateChunk<T>(chunk);
   if (finish)
   {
     Samples[1].Allocate(ctx, chunk * SampleReals * sizeof(double), CL_MEM_READ_ONLY);
@@ -475,17 +509,10 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   {
     const size_t n = std::min(chunk, total - first);
     auto index = [&](size_t i) { return which ? (*which)[first + i] : first + i; };
-    for (size_t i = 0; i < n; ++i)
-    {
-      PackSample(data, samples[index(i)], &in[SampleReals * i]);
-      if (finish)
+    WriteChunk(data, samples, index, n, in, faces);
+    if (finish)
+      for (size_t i = 0; i < n; ++i)
         PackSample(data, samples[index(i)], &in64[SampleReals * i]);
-      faces[i] = samples[index(i)].Face;
-    }
-    Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
-    Check(clEnqueueWriteBuffer(q, Samples[set].Mem, CL_FALSE, 0, n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
@@ -555,12 +582,8 @@ void OpenCLSolver::Impl::RayAs(const BRepModel& model, const SolverData& data,
 {
   const int set = sizeof(T) == 8 ? 1 : 0;
   const size_t chunk = std::min<size_t>(samples.size(), 1u << 16);
-  cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
-  Samples[set].Allocate(ctx, chunk * SampleReals * sizeof(T), CL_MEM_READ_ONLY);
-  SampleFace.Allocate(ctx, chunk * sizeof(int), CL_MEM_READ_ONLY);
-  OutReal[set].Allocate(ctx, chunk * OutReals * sizeof(T), CL_MEM_READ_WRITE);
-  OutInt[set].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_READ_WRITE);
+  AllocateChunk<T>(chunk);
   KernelScalars ks = GetKernelScalars<T>(model, data, SolverOptions());
   ks.Certify = 1; // the ray walks the certification's boxes
   std::vector<T> in(chunk * SampleReals), out(chunk);
@@ -570,15 +593,7 @@ void OpenCLSolver::Impl::RayAs(const BRepModel& model, const SolverData& data,
   for (size_t first = 0; first < samples.size(); first += chunk)
   {
     const size_t n = std::min(chunk, samples.size() - first);
-    for (size_t i = 0; i < n; ++i)
-    {
-      PackSample(data, samples[first + i], &in[SampleReals * i]);
-      faces[i] = samples[first + i].Face;
-    }
-    Check(clEnqueueWriteBuffer(q, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
-    Check(clEnqueueWriteBuffer(q, Samples[set].Mem, CL_FALSE, 0, n * SampleReals * sizeof(T), in.data(), 0, nullptr, nullptr),
-      "clEnqueueWriteBuffer");
+    WriteChunk(data, samples, [first](size_t i) { return first + i; }, n, in, faces);
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
     Check(clSetKernelArg(k, 41, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
     Check(clSetKernelArg(k, 42, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
