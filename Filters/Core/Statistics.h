@@ -12,6 +12,37 @@
 namespace brt
 {
 
+/// Pass/fail class of a sample (the filter's ThicknessClass array; docs/DataContract.md).
+enum class SampleClass : int
+{
+  Failed = 0,  ///< the solve failed (FailReason says why)
+  Thin = 1,    ///< 2t below the minimum
+  Ok = 2,      ///< within the limits (or no limit set)
+  Thick = 3,   ///< 2t above the maximum
+  EdgeZone = 4 ///< the sphere is small because of a corner (IsEdgeZone), not counted as thin
+};
+constexpr int SampleClasses = 5;
+const char* SampleClassName(SampleClass c);
+
+/// Default of the edge-zone corner angle (degrees; IsEdgeZone).
+constexpr double DefaultEdgeZoneAngle = 60.0;
+
+/// The angle (degrees, 0..180) at the sphere's centre M between the sample point O and the
+/// contact point P of a solved result: 180 where the sphere spans a wall (P opposite O), 180 - a
+/// at a corner of material angle a (90 at a right-angled convex edge). NaN for a failed sample.
+double ContactAngle(const double O[3], const SampleResult& r);
+
+/// Edge zone (docs/Solver.md, "Edge zones"): a solved sample whose sphere is bounded by boundary
+/// that meets O's side of the part at a corner, not by the opposite wall: its contact angle is at
+/// most 180 - cornerAngle. cornerAngle is the smallest material angle that counts as a corner
+/// (default 60 degrees): sharper wedges (knife edges, tapering ribs) are real thin material.
+bool IsEdgeZone(const double O[3], const SampleResult& r, double cornerAngle = DefaultEdgeZoneAngle);
+
+/// Class of one sample. minimum, maximum: the thickness limits (<= 0: unset). countEdgeZones:
+/// edge-zone samples are classified by their thickness like the others instead of EdgeZone.
+SampleClass Classify(const SampleResult& r, bool edgeZone, double minimum, double maximum,
+  bool countEdgeZones);
+
 /// Per-vertex area of a triangle mesh: a third of every adjacent triangle. points: xyz per
 /// vertex; triangles: 3 vertex ids per triangle.
 std::vector<double> VertexAreas(const std::vector<double>& points, const std::vector<int>& triangles);
@@ -32,10 +63,16 @@ struct ThicknessStatistics
     SolvedArea,    ///< area of the solved samples' vertices
     AreaThickness, ///< sum of area x 2t over the solved samples
     TotalArea,
-    AreaBelow, ///< solved area with 2t below the minimum (when the minimum is > 0)
-    AreaAbove, ///< solved area with 2t above the maximum (when the maximum is > 0)
+    AreaBelow, ///< solved area with 2t below the minimum (when > 0), edge zones as the option says
+    AreaAbove, ///< solved area with 2t above the maximum (when > 0), edge zones as the option says
     SolvingProcesses,
-    PerType,                            ///< ContactTypes counts, indexed by ContactType
+    EdgeZoneArea,   ///< solved area in edge zones
+    AreaBelowAll,   ///< AreaBelow counting the edge zones
+    AreaAboveAll,   ///< AreaAbove counting the edge zones
+    AreaBelowWalls, ///< AreaBelow without the edge zones
+    AreaAboveWalls, ///< AreaAbove without the edge zones
+    ClassArea,      ///< SampleClasses areas, indexed by SampleClass
+    PerType = ClassArea + SampleClasses, ///< ContactTypes counts, indexed by ContactType
     PerReason = PerType + ContactTypes, ///< FailReasons counts of the failed samples
     SumCount = PerReason + FailReasons
   };
@@ -53,9 +90,38 @@ struct ThicknessStatistics
 };
 
 /// Statistics of results[i] with the vertex area area[i] (equal sizes). minimum and maximum:
-/// the thickness limits (<= 0: unset).
+/// the thickness limits (<= 0: unset). edgeZone: per sample, nonzero in an edge zone (null: none);
+/// countEdgeZones: whether AreaBelow/AreaAbove and the classes count edge-zone samples.
 ThicknessStatistics Accumulate(const std::vector<SampleResult>& results,
-  const std::vector<double>& area, double minimum, double maximum);
+  const std::vector<double>& area, double minimum, double maximum,
+  const std::vector<unsigned char>* edgeZone = nullptr, bool countEdgeZones = false);
+
+/// Statistics per group of samples (per solid, per face): group[i] is sample i's group in
+/// [0, Groups) (others are skipped). Every field is a sum, a minimum or a maximum, so processes
+/// combine them by reductions like ThicknessStatistics.
+struct GroupStatistics
+{
+  enum Sum
+  {
+    Samples,
+    Failed,
+    TotalArea,
+    SolvedArea,
+    AreaThickness,
+    AreaBelow,    ///< below the minimum, edge zones as the option says
+    EdgeZoneArea,
+    SumCount
+  };
+  int Groups = 0;
+  std::vector<double> Sums; ///< Groups x SumCount, group-major
+  std::vector<double> Min, Max; ///< per group, over the solved samples
+  double Get(int g, Sum k) const { return Sums[static_cast<size_t>(g) * SumCount + k]; }
+  double Mean(int g) const; ///< area-weighted mean thickness (NaN when none solved)
+  void Combine(const GroupStatistics& other);
+};
+GroupStatistics AccumulateGroups(const std::vector<SampleResult>& results,
+  const std::vector<double>& area, const std::vector<int>& group, int groups, double minimum,
+  const std::vector<unsigned char>* edgeZone = nullptr, bool countEdgeZones = false);
 
 /// Solved area per thickness bin: bins equal bins over [0, top] (thicknesses at or above top go
 /// to the last bin).

@@ -107,4 +107,62 @@ TEST(Statistics, PartsCombineToTheWhole)
   EXPECT_EQ(AreaHistogram({}, {}, 4, 1.0), (std::vector<double>{ 0, 0, 0, 0 }));
 }
 
+TEST(Statistics, EdgeZonesClassesAndTheOption)
+{
+  // 2t = 0.5 (edge zone), 0.7 (thin wall), 2 (ok), 5 (thick), failed; limits 1 and 3.
+  const std::vector<SampleResult> results = { Solved(ContactType::SurfaceSurface, 0.5, 0),
+    Solved(ContactType::SurfaceSurface, 0.7, 0), Solved(ContactType::SurfaceEdge, 2.0, 0),
+    Solved(ContactType::SurfaceSurface, 5.0, 0), Failed(FailReason::NotMaximal) };
+  const std::vector<double> area = { 1.0, 2.0, 4.0, 8.0, 16.0 };
+  const std::vector<unsigned char> zone = { 1, 0, 0, 0, 0 };
+  const S off = Accumulate(results, area, 1.0, 3.0, &zone, false);
+  EXPECT_EQ(off.Sums[S::EdgeZoneArea], 1);
+  EXPECT_EQ(off.Sums[S::AreaBelow], 2); // the edge zone is not counted
+  EXPECT_EQ(off.Sums[S::AreaBelowAll], 3);
+  EXPECT_EQ(off.Sums[S::AreaBelowWalls], 2);
+  EXPECT_EQ(off.Sums[S::AreaAbove], 8);
+  EXPECT_EQ(off.Sums[S::ClassArea + static_cast<int>(SampleClass::EdgeZone)], 1);
+  EXPECT_EQ(off.Sums[S::ClassArea + static_cast<int>(SampleClass::Thin)], 2);
+  EXPECT_EQ(off.Sums[S::ClassArea + static_cast<int>(SampleClass::Ok)], 4);
+  EXPECT_EQ(off.Sums[S::ClassArea + static_cast<int>(SampleClass::Thick)], 8);
+  EXPECT_EQ(off.Sums[S::ClassArea + static_cast<int>(SampleClass::Failed)], 16);
+  const S on = Accumulate(results, area, 1.0, 3.0, &zone, true);
+  EXPECT_EQ(on.Sums[S::AreaBelow], 3);
+  EXPECT_EQ(on.Sums[S::ClassArea + static_cast<int>(SampleClass::EdgeZone)], 0);
+  EXPECT_EQ(on.Sums[S::ClassArea + static_cast<int>(SampleClass::Thin)], 3);
+  EXPECT_EQ(Classify(results[0], true, 1.0, 3.0, false), SampleClass::EdgeZone);
+  EXPECT_EQ(Classify(results[0], true, 1.0, 3.0, true), SampleClass::Thin);
+  EXPECT_EQ(Classify(results[2], false, 0.0, 0.0, false), SampleClass::Ok);
+  EXPECT_EQ(Classify(results[4], true, 1.0, 3.0, false), SampleClass::Failed);
+}
+
+TEST(Statistics, GroupsSumAndCombine)
+{
+  const std::vector<SampleResult> results = { Solved(ContactType::SurfaceSurface, 1.0, 0),
+    Solved(ContactType::SurfaceSurface, 3.0, 0), Failed(FailReason::NotMaximal),
+    Solved(ContactType::SurfaceEdge, 0.5, 0) };
+  const std::vector<double> area = { 1.0, 3.0, 2.0, 2.0 };
+  const std::vector<int> group = { 0, 0, 1, 1 };
+  const std::vector<unsigned char> zone = { 0, 0, 0, 1 };
+  using G = GroupStatistics;
+  const G g = AccumulateGroups(results, area, group, 3, 2.0, &zone, false);
+  EXPECT_EQ(g.Get(0, G::Samples), 2);
+  EXPECT_DOUBLE_EQ(g.Mean(0), (1.0 + 9.0) / 4.0);
+  EXPECT_EQ(g.Min[0], 1.0);
+  EXPECT_EQ(g.Max[0], 3.0);
+  EXPECT_EQ(g.Get(0, G::AreaBelow), 1);
+  EXPECT_EQ(g.Get(1, G::Failed), 1);
+  EXPECT_EQ(g.Get(1, G::TotalArea), 4);
+  EXPECT_EQ(g.Get(1, G::AreaBelow), 0); // its thin sample is an edge zone
+  EXPECT_EQ(g.Get(1, G::EdgeZoneArea), 2);
+  EXPECT_TRUE(std::isnan(g.Mean(2)));
+  G part = AccumulateGroups({ results[0], results[1] }, { area[0], area[1] }, { 0, 0 }, 3, 2.0);
+  part.Combine(AccumulateGroups({ results[2], results[3] }, { area[2], area[3] }, { 1, 1 }, 3,
+    2.0, nullptr, false));
+  const G whole = AccumulateGroups(results, area, group, 3, 2.0);
+  EXPECT_EQ(part.Sums, whole.Sums);
+  EXPECT_EQ(part.Min, whole.Min);
+  EXPECT_EQ(part.Max, whole.Max);
+}
+
 } // namespace
