@@ -20,15 +20,18 @@
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -81,6 +84,8 @@ struct vtkThicknessFilter::Internals
   size_t S1Points = 0;
   std::string DeviceUsed;
   std::string LengthUnit = "mm", SourceFile;
+  std::vector<int> FaceSolid; ///< per face of the B-Rep: its solid (the per-solid table)
+  int Solids = 0;
   // The OpenCL solver (its built kernel) stays while the device and the precision do.
   std::unique_ptr<brt::OpenCLSolver> CL;
   std::string CLKey;
@@ -90,7 +95,8 @@ vtkThicknessFilter::vtkThicknessFilter()
   : Internal(new Internals)
 {
   this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(4);
+  this->SetNumberOfOutputPorts(7);
+  this->SetProgressText("B-Rep Thickness");
   this->SetDevice("auto");
   this->SetController(vtkMultiProcessController::GetGlobalController());
 }
@@ -108,7 +114,7 @@ const char* vtkThicknessFilter::GetDeviceUsed() const
 
 int vtkThicknessFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  if (port == RESIDUALS || port == SUMMARY)
+  if (port >= RESIDUALS)
   {
     info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
     return 1;
@@ -171,7 +177,39 @@ int vtkThicknessFilter::RequestData(
   // --- local statistics ------------------------------------------------------------------------
   const std::vector<brt::SampleResult>& R = I.Results;
   const std::vector<double>& area = I.Areas;
-  Stats stats = Accumulate(R, area, this->MinimumThickness, this->MaximumThickness);
+  // Edge zones and classes: from the sample points and the spheres, without solving again.
+  std::vector<unsigned char> zone(R.size(), 0);
+  std::vector<double> angle(R.size(), NaN);
+  std::vector<int> sampleFace(R.size(), -1), sampleSolid(R.size(), -1);
+  vtkDataArray* faceIds = input->GetPointData()->GetArray("FaceId");
+  for (size_t i = 0; i < R.size(); ++i)
+  {
+    double O[3];
+    input->GetPoint(static_cast<vtkIdType>(i), O);
+    angle[i] = brt::ContactAngle(O, R[i]);
+    zone[i] = brt::IsEdgeZone(O, R[i], this->EdgeZoneAngle) ? 1 : 0;
+    const int f =
+      faceIds ? static_cast<int>(faceIds->GetComponent(static_cast<vtkIdType>(i), 0)) : -1;
+    sampleFace[i] = f;
+    sampleSolid[i] = f >= 0 && f < static_cast<int>(I.FaceSolid.size()) ? I.FaceSolid[f] : -1;
+  }
+  const bool countZones = this->CountEdgeZones != 0;
+  Stats stats =
+    Accumulate(R, area, this->MinimumThickness, this->MaximumThickness, &zone, countZones);
+  // Per solid and per face. Every process holds the whole B-Rep, so the group counts agree.
+  int faceCount = static_cast<int>(I.FaceSolid.size()), solidCount = I.Solids;
+  if (ctrl)
+  {
+    int v = 0;
+    ctrl->AllReduce(&faceCount, &v, 1, vtkCommunicator::MAX_OP);
+    faceCount = v;
+    ctrl->AllReduce(&solidCount, &v, 1, vtkCommunicator::MAX_OP);
+    solidCount = v;
+  }
+  brt::GroupStatistics perSolid = brt::AccumulateGroups(
+    R, area, sampleSolid, solidCount, this->MinimumThickness, &zone, countZones);
+  brt::GroupStatistics perFace = brt::AccumulateGroups(
+    R, area, sampleFace, faceCount, this->MinimumThickness, &zone, countZones);
   std::vector<double>& sums = stats.Sums;
   std::vector<double>& residualHist = stats.ResidualHistogram;
   double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
@@ -225,6 +263,21 @@ int vtkThicknessFilter::RequestData(
     ctrl->AllReduce(times, t, 2, vtkCommunicator::MAX_OP);
     times[0] = t[0];
     times[1] = t[1];
+    for (brt::GroupStatistics* g : { &perSolid, &perFace })
+    {
+      std::vector<double> b(g->Sums.size());
+      ctrl->AllReduce(g->Sums.data(), b.data(), static_cast<vtkIdType>(b.size()),
+        vtkCommunicator::SUM_OP);
+      g->Sums.swap(b);
+      b.resize(g->Min.size());
+      ctrl->AllReduce(g->Min.data(), b.data(), static_cast<vtkIdType>(b.size()),
+        vtkCommunicator::MIN_OP);
+      g->Min.swap(b);
+      b.resize(g->Max.size());
+      ctrl->AllReduce(g->Max.data(), b.data(), static_cast<vtkIdType>(b.size()),
+        vtkCommunicator::MAX_OP);
+      g->Max.swap(b);
+    }
     std::vector<long long> counts(ctrl->GetNumberOfProcesses());
     ctrl->AllGather(&localCount, counts.data(), 1);
     for (int p = 0; p < rank; ++p)
@@ -240,12 +293,18 @@ int vtkThicknessFilter::RequestData(
     ctrl->AllReduce(areaHist.data(), buffer.data(), bins, vtkCommunicator::SUM_OP);
     areaHist.swap(buffer);
   }
+  vtkTable* histogram = vtkTable::GetData(outputVector, AREA_HISTOGRAM);
+  vtkTable* solidTable = vtkTable::GetData(outputVector, PER_SOLID);
+  vtkTable* faceTable = vtkTable::GetData(outputVector, PER_FACE);
   if (!okFlag)
   {
     thickness->Initialize();
     medial->Initialize();
     residuals->Initialize();
     summary->Initialize();
+    histogram->Initialize();
+    solidTable->Initialize();
+    faceTable->Initialize();
     return 1;
   }
 
@@ -259,7 +318,9 @@ int vtkThicknessFilter::RequestData(
     return array;
   };
   vtkNew<vtkDoubleArray> thick, radius, centre, foot, residual;
-  vtkNew<vtkIntArray> type, reason, iterations, opposite;
+  vtkNew<vtkIntArray> type, reason, iterations, opposite, sampleClass, solidId;
+  vtkNew<vtkDoubleArray> contactAngle;
+  vtkNew<vtkUnsignedCharArray> edgeZone;
   pointArray(thick.Get(), "Thickness", 1);
   pointArray(radius.Get(), "Radius", 1);
   pointArray(centre.Get(), "SphereCenter", 3);
@@ -269,6 +330,10 @@ int vtkThicknessFilter::RequestData(
   pointArray(residual.Get(), "Residual", 1);
   pointArray(iterations.Get(), "Iterations", 1);
   pointArray(opposite.Get(), "OppositeFaceId", 1);
+  pointArray(contactAngle.Get(), "ContactAngle", 1);
+  pointArray(edgeZone.Get(), "EdgeZone", 1);
+  pointArray(sampleClass.Get(), "ThicknessClass", 1);
+  pointArray(solidId.Get(), "SolidId", 1);
   vtkNew<vtkDoubleArray> rayThick;
   if (withRay)
   {
@@ -278,15 +343,17 @@ int vtkThicknessFilter::RequestData(
   }
   vtkNew<vtkPoints> centres;
   centres->SetDataTypeToDouble();
-  vtkNew<vtkDoubleArray> mRadius, mThick;
+  vtkNew<vtkDoubleArray> mRadius, mThick, mAngle;
   vtkNew<vtkIntArray> mType, mFace;
+  vtkNew<vtkUnsignedCharArray> mZone;
+  mAngle->SetName("ContactAngle");
+  mZone->SetName("EdgeZone");
   vtkNew<vtkIdTypeArray> mId;
   mRadius->SetName("Radius");
   mThick->SetName("Thickness");
   mType->SetName("ContactType");
   mFace->SetName("FaceId");
   mId->SetName("SampleId");
-  vtkDataArray* faceIds = input->GetPointData()->GetArray("FaceId");
   for (size_t i = 0; i < R.size(); ++i)
   {
     const brt::SampleResult& r = R[i];
@@ -304,22 +371,23 @@ int vtkThicknessFilter::RequestData(
     residual->SetValue(id, r.Residual);
     iterations->SetValue(id, r.Iterations);
     opposite->SetValue(id, r.OppositeFace);
+    contactAngle->SetValue(id, angle[i]);
+    edgeZone->SetValue(id, zone[i]);
+    sampleClass->SetValue(id, static_cast<int>(brt::Classify(r, zone[i] != 0,
+                                this->MinimumThickness, this->MaximumThickness, countZones)));
+    solidId->SetValue(id, sampleSolid[i]);
     if (!solved)
       continue;
     centres->InsertNextPoint(r.Center.data());
     mRadius->InsertNextValue(r.Radius);
     mThick->InsertNextValue(r.Thickness);
     mType->InsertNextValue(static_cast<int>(r.Type));
-    mFace->InsertNextValue(faceIds ? static_cast<int>(faceIds->GetComponent(id, 0)) : -1);
+    mFace->InsertNextValue(sampleFace[i]);
+    mAngle->InsertNextValue(angle[i]);
+    mZone->InsertNextValue(zone[i]);
     mId->InsertNextValue(static_cast<vtkIdType>(offset) + id);
   }
   thickness->GetPointData()->SetActiveScalars("Thickness");
-  // ParaView titles a scalar bar with the array name and its component name: "Thickness (mm)".
-  const std::string unitTitle = "(" + I.LengthUnit + ")";
-  thick->SetComponentName(0, unitTitle.c_str());
-  if (withRay)
-    rayThick->SetComponentName(0, unitTitle.c_str());
-  radius->SetComponentName(0, unitTitle.c_str());
 
   // --- port 1: medial points -------------------------------------------------------------------
   medial->SetPoints(centres);
@@ -333,12 +401,14 @@ int vtkThicknessFilter::RequestData(
   medial->GetPointData()->AddArray(mThick);
   medial->GetPointData()->AddArray(mType);
   medial->GetPointData()->AddArray(mFace);
+  medial->GetPointData()->AddArray(mAngle);
+  medial->GetPointData()->AddArray(mZone);
   medial->GetPointData()->AddArray(mId);
   medial->GetPointData()->SetActiveScalars("Thickness");
 
   // --- port 2: residual histogram (rows on process 0 only, the others add none) ----------------
-  auto* rLow = NewColumn<vtkDoubleArray>(residuals, "Log10Stats::ResidualLower");
-  auto* rHigh = NewColumn<vtkDoubleArray>(residuals, "Log10ResidualUpper");
+  // bin_extents is the column ParaView's charts take for X by themselves (and do not draw).
+  auto* rX = NewColumn<vtkDoubleArray>(residuals, "bin_extents");
   auto* rSS = NewColumn<vtkIdTypeArray>(residuals, "SurfaceSurface");
   auto* rSE = NewColumn<vtkIdTypeArray>(residuals, "SurfaceEdge");
   auto* rSV = NewColumn<vtkIdTypeArray>(residuals, "SurfaceVertex");
@@ -346,65 +416,138 @@ int vtkThicknessFilter::RequestData(
     for (int b = 0; b < Stats::ResidualBins; ++b)
     {
       const double w = (Stats::ResidualHigh - Stats::ResidualLow) / Stats::ResidualBins;
-      rLow->InsertNextValue(Stats::ResidualLow + b * w);
-      rHigh->InsertNextValue(Stats::ResidualLow + (b + 1) * w);
+      rX->InsertNextValue(Stats::ResidualLow + (b + 0.5) * w);
       rSS->InsertNextValue(static_cast<vtkIdType>(residualHist[1 * Stats::ResidualBins + b]));
       rSE->InsertNextValue(static_cast<vtkIdType>(residualHist[2 * Stats::ResidualBins + b]));
       rSV->InsertNextValue(static_cast<vtkIdType>(residualHist[3 * Stats::ResidualBins + b]));
     }
+  vtkNew<vtkStringArray> rUnit;
+  rUnit->SetName("XAxis");
+  rUnit->InsertNextValue("log10 |R| (R in " + I.LengthUnit + ")");
+  residuals->GetFieldData()->AddArray(rUnit);
 
   // --- port 3: summary -------------------------------------------------------------------------
+  const std::string mm = I.LengthUnit, mm2 = I.LengthUnit + "^2";
   auto* quantity = NewColumn<vtkStringArray>(summary, "Quantity");
   auto* value = NewColumn<vtkDoubleArray>(summary, "Value");
-  auto* binLow = NewColumn<vtkDoubleArray>(summary, "BinLower");
-  auto* binHigh = NewColumn<vtkDoubleArray>(summary, "BinUpper");
-  auto row = [&](const std::string& name, double v, double lo = NaN, double hi = NaN) {
+  auto* unitColumn = NewColumn<vtkStringArray>(summary, "Unit");
+  auto row = [&](const std::string& name, double v, const std::string& u = std::string()) {
     quantity->InsertNextValue(name);
     value->InsertNextValue(v);
-    binLow->InsertNextValue(lo);
-    binHigh->InsertNextValue(hi);
+    unitColumn->InsertNextValue(u);
+  };
+  const double solvedArea = sums[Stats::SolvedArea];
+  const double totalArea = sums[Stats::TotalArea];
+  const double minimum = this->MinimumThickness, maximum = this->MaximumThickness;
+  auto share = [&](double part, double limit, double whole) {
+    return limit > 0.0 && whole > 0.0 ? part / whole : NaN;
   };
   if (rank == 0)
   {
-    const double solvedArea = sums[Stats::SolvedArea];
-    row("Samples", sums[Stats::Samples]);
-    row("SurfaceSurface", sums[Stats::PerType + 1]);
-    row("SurfaceEdge", sums[Stats::PerType + 2]);
-    row("SurfaceVertex", sums[Stats::PerType + 3]);
-    row("Failed", sums[Stats::PerType + 0]);
+    row("ThicknessMin", anySolved ? stats.Min : NaN, mm);
+    row("ThicknessMax", anySolved ? stats.Max : NaN, mm);
+    row("ThicknessMean", stats.Mean(), mm);
+    row("MinimumThickness", minimum, mm);
+    row("AreaShareBelowMinimum", share(sums[Stats::AreaBelow], minimum, solvedArea), "fraction");
+    row("AreaShareBelowMinimumWithEdgeZones",
+      share(sums[Stats::AreaBelowAll], minimum, solvedArea), "fraction");
+    row("AreaShareBelowMinimumWithoutEdgeZones",
+      share(sums[Stats::AreaBelowWalls], minimum, solvedArea), "fraction");
+    row("MaximumThickness", maximum, mm);
+    row("AreaShareAboveMaximum", share(sums[Stats::AreaAbove], maximum, solvedArea), "fraction");
+    row("AreaShareAboveMaximumWithEdgeZones",
+      share(sums[Stats::AreaAboveAll], maximum, solvedArea), "fraction");
+    row("AreaShareAboveMaximumWithoutEdgeZones",
+      share(sums[Stats::AreaAboveWalls], maximum, solvedArea), "fraction");
+    row("CountEdgeZones", countZones ? 1.0 : 0.0, "boolean");
+    row("EdgeZoneAngle", this->EdgeZoneAngle, "degree");
+    // Classes (ThicknessClass) as shares of the whole area, failed samples included.
+    static const char* const classRows[brt::SampleClasses] = { "AreaShareFailed",
+      "AreaShareThin", "AreaShareOk", "AreaShareThick", "AreaShareEdgeZone" };
+    for (int k = 0; k < brt::SampleClasses; ++k)
+      row(classRows[k], totalArea > 0.0 ? sums[Stats::ClassArea + k] / totalArea : NaN,
+        "fraction");
+    row("EdgeZoneArea", sums[Stats::EdgeZoneArea], mm2);
+    row("TotalArea", totalArea, mm2);
+    row("SolvedArea", solvedArea, mm2);
+    if (withRay)
+    {
+      row("RayThicknessMin", raySums[0] > 0.0 ? rayMin : NaN, mm);
+      row("RayThicknessMax", raySums[0] > 0.0 ? rayMax : NaN, mm);
+      row("RayThicknessMean", raySums[2] > 0.0 ? raySums[3] / raySums[2] : NaN, mm);
+      row("RayMissed", raySums[1], "samples");
+    }
+    row("Samples", sums[Stats::Samples], "samples");
+    row("SurfaceSurface", sums[Stats::PerType + 1], "samples");
+    row("SurfaceEdge", sums[Stats::PerType + 2], "samples");
+    row("SurfaceVertex", sums[Stats::PerType + 3], "samples");
+    row("Failed", sums[Stats::PerType + 0], "samples");
     // One row per failure reason (brt::FailReason 1..10), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
       "FailedLeftModel", "FailedNotMaximal", "FailedOpenShell", "FailedNonManifold",
       "FailedUnbounded" };
     for (int k = 1; k < Stats::FailReasons; ++k)
-      row(reasonRows[k], sums[Stats::PerReason + k]);
-    row("ThicknessMin", anySolved ? stats.Min : NaN);
-    row("ThicknessMax", anySolved ? stats.Max : NaN);
-    row("ThicknessMean", stats.Mean());
-    row("TotalArea", sums[Stats::TotalArea]);
-    row("SolvedArea", solvedArea);
-    row("MinimumThickness", this->MinimumThickness);
-    row("AreaShareBelowMinimum",
-      this->MinimumThickness > 0.0 && solvedArea > 0.0 ? sums[Stats::AreaBelow] / solvedArea : NaN);
-    row("MaximumThickness", this->MaximumThickness);
-    row("AreaShareAboveMaximum",
-      this->MaximumThickness > 0.0 && solvedArea > 0.0 ? sums[Stats::AreaAbove] / solvedArea : NaN);
-    if (withRay)
-    {
-      row("RayThicknessMin", raySums[0] > 0.0 ? rayMin : NaN);
-      row("RayThicknessMax", raySums[0] > 0.0 ? rayMax : NaN);
-      row("RayThicknessMean", raySums[2] > 0.0 ? raySums[3] / raySums[2] : NaN);
-      row("RayMissed", raySums[1]);
-    }
-    row("S1Points", static_cast<double>(I.S1Points));
-    row("PrepareSeconds", times[0]);
-    row("SolveSeconds", times[1]);
-    row("SolvingProcesses", sums[Stats::SolvingProcesses]);
-    for (int b = 0; b < bins; ++b)
-      row("AreaHistogram", solvedArea > 0.0 ? areaHist[b] / solvedArea : 0.0,
-        histMax * b / bins, histMax * (b + 1) / bins);
+      row(reasonRows[k], sums[Stats::PerReason + k], "samples");
+    row("Solids", solidCount, "solids");
+    row("Faces", faceCount, "faces");
+    row("S1Points", static_cast<double>(I.S1Points), "points");
+    row("PrepareSeconds", times[0], "s");
+    row("SolveSeconds", times[1], "s");
+    row("SolvingProcesses", sums[Stats::SolvingProcesses], "processes");
   }
+
+  // --- port 4: the area histogram --------------------------------------------------------------
+  auto* hX = NewColumn<vtkDoubleArray>(histogram, "bin_extents");
+  auto* hShare = NewColumn<vtkDoubleArray>(histogram, "AreaShare");
+  if (rank == 0)
+    for (int b = 0; b < bins; ++b)
+    {
+      hX->InsertNextValue(histMax * (b + 0.5) / bins);
+      hShare->InsertNextValue(solvedArea > 0.0 ? areaHist[b] / solvedArea : 0.0);
+    }
+  vtkNew<vtkDoubleArray> binWidth;
+  binWidth->SetName("BinWidth");
+  binWidth->InsertNextValue(histMax / bins);
+  histogram->GetFieldData()->AddArray(binWidth);
+
+  // --- ports 5 and 6: per solid, per face ------------------------------------------------------
+  auto groupTable = [&](vtkTable* t, const brt::GroupStatistics& g, bool faces) {
+    using G = brt::GroupStatistics;
+    auto* idColumn = NewColumn<vtkIntArray>(t, faces ? "FaceId" : "SolidId");
+    auto* solidColumn = faces ? NewColumn<vtkIntArray>(t, "SolidId") : nullptr;
+    auto* nColumn = NewColumn<vtkIntArray>(t, "Samples");
+    auto* fColumn = NewColumn<vtkIntArray>(t, "Failed");
+    auto* aColumn = NewColumn<vtkDoubleArray>(t, "Area");
+    auto* minColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMin");
+    auto* maxColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMax");
+    auto* meanColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMean");
+    auto* belowColumn = NewColumn<vtkDoubleArray>(t, "AreaShareBelowMinimum");
+    auto* zoneColumn = NewColumn<vtkDoubleArray>(t, "AreaShareEdgeZone");
+    if (rank != 0)
+      return;
+    for (int k = 0; k < g.Groups; ++k)
+    {
+      if (g.Get(k, G::Samples) == 0)
+        continue; // a solid or face without display vertices
+      const bool any = g.Max[k] >= g.Min[k];
+      const double solved = g.Get(k, G::SolvedArea);
+      idColumn->InsertNextValue(k);
+      if (solidColumn)
+        solidColumn->InsertNextValue(k < static_cast<int>(I.FaceSolid.size()) ? I.FaceSolid[k] : -1);
+      nColumn->InsertNextValue(static_cast<int>(g.Get(k, G::Samples)));
+      fColumn->InsertNextValue(static_cast<int>(g.Get(k, G::Failed)));
+      aColumn->InsertNextValue(g.Get(k, G::TotalArea));
+      minColumn->InsertNextValue(any ? g.Min[k] : NaN);
+      maxColumn->InsertNextValue(any ? g.Max[k] : NaN);
+      meanColumn->InsertNextValue(g.Mean(k));
+      belowColumn->InsertNextValue(share(g.Get(k, G::AreaBelow), minimum, solved));
+      zoneColumn->InsertNextValue(solved > 0.0 ? g.Get(k, G::EdgeZoneArea) / solved : NaN);
+    }
+  };
+  groupTable(solidTable, perSolid, false);
+  groupTable(faceTable, perFace, true);
+
   vtkNew<vtkStringArray> device, unit, source;
   device->SetName("Device");
   device->InsertNextValue(I.DeviceUsed);
@@ -415,16 +558,29 @@ int vtkThicknessFilter::RequestData(
   summary->GetFieldData()->AddArray(device);
   summary->GetFieldData()->AddArray(unit);
   summary->GetFieldData()->AddArray(source);
+  for (vtkTable* t : { histogram, solidTable, faceTable })
+    t->GetFieldData()->AddArray(unit);
 
   if (rank == 0)
-    vtkLogF(INFO,
-      "vtkThicknessFilter: %s: %.0f samples on %s: %.0f surface/surface, %.0f surface/edge, %.0f "
-      "surface/vertex, %.0f failed; thickness %.4g .. %.4g %s (area-weighted mean %.4g); prepare "
-      "%.3f s, solve %.3f s",
-      I.SourceFile.c_str(), sums[Stats::Samples], I.DeviceUsed.c_str(), sums[Stats::PerType + 1],
-      sums[Stats::PerType + 2], sums[Stats::PerType + 3], sums[Stats::PerType + 0], anySolved ? stats.Min : NaN,
-      anySolved ? stats.Max : NaN, I.LengthUnit.c_str(),
-      stats.Mean(), times[0], times[1]);
+  {
+    // One screen for ParaView's Output Messages (and stderr in pvpython): what ran, on what, how
+    // long, and the answer.
+    char text[2048];
+    std::snprintf(text, sizeof(text),
+      "B-Rep Thickness: %s\n  device: %s\n  %.0f samples: %.0f surface/surface, %.0f "
+      "surface/edge, %.0f surface/vertex, %.0f failed\n  thickness %.4g .. %.4g %s, "
+      "area-weighted mean %.4g %s; edge zones %.1f%% of the area (corner angle %g deg)\n"
+      "  below minimum %g %s: %.2f%% of the area without edge zones, %.2f%% with them\n"
+      "  prepare %.3f s, solve %.3f s\n",
+      I.SourceFile.c_str(), I.DeviceUsed.c_str(), sums[Stats::Samples], sums[Stats::PerType + 1],
+      sums[Stats::PerType + 2], sums[Stats::PerType + 3], sums[Stats::PerType + 0],
+      anySolved ? stats.Min : NaN, anySolved ? stats.Max : NaN, mm.c_str(), stats.Mean(),
+      mm.c_str(), solvedArea > 0.0 ? 100.0 * sums[Stats::EdgeZoneArea] / solvedArea : NaN,
+      this->EdgeZoneAngle, minimum, mm.c_str(),
+      100.0 * share(sums[Stats::AreaBelowWalls], minimum, solvedArea),
+      100.0 * share(sums[Stats::AreaBelowAll], minimum, solvedArea), times[0], times[1]);
+    vtkOutputWindowDisplayText(text);
+  }
   return 1;
 }
 
@@ -435,6 +591,13 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const brt::BRepModel model = brt::ModelFromPolyData(input);
   I.LengthUnit = model.LengthUnit;
   I.SourceFile = model.SourceFile;
+  I.FaceSolid.resize(model.Faces.size());
+  I.Solids = 0;
+  for (size_t f = 0; f < model.Faces.size(); ++f)
+  {
+    I.FaceSolid[f] = model.Faces[f].Solid;
+    I.Solids = std::max(I.Solids, model.Faces[f].Solid + 1);
+  }
   brt::SolverOptions options;
   options.S1Spacing = this->S1Spacing;
   options.Clearance = this->Clearance;

@@ -12,14 +12,21 @@
  * Outputs:
  * - port 0 "Thickness": the input mesh with point arrays Thickness (2t; NaN where the sample
  *   failed), Radius, SphereCenter, FootPoint, ContactType (0 failed, 1 surface/surface,
- *   2 surface/edge, 3 surface/vertex), FailReason, Residual, Iterations, OppositeFaceId.
+ *   2 surface/edge, 3 surface/vertex), FailReason, Residual, Iterations, OppositeFaceId,
+ *   ContactAngle, EdgeZone, ThicknessClass (brt::SampleClass: 0 failed, 1 thin, 2 ok, 3 thick,
+ *   4 edge zone) and SolidId (RayThickness with the ray method).
  * - port 1 "Medial Points": one vertex per solved sample at its sphere centre, with Radius,
- *   Thickness, ContactType and SampleId (the sample's index in port 0, across all pieces).
- * - port 2 "Residuals": histogram (vtkTable) of log10 |R| per contact type.
- * - port 3 "Summary": vtkTable of Quantity / Value rows (min, max and area-weighted mean
- *   thickness, area shares below MinimumThickness and above MaximumThickness, counts per
- *   contact type and failure reason, times) followed by the area-weighted thickness histogram
- *   (rows "AreaHistogram" with BinLower / BinUpper).
+ *   Thickness, ContactType, ContactAngle, EdgeZone, FaceId and SampleId (the sample's index in
+ *   port 0, across all pieces).
+ * - port 2 "Residuals": histogram (vtkTable) of log10 |R| per contact type; its column
+ *   bin_extents (the bin centres) is the X axis ParaView's charts pick by themselves.
+ * - port 3 "Summary": vtkTable of Quantity / Value / Unit rows (min, max and area-weighted mean
+ *   thickness, area shares per class and outside the limits with and without edge zones, counts
+ *   per contact type and failure reason, times).
+ * - port 4 "Area Histogram": the area share per thickness bin (bin_extents: the bin centres).
+ * - port 5 "Per Solid" and port 6 "Per Face": one row per solid and per face with SolidId /
+ *   FaceId, samples, failed, area, min, max and area-weighted mean thickness, area shares below
+ *   MinimumThickness and in edge zones.
  *
  * Under MPI every piece solves only its own vertices against the whole B-Rep (which each piece
  * carries in its field data); the tables are reduced over the controller and filled on process 0,
@@ -47,7 +54,10 @@ public:
     THICKNESS = 0,
     MEDIAL_POINTS = 1,
     RESIDUALS = 2,
-    SUMMARY = 3
+    SUMMARY = 3,
+    AREA_HISTOGRAM = 4,
+    PER_SOLID = 5,
+    PER_FACE = 6
   };
 
   enum PrecisionTypes
@@ -129,7 +139,25 @@ public:
   ///@}
 
   ///@{
-  /// Bins of the Summary's area-weighted thickness histogram (from 0 to the maximum). Default 20.
+  /// Edge zones (docs/Solver.md): a sample whose sphere touches the boundary at a contact angle
+  /// (at the centre, between the sample and the contact) of at most 180 - EdgeZoneAngle degrees
+  /// is bounded by a corner of at least that material angle, not by the opposite wall. Default
+  /// 60: right-angled edges are corners; sharper wedges (knife edges) count as thin material.
+  vtkSetClampMacro(EdgeZoneAngle, double, 0.0, 180.0);
+  vtkGetMacro(EdgeZoneAngle, double);
+  ///@}
+
+  ///@{
+  /// Whether edge-zone samples count against MinimumThickness and MaximumThickness (the classes
+  /// and AreaShareBelowMinimum / AboveMaximum). Default off, as CAD checkers leave corners out;
+  /// the Summary gives both shares either way.
+  vtkSetMacro(CountEdgeZones, vtkTypeBool);
+  vtkGetMacro(CountEdgeZones, vtkTypeBool);
+  vtkBooleanMacro(CountEdgeZones, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// Bins of the area-weighted thickness histogram (port 4; from 0 to the maximum). Default 20.
   vtkSetClampMacro(HistogramBins, int, 1, 100000);
   vtkGetMacro(HistogramBins, int);
   ///@}
@@ -160,6 +188,8 @@ protected:
   double MinimumThickness = 0.0;
   double MaximumThickness = 0.0;
   int HistogramBins = 20;
+  double EdgeZoneAngle = 60.0;
+  vtkTypeBool CountEdgeZones = false;
   vtkMultiProcessController* Controller = nullptr;
 
 private:

@@ -44,6 +44,10 @@ def parse_args(argv=None):
                          "(RayThickness array, Summary rows RayThicknessMin/Max/Mean, RayMissed)")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
+    ap.add_argument("--edge-zone-angle", type=float, default=60.0,
+                    help="corners of at least this material angle (degrees) make edge zones")
+    ap.add_argument("--count-edge-zones", action="store_true",
+                    help="edge zones count against --min-thickness/--max-thickness (default: not)")
     ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/300)")
     ap.add_argument("--clearance", type=float, default=-1.0,
                     help="boundary points less deep than this in a sphere do not limit it "
@@ -144,7 +148,8 @@ def main(argv=None):
                           Precision="Double" if args.precision == "double" else "Float",
                           MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
                           S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins,
-                          Method="Sphere and ray" if args.method == "sphere-and-ray" else "Sphere")
+                          Method="Sphere and ray" if args.method == "sphere-and-ray" else "Sphere",
+                          EdgeZoneAngle=args.edge_zone_angle, CountEdgeZones=int(args.count_edge_zones))
     collect_errors(thick, errors)
     thick.UpdatePipeline()
     if errors:
@@ -167,8 +172,8 @@ def main(argv=None):
     simple.SaveData(files["medial"], proxy=simple.OutputPort(thick, 1))
 
     _, rows = table_rows(summary)
-    stats = {r[0]: r[1] for r in rows if r[0] != "AreaHistogram"}
-    histogram = [r for r in rows if r[0] == "AreaHistogram"]
+    stats = {r[0]: r[1] for r in rows}
+    units = {r[0]: r[2] for r in rows}
     conversion = ["NumberOfSolids", "NumberOfFaces", "NumberOfPatches", "NumberOfTrimSegments",
                   "NumberOfEdges", "MaxPatchDeviation", "ReadSeconds", "HealSeconds", "ConvertSeconds",
                   "MeshSeconds"]
@@ -179,17 +184,27 @@ def main(argv=None):
         w.writerow(["SourceFile", os.path.abspath(args.model), ""])
         w.writerow(["Device", device, ""])
         for k, v in stats.items():
-            u = unit if k.startswith("Thickness") or k in ("MinimumThickness", "MaximumThickness") else (
-                unit + "^2" if k.endswith("Area") else ("s" if k.endswith("Seconds") else ""))
-            w.writerow([k, fmt(v), u])
+            w.writerow([k, fmt(v), units[k]])
         for k in conversion:
             w.writerow([k, fd.GetArray(k).GetValue(0), "s" if k.endswith("Seconds") else ""])
     files["histogram"] = os.path.join(out, name + "-histogram.csv")
+    histogram = sm.Fetch(thick, idx=4)
+    width = histogram.GetFieldData().GetArray("BinWidth").GetValue(0)
     with open(files["histogram"], "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["thickness_from_" + unit, "thickness_to_" + unit, "area_share"])
-        for r in histogram:
-            w.writerow([r[2], r[3], r[1]])
+        for r in table_rows(histogram)[1]:
+            w.writerow([fmt(r[0] - width / 2), fmt(r[0] + width / 2), fmt(r[1])])
+    # Per solid and per face, with the unit in every header that has one.
+    table_units = {"Area": unit + "^2", "ThicknessMin": unit, "ThicknessMax": unit,
+                   "ThicknessMean": unit}
+    for key, port in (("per_solid", 5), ("per_face", 6)):
+        files[key] = os.path.join(out, name + "-" + key.replace("_", "-") + ".csv")
+        names, trows = table_rows(sm.Fetch(thick, idx=port))
+        with open(files[key], "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["%s_%s" % (n, table_units[n]) if n in table_units else n for n in names])
+            w.writerows([[fmt(v) if isinstance(v, float) else v for v in r] for r in trows])
     files["residuals"] = os.path.join(out, name + "-residuals.csv")
     with open(files["residuals"], "w", newline="") as f:
         names, rows = table_rows(residuals)
@@ -236,15 +251,25 @@ def main(argv=None):
         print("  failed: " + ", ".join("%s %d" % kv for kv in failed))
     print("  thickness: min %.4g, max %.4g, area-weighted mean %.4g %s"
           % (stats["ThicknessMin"], stats["ThicknessMax"], stats["ThicknessMean"], unit))
+    print("  edge zones (corners of %g deg or more): %.2f%% of the area; the limits %s"
+          % (args.edge_zone_angle, 100 * stats["AreaShareEdgeZone"],
+             "count them" if args.count_edge_zones else "leave them out"))
     if args.min_thickness > 0:
-        print("  area thinner than %g %s: %.2f%%" % (args.min_thickness, unit, 100 * stats["AreaShareBelowMinimum"]))
+        print("  area thinner than %g %s: %.2f%% without edge zones, %.2f%% with them"
+              % (args.min_thickness, unit, 100 * stats["AreaShareBelowMinimumWithoutEdgeZones"],
+                 100 * stats["AreaShareBelowMinimumWithEdgeZones"]))
     if args.max_thickness > 0:
-        print("  area thicker than %g %s: %.2f%%" % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximum"]))
+        print("  area thicker than %g %s: %.2f%% without edge zones, %.2f%% with them"
+              % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximumWithoutEdgeZones"],
+                 100 * stats["AreaShareAboveMaximumWithEdgeZones"]))
+    print("  solids: " + ", ".join(
+        "%d: %.4g .. %.4g %s" % (r[0], r[4], r[5], unit) for r in table_rows(sm.Fetch(thick, idx=5))[1]))
     print("  times: read %.2f s, convert %.2f s, mesh %.2f s, prepare %.2f s, solve %.2f s"
           % (fd.GetArray("ReadSeconds").GetValue(0) + fd.GetArray("HealSeconds").GetValue(0),
              fd.GetArray("ConvertSeconds").GetValue(0), fd.GetArray("MeshSeconds").GetValue(0),
              stats["PrepareSeconds"], stats["SolveSeconds"]))
-    for key in ("thickness", "medial", "summary", "histogram", "residuals", "png", "medial_png"):
+    for key in ("thickness", "medial", "summary", "histogram", "per_solid", "per_face", "residuals", "png",
+                "medial_png"):
         print("  wrote %s" % files[key])
     # Release the view (and its OpenGL context) before the interpreter's teardown closes X.
     simple.Delete(view)

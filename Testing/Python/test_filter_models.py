@@ -2,7 +2,7 @@
 
 Usage: pvpython test_filter_models.py PLUGIN_FILE DATA_DIR
 
-For every model: the four ports and their arrays are there and consistent (counts per contact
+For every model: the seven ports and their arrays are there and consistent (counts per contact
 type, NaN exactly where a sample failed, medial points = solved samples at their sphere centres,
 the Summary's numbers recomputed from the arrays). On the analytic models (converted within 1e-6)
 the thickness is checked against its closed form on the samples farther than one thickness from every rim: relative error
@@ -70,8 +70,7 @@ def summary_dict(table):
     out = {}
     for r in range(table.GetNumberOfRows()):
         q = table.GetValue(r, 0).ToString()
-        if q != "AreaHistogram":
-            out[q] = table.GetValue(r, 1).ToDouble()
+        out[q] = table.GetValue(r, 1).ToDouble()
     return out
 
 
@@ -83,15 +82,22 @@ def run(model, device, tolerance=1e-4):
     medial = dsa.WrapDataObject(sm.Fetch(f, idx=1))
     residuals = sm.Fetch(f, idx=2)
     summary = sm.Fetch(f, idx=3)
+    tables = [sm.Fetch(f, idx=k) for k in (4, 5, 6)]
     Delete(f)
     Delete(reader)
-    return mesh, medial, residuals, summary
+    return mesh, medial, residuals, summary, tables
 
 
-def check_consistency(model, mesh, medial, residuals, summary):
+def columns(table):
+    return {table.GetColumnName(c): np.asarray(dsa.vtkDataArrayToVTKArray(table.GetColumn(c)))
+            for c in range(table.GetNumberOfColumns())}
+
+
+def check_consistency(model, mesh, medial, residuals, summary, tables):
     pd = mesh.PointData
     for name in ("Thickness", "Radius", "SphereCenter", "FootPoint", "ContactType", "FailReason",
-                 "Residual", "Iterations", "OppositeFaceId", "FaceId", "FaceUV", "Normals"):
+                 "Residual", "Iterations", "OppositeFaceId", "FaceId", "FaceUV", "Normals",
+                 "ContactAngle", "EdgeZone", "ThicknessClass", "SolidId"):
         check(name in pd.keys(), "%s: point array %s missing" % (model, name))
     T, ct, reason = pd["Thickness"], pd["ContactType"], pd["FailReason"]
     n = mesh.GetNumberOfPoints()
@@ -119,9 +125,35 @@ def check_consistency(model, mesh, medial, residuals, summary):
     if solved.any():
         check(s["ThicknessMin"] == T[solved].min() and s["ThicknessMax"] == T[solved].max(),
               "%s: Summary min/max" % model)
-    hist = [summary.GetValue(r, 1).ToDouble() for r in range(summary.GetNumberOfRows())
-            if summary.GetValue(r, 0).ToString() == "AreaHistogram"]
-    check(abs(sum(hist) - 1.0) < 1e-9, "%s: area histogram sums to %.12f" % (model, sum(hist)))
+    # Summary units: every row has one (lengths in mm).
+    units = {summary.GetValue(r, 0).ToString(): summary.GetValue(r, 2).ToString()
+             for r in range(summary.GetNumberOfRows())}
+    check(units["ThicknessMin"] == "mm" and units["TotalArea"] == "mm^2",
+          "%s: Summary units %s, %s" % (model, units["ThicknessMin"], units["TotalArea"]))
+    hist = columns(tables[0])
+    check(abs(hist["AreaShare"].sum() - 1.0) < 1e-9, "%s: area histogram sums to %.12f" % (model, hist["AreaShare"].sum()))
+    check(np.all(np.diff(hist["bin_extents"]) > 0), "%s: histogram bin centres not increasing" % model)
+    # Edge zones and classes, from the arrays: EdgeZone <=> contact angle <= 180 - 60 degrees;
+    # with no limits set the solved samples are ok or edge zone, the failed ones failed.
+    angle, zone, cls = pd["ContactAngle"], pd["EdgeZone"], pd["ThicknessClass"]
+    check(np.array_equal(zone[solved] != 0, angle[solved] <= 120.0), "%s: EdgeZone != angle <= 120" % model)
+    check(np.all(zone[~solved] == 0), "%s: failed samples flagged as edge zones" % model)
+    check(np.all(cls[~solved] == 0), "%s: failed samples not class 0" % model)
+    check(np.array_equal(cls[solved], np.where(zone[solved] != 0, 4, 2)), "%s: classes without limits" % model)
+    shares = sum(s[k] for k in ("AreaShareFailed", "AreaShareThin", "AreaShareOk", "AreaShareThick",
+                                "AreaShareEdgeZone"))
+    check(abs(shares - 1.0) < 1e-9, "%s: class shares sum to %.12f" % (model, shares))
+    # Per solid and per face: every sample in exactly one row; the extremes agree with the arrays.
+    for table, key, ids in ((tables[1], "SolidId", pd["SolidId"]), (tables[2], "FaceId", pd["FaceId"])):
+        c = columns(table)
+        check(int(c["Samples"].sum()) == n, "%s: %s table holds %d of %d samples" % (model, key, c["Samples"].sum(), n))
+        check(int(c["Failed"].sum()) == int((~solved).sum()), "%s: %s table failed count" % (model, key))
+        for row in range(len(c[key])):
+            sel = (ids == c[key][row]) & solved
+            if sel.any():
+                check(c["ThicknessMin"][row] == T[sel].min() and c["ThicknessMax"][row] == T[sel].max(),
+                      "%s: %s %d min/max" % (model, key, c[key][row]))
+    check(len(columns(tables[1])["SolidId"]) == int(s["Solids"]), "%s: per-solid rows" % model)
     return s
 
 
@@ -131,8 +163,8 @@ for model in sorted(os.listdir(data_dir)):
     # Analytic models: curved faces converted within 1e-6 so that the patches (within 1e-4 by
     # default, i.e. up to 2.5e-5 relative on a 4 mm wall) do not limit the accuracy.
     tolerance = 1e-6 if model in ANALYTIC else 1e-4
-    mesh, medial, residuals, summary = run(model, "native", tolerance)
-    s = check_consistency(model, mesh, medial, residuals, summary)
+    mesh, medial, residuals, summary, tables = run(model, "native", tolerance)
+    s = check_consistency(model, mesh, medial, residuals, summary, tables)
     print("%-36s %7d samples, failed %.2f%%, thickness %.4g .. %.4g mm, mean %.4g mm"
           % (model, s["Samples"], 100 * s["Failed"] / s["Samples"], s["ThicknessMin"], s["ThicknessMax"],
              s["ThicknessMean"]))
