@@ -16,6 +16,8 @@ packages=(
   libgtest-dev googletest
   # Headless rendering
   xvfb xauth libgl1-mesa-dri
+  # GUI tests: the screenshot of the ParaView window and its comparison with the baseline
+  imagemagick
 )
 
 missing=()
