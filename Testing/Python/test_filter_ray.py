@@ -94,6 +94,43 @@ check(abs(rows["RayThicknessMin"] - np.nanmin(ray)) <= 1e-12, "RayThicknessMin d
 check(abs(rows["RayThicknessMax"] - np.nanmax(ray)) <= 1e-12, "RayThicknessMax differs from the array")
 check(rows["RayMissed"] == missed, "RayMissed differs from the array")
 
+# Edge zones and classes on the hole plate (6 mm everywhere away from its edges): with a minimum
+# of 5.5 mm every sample below it is an edge zone, so nothing is thin unless edge zones count.
+# Closed form of the edge zones' area: bands 3 mm wide along every edge of the top and bottom
+# faces, the sides and the hole's wall entirely: 2 (80^2 - pi 10^2 - (74^2 - pi 13^2)) + 4 80 6
+# + 2 pi 10 6 of 2 (80^2 - pi 10^2) + 4 80 6 + 2 pi 10 6 = 0.3164 of the area (the samples' vertex
+# areas make the Summary's share a discretisation of it).
+def summary_rows(filt):
+    t = sm.Fetch(filt, idx=3)
+    return {t.GetValue(r, 0).ToString(): t.GetValue(r, 1).ToDouble() for r in range(t.GetNumberOfRows())}
+
+
+f.MinimumThickness = 5.5
+f.UpdatePipeline()
+rows = summary_rows(f)
+m = dsa.WrapDataObject(sm.Fetch(f, idx=0))
+cls, zone, T = (np.asarray(m.PointData[k]) for k in ("ThicknessClass", "EdgeZone", "Thickness"))
+band = 2 * (80**2 - math.pi * 100 - (74**2 - math.pi * 169)) + 4 * 80 * 6 + 2 * math.pi * 10 * 6
+total = 2 * (80**2 - math.pi * 100) + 4 * 80 * 6 + 2 * math.pi * 10 * 6
+print("hole plate, minimum 5.5 mm: thin without edge zones %.4f, with %.4f; edge zones %.4f of the area "
+      "(closed form %.4f)" % (rows["AreaShareBelowMinimumWithoutEdgeZones"], rows["AreaShareBelowMinimumWithEdgeZones"],
+                              rows["AreaShareEdgeZone"], band / total))
+check(rows["AreaShareBelowMinimumWithoutEdgeZones"] == 0.0, "thin walls outside the edge zones of the hole plate")
+check(rows["AreaShareBelowMinimum"] == 0.0, "edge zones counted by default")
+check(rows["AreaShareBelowMinimumWithEdgeZones"] > 0.2, "the edge zones are not below 5.5 mm")
+check(abs(rows["AreaShareEdgeZone"] - band / total) < 0.015, "edge-zone share far from the closed form")
+check(not np.any(cls == 1), "thin samples on the hole plate")
+check(np.array_equal(cls == 4, zone != 0), "edge-zone class differs from EdgeZone")
+f.CountEdgeZones = 1
+f.UpdatePipeline()
+rows2 = summary_rows(f)
+m = dsa.WrapDataObject(sm.Fetch(f, idx=0))
+cls = np.asarray(m.PointData["ThicknessClass"])
+check(rows2["AreaShareBelowMinimum"] == rows["AreaShareBelowMinimumWithEdgeZones"], "CountEdgeZones does not count them")
+check(np.array_equal(cls == 1, T < 5.5), "with edge zones counted, thin != thickness below 5.5")
+check(not np.any(cls == 4), "edge-zone class with CountEdgeZones on")
+check(rows2["SolveSeconds"] == rows["SolveSeconds"], "changing CountEdgeZones solved again")
+
 f.Method = "Sphere"
 f.UpdatePipeline()
 mesh = sm.Fetch(f, idx=0)
