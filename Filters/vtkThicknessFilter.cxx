@@ -447,18 +447,25 @@ int vtkThicknessFilter::RequestData(
     row("ThicknessMin", anySolved ? stats.Min : NaN, mm);
     row("ThicknessMax", anySolved ? stats.Max : NaN, mm);
     row("ThicknessMean", stats.Mean(), mm);
-    row("MinimumThickness", minimum, mm);
-    row("AreaShareBelowMinimum", share(sums[Stats::AreaBelow], minimum, solvedArea), "fraction");
-    row("AreaShareBelowMinimumWithEdgeZones",
-      share(sums[Stats::AreaBelowAll], minimum, solvedArea), "fraction");
-    row("AreaShareBelowMinimumWithoutEdgeZones",
-      share(sums[Stats::AreaBelowWalls], minimum, solvedArea), "fraction");
-    row("MaximumThickness", maximum, mm);
-    row("AreaShareAboveMaximum", share(sums[Stats::AreaAbove], maximum, solvedArea), "fraction");
-    row("AreaShareAboveMaximumWithEdgeZones",
-      share(sums[Stats::AreaAboveAll], maximum, solvedArea), "fraction");
-    row("AreaShareAboveMaximumWithoutEdgeZones",
-      share(sums[Stats::AreaAboveWalls], maximum, solvedArea), "fraction");
+    // The limits: the share beyond each as the option says, with and without edge zones.
+    const struct
+    {
+      const char *Limit, *Share;
+      double Value;
+      int Sum, All, Walls;
+    } limits[2] = { { "MinimumThickness", "AreaShareBelowMinimum", minimum, Stats::AreaBelow,
+                      Stats::AreaBelowAll, Stats::AreaBelowWalls },
+      { "MaximumThickness", "AreaShareAboveMaximum", maximum, Stats::AreaAbove, Stats::AreaAboveAll,
+        Stats::AreaAboveWalls } };
+    for (const auto& l : limits)
+    {
+      row(l.Limit, l.Value, mm);
+      row(l.Share, share(sums[l.Sum], l.Value, solvedArea), "fraction");
+      row(std::string(l.Share) + "WithEdgeZones", share(sums[l.All], l.Value, solvedArea),
+        "fraction");
+      row(std::string(l.Share) + "WithoutEdgeZones", share(sums[l.Walls], l.Value, solvedArea),
+        "fraction");
+    }
     row("CountEdgeZones", countZones ? 1.0 : 0.0, "boolean");
     row("EdgeZoneAngle", this->EdgeZoneAngle, "degree");
     // Classes (ThicknessClass) as shares of the whole area, failed samples included.
