@@ -177,6 +177,8 @@ int vtkThicknessFilter::RequestData(
   // --- local statistics ------------------------------------------------------------------------
   const std::vector<brt::SampleResult>& R = I.Results;
   const std::vector<double>& area = I.Areas;
+  // Method Ray: R holds the ray thickness (Solve), there are no spheres, no edge zones.
+  const bool rayOnly = this->Method == RAY;
   // Edge zones and classes: from the sample points and the spheres, without solving again.
   std::vector<unsigned char> zone(R.size(), 0);
   std::vector<double> angle(R.size(), NaN);
@@ -186,8 +188,8 @@ int vtkThicknessFilter::RequestData(
   {
     double O[3];
     input->GetPoint(static_cast<vtkIdType>(i), O);
-    angle[i] = brt::ContactAngle(O, R[i]);
-    zone[i] = brt::IsEdgeZone(O, R[i], this->EdgeZoneAngle) ? 1 : 0;
+    angle[i] = rayOnly ? NaN : brt::ContactAngle(O, R[i]);
+    zone[i] = !rayOnly && brt::IsEdgeZone(O, R[i], this->EdgeZoneAngle) ? 1 : 0;
     const int f =
       faceIds ? static_cast<int>(faceIds->GetComponent(static_cast<vtkIdType>(i), 0)) : -1;
     sampleFace[i] = f;
@@ -214,7 +216,7 @@ int vtkThicknessFilter::RequestData(
   std::vector<double>& residualHist = stats.ResidualHistogram;
   double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
   // The ray thickness's statistics: hits, missed, area of the hits, area x thickness; min; max.
-  const bool withRay = this->Method == SPHERE_AND_RAY;
+  const bool withRay = this->Method == SPHERE_AND_RAY; // the ray beside the sphere
   double raySums[4] = { 0.0, 0.0, 0.0, 0.0 }, rayMin = std::numeric_limits<double>::max(),
          rayMax = -std::numeric_limits<double>::max();
   for (size_t i = 0; withRay && i < I.Ray.size() && i < area.size(); ++i)
@@ -335,7 +337,7 @@ int vtkThicknessFilter::RequestData(
   pointArray(sampleClass.Get(), "ThicknessClass", 1);
   pointArray(solidId.Get(), "SolidId", 1);
   vtkNew<vtkDoubleArray> rayThick;
-  if (withRay)
+  if (withRay || rayOnly)
   {
     pointArray(rayThick.Get(), "RayThickness", 1);
     for (size_t i = 0; i < R.size(); ++i)
@@ -376,7 +378,7 @@ int vtkThicknessFilter::RequestData(
     sampleClass->SetValue(id, static_cast<int>(brt::Classify(r, zone[i] != 0,
                                 this->MinimumThickness, this->MaximumThickness, countZones)));
     solidId->SetValue(id, sampleSolid[i]);
-    if (!solved)
+    if (!solved || rayOnly)
       continue;
     centres->InsertNextPoint(r.Center.data());
     mRadius->InsertNextValue(r.Radius);
@@ -388,6 +390,14 @@ int vtkThicknessFilter::RequestData(
     mId->InsertNextValue(static_cast<vtkIdType>(offset) + id);
   }
   thickness->GetPointData()->SetActiveScalars("Thickness");
+  if (rayOnly)
+  {
+    // No spheres: only the ray thickness, its classes, the failure reasons and the solids.
+    for (const char* name : { "Thickness", "Radius", "SphereCenter", "FootPoint", "ContactType",
+           "Residual", "Iterations", "OppositeFaceId", "ContactAngle", "EdgeZone" })
+      thickness->GetPointData()->RemoveArray(name);
+    thickness->GetPointData()->SetActiveScalars("RayThickness");
+  }
 
   // --- port 1: medial points -------------------------------------------------------------------
   medial->SetPoints(centres);
@@ -412,7 +422,7 @@ int vtkThicknessFilter::RequestData(
   auto* rSS = NewColumn<vtkIdTypeArray>(residuals, "SurfaceSurface");
   auto* rSE = NewColumn<vtkIdTypeArray>(residuals, "SurfaceEdge");
   auto* rSV = NewColumn<vtkIdTypeArray>(residuals, "SurfaceVertex");
-  if (rank == 0)
+  if (rank == 0 && !rayOnly)
     for (int b = 0; b < Stats::ResidualBins; ++b)
     {
       const double w = (Stats::ResidualHigh - Stats::ResidualLow) / Stats::ResidualBins;
@@ -442,11 +452,13 @@ int vtkThicknessFilter::RequestData(
   auto share = [&](double part, double limit, double whole) {
     return limit > 0.0 && whole > 0.0 ? part / whole : NaN;
   };
+  // What the limits, classes, histogram and tables measure: the sphere, or the ray (Method Ray).
+  const std::string measure = rayOnly ? "RayThickness" : "Thickness";
   if (rank == 0)
   {
-    row("ThicknessMin", anySolved ? stats.Min : NaN, mm);
-    row("ThicknessMax", anySolved ? stats.Max : NaN, mm);
-    row("ThicknessMean", stats.Mean(), mm);
+    row(measure + "Min", anySolved ? stats.Min : NaN, mm);
+    row(measure + "Max", anySolved ? stats.Max : NaN, mm);
+    row(measure + "Mean", stats.Mean(), mm);
     // The limits: the share beyond each as the option says, with and without edge zones.
     const struct
     {
@@ -485,9 +497,15 @@ int vtkThicknessFilter::RequestData(
       row("RayMissed", raySums[1], "samples");
     }
     row("Samples", sums[Stats::Samples], "samples");
-    row("SurfaceSurface", sums[Stats::PerType + 1], "samples");
-    row("SurfaceEdge", sums[Stats::PerType + 2], "samples");
-    row("SurfaceVertex", sums[Stats::PerType + 3], "samples");
+    if (rayOnly)
+      row("RayMissed",
+        sums[Stats::PerReason + static_cast<int>(brt::FailReason::NoOppositePoint)], "samples");
+    else
+    {
+      row("SurfaceSurface", sums[Stats::PerType + 1], "samples");
+      row("SurfaceEdge", sums[Stats::PerType + 2], "samples");
+      row("SurfaceVertex", sums[Stats::PerType + 3], "samples");
+    }
     row("Failed", sums[Stats::PerType + 0], "samples");
     // One row per failure reason (brt::FailReason 1..10), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
@@ -526,9 +544,9 @@ int vtkThicknessFilter::RequestData(
     auto* nColumn = NewColumn<vtkIntArray>(t, "Samples");
     auto* fColumn = NewColumn<vtkIntArray>(t, "Failed");
     auto* aColumn = NewColumn<vtkDoubleArray>(t, "Area");
-    auto* minColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMin");
-    auto* maxColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMax");
-    auto* meanColumn = NewColumn<vtkDoubleArray>(t, "ThicknessMean");
+    auto* minColumn = NewColumn<vtkDoubleArray>(t, (measure + "Min").c_str());
+    auto* maxColumn = NewColumn<vtkDoubleArray>(t, (measure + "Max").c_str());
+    auto* meanColumn = NewColumn<vtkDoubleArray>(t, (measure + "Mean").c_str());
     auto* belowColumn = NewColumn<vtkDoubleArray>(t, "AreaShareBelowMinimum");
     auto* zoneColumn = NewColumn<vtkDoubleArray>(t, "AreaShareEdgeZone");
     if (rank != 0)
@@ -572,18 +590,28 @@ int vtkThicknessFilter::RequestData(
   {
     // One screen for ParaView's Output Messages (and stderr in pvpython): what ran, on what, how
     // long, and the answer.
+    char counts[512], answer[512];
+    if (rayOnly)
+      std::snprintf(counts, sizeof(counts), "%.0f samples (method Ray): %.0f rays met nothing",
+        sums[Stats::Samples], sums[Stats::PerType + 0]);
+    else
+      std::snprintf(counts, sizeof(counts),
+        "%.0f samples: %.0f surface/surface, %.0f surface/edge, %.0f surface/vertex, %.0f failed",
+        sums[Stats::Samples], sums[Stats::PerType + 1], sums[Stats::PerType + 2],
+        sums[Stats::PerType + 3], sums[Stats::PerType + 0]);
+    std::snprintf(answer, sizeof(answer),
+      "%s %.4g .. %.4g %s, area-weighted mean %.4g %s; edge zones %.1f%% of the area (corner "
+      "angle %g deg)",
+      rayOnly ? "ray thickness" : "thickness", anySolved ? stats.Min : NaN,
+      anySolved ? stats.Max : NaN, mm.c_str(), stats.Mean(), mm.c_str(),
+      solvedArea > 0.0 ? 100.0 * sums[Stats::EdgeZoneArea] / solvedArea : NaN,
+      this->EdgeZoneAngle);
     char text[2048];
     std::snprintf(text, sizeof(text),
-      "B-Rep Thickness: %s\n  device: %s\n  %.0f samples: %.0f surface/surface, %.0f "
-      "surface/edge, %.0f surface/vertex, %.0f failed\n  thickness %.4g .. %.4g %s, "
-      "area-weighted mean %.4g %s; edge zones %.1f%% of the area (corner angle %g deg)\n"
+      "B-Rep Thickness: %s\n  device: %s\n  %s\n  %s\n"
       "  below minimum %g %s: %.2f%% of the area without edge zones, %.2f%% with them\n"
       "  prepare %.3f s, solve %.3f s\n",
-      I.SourceFile.c_str(), I.DeviceUsed.c_str(), sums[Stats::Samples], sums[Stats::PerType + 1],
-      sums[Stats::PerType + 2], sums[Stats::PerType + 3], sums[Stats::PerType + 0],
-      anySolved ? stats.Min : NaN, anySolved ? stats.Max : NaN, mm.c_str(), stats.Mean(),
-      mm.c_str(), solvedArea > 0.0 ? 100.0 * sums[Stats::EdgeZoneArea] / solvedArea : NaN,
-      this->EdgeZoneAngle, minimum, mm.c_str(),
+      I.SourceFile.c_str(), I.DeviceUsed.c_str(), counts, answer, minimum, mm.c_str(),
       100.0 * share(sums[Stats::AreaBelowWalls], minimum, solvedArea),
       100.0 * share(sums[Stats::AreaBelowAll], minimum, solvedArea), times[0], times[1]);
     vtkOutputWindowDisplayText(text);
@@ -668,8 +696,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const auto t1 = std::chrono::steady_clock::now();
   const size_t n = samples.size();
   I.Results.assign(n, brt::SampleResult());
+  const bool rayOnly = this->Method == RAY;
   const size_t chunk = std::max<size_t>(2048, (n + 49) / 50);
-  for (size_t first = 0; first < n; first += chunk)
+  for (size_t first = 0; first < n && !rayOnly; first += chunk)
   {
     const size_t last = std::min(n, first + chunk);
     if (native)
@@ -695,16 +724,35 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       return false;
     }
   }
-  if (this->Method == SPHERE_AND_RAY)
+  if (this->Method != SPHERE)
   {
     // The ray thickness (the kernel source's ray_thickness) on the same device.
     if (native)
       cpu->RayThickness(samples, I.Ray);
     else
       I.CL->RayThickness(model, data, samples, I.Ray);
+    this->UpdateProgress(1.0);
   }
   else
     I.Ray.clear();
+  if (rayOnly)
+  {
+    // Method Ray: the results carry the ray thickness (a ray that meets nothing is a failed
+    // sample, NoOppositePoint), so that the checks below, the classes and the tables treat it
+    // like the sphere's.
+    for (size_t i = 0; i < n; ++i)
+    {
+      brt::SampleResult& r = I.Results[i];
+      if (std::isfinite(I.Ray[i]))
+      {
+        r.Type = brt::ContactType::SurfaceSurface;
+        r.Thickness = I.Ray[i];
+        r.Radius = I.Ray[i] / 2;
+      }
+      else
+        r.Reason = brt::FailReason::NoOppositePoint;
+    }
+  }
   I.SolveSeconds = Seconds(t1);
   // Open or non-manifold solids and impossible values are flagged, never shown as thickness.
   const brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
@@ -731,7 +779,8 @@ void vtkThicknessFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxIterations: " << this->MaxIterations << "\n";
   os << indent << "Device: " << (this->Device ? this->Device : "(none)") << "\n";
   os << indent << "Precision: " << (this->Precision == DOUBLE ? "double" : "float") << "\n";
-  os << indent << "Method: " << (this->Method == SPHERE_AND_RAY ? "sphere and ray" : "sphere") << "\n";
+  static const char* const methods[] = { "sphere", "sphere and ray", "ray" };
+  os << indent << "Method: " << methods[this->Method] << "\n";
   os << indent << "MinimumThickness: " << this->MinimumThickness << "\n";
   os << indent << "MaximumThickness: " << this->MaximumThickness << "\n";
   os << indent << "HistogramBins: " << this->HistogramBins << "\n";

@@ -69,7 +69,8 @@ public:
   enum MethodTypes
   {
     SPHERE = 0,       ///< the maximal inscribed sphere (Thickness and its arrays)
-    SPHERE_AND_RAY = 1 ///< the sphere, and the ray thickness (RayThickness)
+    SPHERE_AND_RAY = 1, ///< the sphere, and the ray thickness (RayThickness)
+    RAY = 2             ///< the ray thickness alone: no spheres (docs/DataContract.md)
   };
 
   ///@{
@@ -123,8 +124,11 @@ public:
   /// SPHERE (default): the maximal-sphere thickness. SPHERE_AND_RAY: also the ray thickness, the
   /// distance from each sample along its inward normal to the first point of the exact trimmed
   /// faces of its solid (point array RayThickness, NaN where the ray meets nothing; Summary rows
-  /// RayThicknessMin/Max/Mean, RayMissed), on the same device as the sphere.
-  vtkSetClampMacro(Method, int, SPHERE, SPHERE_AND_RAY);
+  /// RayThicknessMin/Max/Mean, RayMissed), on the same device as the sphere. RAY: the ray
+  /// thickness alone (on ExpansionCard_SelfTapping it takes longer than the sphere); the classes, limits, histogram and tables then measure it, the
+  /// sphere arrays and the medial points are absent, and a ray that meets nothing is a failed
+  /// sample (FailReason 1).
+  vtkSetClampMacro(Method, int, SPHERE, RAY);
   vtkGetMacro(Method, int);
   ///@}
 

@@ -39,9 +39,10 @@ def parse_args(argv=None):
                          "OpenCASCADE runs in a separate process, a crash or a time-out there is an error)")
     ap.add_argument("--device", default="auto", help="auto, native, gpu, cpu or an OpenCL device name")
     ap.add_argument("--precision", choices=("float", "double"), default="float")
-    ap.add_argument("--method", choices=("sphere", "sphere-and-ray"), default="sphere",
+    ap.add_argument("--method", choices=("sphere", "sphere-and-ray", "ray"), default="sphere",
                     help="sphere: maximal-sphere thickness; sphere-and-ray: also the ray thickness "
-                         "(RayThickness array, Summary rows RayThicknessMin/Max/Mean, RayMissed)")
+                         "(RayThickness array, Summary rows RayThicknessMin/Max/Mean, RayMissed); "
+                         "ray: the ray thickness alone (no spheres, no medial points)")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
     ap.add_argument("--edge-zone-angle", type=float, default=60.0,
@@ -96,7 +97,8 @@ def fmt(v):
     return "" if isinstance(v, float) and math.isnan(v) else v
 
 
-def render(source, port, view, name_png, size, lut, tmax, title, points=False, context=None):
+def render(source, port, view, name_png, size, lut, tmax, title, points=False, context=None,
+           array="Thickness"):
     import paraview.simple as simple
     for rep in view.Representations:
         if hasattr(rep, "Visibility"):
@@ -107,7 +109,7 @@ def render(source, port, view, name_png, size, lut, tmax, title, points=False, c
         ctx.Opacity = 0.15
         ctx.DiffuseColor = [0.6, 0.6, 0.6]
     display = simple.Show(simple.OutputPort(source, port), view)
-    simple.ColorBy(display, ("POINTS", "Thickness"))
+    simple.ColorBy(display, ("POINTS", array))
     display.LookupTable = lut
     lut.RescaleTransferFunction(0.0, tmax)  # white at zero, red at the maximum
     if points:
@@ -148,7 +150,7 @@ def main(argv=None):
                           Precision="Double" if args.precision == "double" else "Float",
                           MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
                           S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins,
-                          Method="Sphere and ray" if args.method == "sphere-and-ray" else "Sphere",
+                          Method={"sphere": "Sphere", "sphere-and-ray": "Sphere and ray", "ray": "Ray"}[args.method],
                           EdgeZoneAngle=args.edge_zone_angle, CountEdgeZones=int(args.count_edge_zones))
     collect_errors(thick, errors)
     thick.UpdatePipeline()
@@ -168,8 +170,11 @@ def main(argv=None):
     files = {}
     files["thickness"] = os.path.join(out, name + "-thickness.vtp")
     simple.SaveData(files["thickness"], proxy=simple.OutputPort(thick, 0))
-    files["medial"] = os.path.join(out, name + "-medial.vtp")
-    simple.SaveData(files["medial"], proxy=simple.OutputPort(thick, 1))
+    ray_only = args.method == "ray"
+    measure = "RayThickness" if ray_only else "Thickness"  # what the limits and tables measure
+    if not ray_only:  # Method Ray has no spheres: no medial points, no residuals
+        files["medial"] = os.path.join(out, name + "-medial.vtp")
+        simple.SaveData(files["medial"], proxy=simple.OutputPort(thick, 1))
 
     _, rows = table_rows(summary)
     stats = {r[0]: r[1] for r in rows}
@@ -196,8 +201,8 @@ def main(argv=None):
         for r in table_rows(histogram)[1]:
             w.writerow([fmt(r[0] - width / 2), fmt(r[0] + width / 2), fmt(r[1])])
     # Per solid and per face, with the unit in every header that has one.
-    table_units = {"Area": unit + "^2", "ThicknessMin": unit, "ThicknessMax": unit,
-                   "ThicknessMean": unit}
+    table_units = {"Area": unit + "^2", measure + "Min": unit, measure + "Max": unit,
+                   measure + "Mean": unit}
     for key, port in (("per_solid", 5), ("per_face", 6)):
         files[key] = os.path.join(out, name + "-" + key.replace("_", "-") + ".csv")
         names, trows = table_rows(sm.Fetch(thick, idx=port))
@@ -206,7 +211,7 @@ def main(argv=None):
             w.writerow(["%s_%s" % (n, table_units[n]) if n in table_units else n for n in names])
             w.writerows([[fmt(v) if isinstance(v, float) else v for v in r] for r in trows])
     files["residuals"] = os.path.join(out, name + "-residuals.csv")
-    with open(files["residuals"], "w", newline="") as f:
+    with open(files["residuals"], "w", newline="") as f:  # empty with --method ray
         names, rows = table_rows(residuals)
         w = csv.writer(f)
         w.writerow(names)
@@ -222,21 +227,22 @@ def main(argv=None):
     except AttributeError:
         pass
     view.OrientationAxesLabelColor = [0, 0, 0]
-    lut = simple.GetColorTransferFunction("Thickness")
+    lut = simple.GetColorTransferFunction(measure)
     lut.ColorSpace = "RGB"
-    tmax = stats["ThicknessMax"] if stats["ThicknessMax"] > 0 else 1.0
+    tmax = stats[measure + "Max"] if stats[measure + "Max"] > 0 else 1.0
     lut.RGBPoints = [x * (tmax if i % 4 == 0 else 1) for i, x in enumerate(THICKNESS_RGB)]
     lut.NanColor = FAILED_RGB
     lut.AutomaticRescaleRangeMode = "Never"
-    title = "Thickness (%s)" % unit
+    title = "%s (%s)" % ("Ray thickness" if ray_only else "Thickness", unit)
     files["png"] = os.path.join(out, name + ".png")
-    render(thick, 0, view, files["png"], args.size, lut, tmax, title)
+    render(thick, 0, view, files["png"], args.size, lut, tmax, title, array=measure)
     bar = simple.GetScalarBar(lut, view)
     bar.TitleColor = bar.LabelColor = [0, 0, 0]
     simple.SaveScreenshot(files["png"], view, ImageResolution=list(args.size))
-    files["medial_png"] = os.path.join(out, name + "-medial.png")
-    render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
-           context=simple.OutputPort(thick, 0))
+    if not ray_only:
+        files["medial_png"] = os.path.join(out, name + "-medial.png")
+        render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
+               context=simple.OutputPort(thick, 0))
 
     n = stats["Samples"]
     share = lambda k: 100.0 * stats[k] / n if n else 0.0
@@ -244,13 +250,17 @@ def main(argv=None):
     print("  %d faces -> %d bicubic patches (max deviation %.1e %s); %d samples, %d s1 points"
           % (fd.GetArray("NumberOfFaces").GetValue(0), fd.GetArray("NumberOfPatches").GetValue(0),
              fd.GetArray("MaxPatchDeviation").GetValue(0), unit, n, stats["S1Points"]))
-    print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% failed"
-          % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"), share("Failed")))
+    if ray_only:
+        print("  rays: %d (%.3f%%) met nothing" % (stats["RayMissed"], share("RayMissed")))
+    else:
+        print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% failed"
+              % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"), share("Failed")))
     failed = [(k[len("Failed"):], int(v)) for k, v in stats.items() if k.startswith("Failed") and k != "Failed" and v]
     if failed:
         print("  failed: " + ", ".join("%s %d" % kv for kv in failed))
-    print("  thickness: min %.4g, max %.4g, area-weighted mean %.4g %s"
-          % (stats["ThicknessMin"], stats["ThicknessMax"], stats["ThicknessMean"], unit))
+    print("  %s: min %.4g, max %.4g, area-weighted mean %.4g %s"
+          % ("ray thickness" if ray_only else "thickness", stats[measure + "Min"], stats[measure + "Max"],
+             stats[measure + "Mean"], unit))
     print("  edge zones (corners of %g deg or more): %.2f%% of the area; the limits %s"
           % (args.edge_zone_angle, 100 * stats["AreaShareEdgeZone"],
              "count them" if args.count_edge_zones else "leave them out"))
@@ -270,7 +280,8 @@ def main(argv=None):
              stats["PrepareSeconds"], stats["SolveSeconds"]))
     for key in ("thickness", "medial", "summary", "histogram", "per_solid", "per_face", "residuals", "png",
                 "medial_png"):
-        print("  wrote %s" % files[key])
+        if key in files:
+            print("  wrote %s" % files[key])
     # Release the view (and its OpenGL context) before the interpreter's teardown closes X.
     simple.Delete(view)
     del view

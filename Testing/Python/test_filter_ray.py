@@ -131,7 +131,34 @@ check(np.array_equal(cls == 1, T < 5.5), "with edge zones counted, thin != thick
 check(not np.any(cls == 4), "edge-zone class with CountEdgeZones on")
 check(rows2["SolveSeconds"] == rows["SolveSeconds"], "changing CountEdgeZones solved again")
 
+# Method Ray: the same ray thickness without the spheres; classes and tables measure the ray.
+f.Method = "Ray"
+f.CountEdgeZones = 0
+f.MinimumThickness = 7.0
+f.UpdatePipeline()
+m = dsa.WrapDataObject(sm.Fetch(f, idx=0))
+names = list(m.PointData.keys())
+check("Thickness" not in names and "SphereCenter" not in names and "EdgeZone" not in names,
+      "sphere arrays present with Method Ray: %s" % names)
+ray_only = np.asarray(m.PointData["RayThickness"])
+check(np.array_equal(ray_only, ray, equal_nan=True), "Method Ray gives another RayThickness than Sphere and ray")
+cls = np.asarray(m.PointData["ThicknessClass"])
+check(np.array_equal(cls == 1, ray_only < 7.0) and np.array_equal(cls == 2, ray_only >= 7.0),
+      "Method Ray: classes are not the ray thickness against the minimum 7")
+check(sm.Fetch(f, idx=1).GetNumberOfPoints() == 0, "medial points with Method Ray")
+rows = summary_rows(f)
+check(rows["RayThicknessMin"] == np.nanmin(ray_only) and rows["RayMissed"] == 0 and "ThicknessMin" not in rows
+      and "SurfaceSurface" not in rows, "Method Ray: Summary rows")
+below = rows["AreaShareBelowMinimum"]
+flat_share = 2 * (80**2 - math.pi * 100) / total  # the top and bottom faces read 6, the rest more
+print("Method Ray: %.4f of the area has a ray thickness below 7 mm (top and bottom faces: %.4f); "
+      "RayThicknessMin %.9g" % (below, flat_share, rows["RayThicknessMin"]))
+check(abs(below - flat_share) < 0.005, "Method Ray: share below 7 mm far from the top and bottom faces' share")
+solids = sm.Fetch(f, idx=5)
+check(solids.GetColumnByName("RayThicknessMin") is not None, "per-solid table without RayThicknessMin")
+
 f.Method = "Sphere"
+f.MinimumThickness = 0.0
 f.UpdatePipeline()
 mesh = sm.Fetch(f, idx=0)
 check(mesh.GetPointData().GetArray("RayThickness") is None, "RayThickness present with Method Sphere")
