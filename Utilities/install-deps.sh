@@ -16,8 +16,9 @@ packages=(
   libgtest-dev googletest
   # Headless rendering
   xvfb xauth libgl1-mesa-dri
-  # GUI tests: the screenshot of the ParaView window and its comparison with the baseline
-  imagemagick
+  # GUI tests: the screenshot of the ParaView window and its comparison with the baseline;
+  # Qt's SVG plugins draw ParaView's toolbar icons (the paraview package only recommends them)
+  imagemagick libqt5svg5
 )
 
 missing=()
