@@ -409,7 +409,7 @@ void OpenCLSolver::Impl::SetArgs(cl_kernel k, int set, const Buffer& samples, in
   for (cl_uint a = 0; a < ModelBuffers; ++a)
     Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[set][a].Mem), "clSetKernelArg");
   const cl_int n = count, maxIt = ks.MaxIterations, maxEdgeIt = ks.MaxEdgeIterations,
-               patchCount = PatchCount, certify = ks.Certify && HasBoxes ? 1 : 0;
+               patchCount = PatchCount, mode = ks.Mode(HasBoxes);
   Check(clSetKernelArg(k, 28, sizeof(cl_mem), &samples.Mem), "clSetKernelArg");
   Check(clSetKernelArg(k, 29, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
   Check(clSetKernelArg(k, 30, sizeof(cl_int), &n), "clSetKernelArg");
@@ -434,7 +434,7 @@ void OpenCLSolver::Impl::SetArgs(cl_kernel k, int set, const Buffer& samples, in
     Check(clSetKernelArg(k, 38, sizeof(float), &f), "clSetKernelArg");
   }
   Check(clSetKernelArg(k, 39, sizeof(cl_int), &patchCount), "clSetKernelArg");
-  Check(clSetKernelArg(k, 40, sizeof(cl_int), &certify), "clSetKernelArg");
+  Check(clSetKernelArg(k, 40, sizeof(cl_int), &mode), "clSetKernelArg");
 }
 
 template <class T>

@@ -61,6 +61,13 @@ typedef float3 real3;
 // Per result: type, reason, face, patch, edge, iterations, exact pass (0 or 1).
 #define OUT_INTS 7
 
+// Model::mode, the launch argument 40 (brt::KernelScalars).
+#define MODE_CERTIFY 1    // certify every sphere against the patches (needs a box node)
+#define MODE_EXTERIOR 2   // the gap: d is the outward normal, the sphere lies in the air and
+                          // touches faces from their outer side (brt::SolverOptions::Exterior)
+#define MODE_ALL_SOLIDS 4 // walls of every solid bound the sphere, not only O's own
+                          // (brt::SolverOptions::AllSolids)
+
 typedef struct
 {
   real3 P, Du, Dv, Duu, Duv, Dvv;
@@ -99,7 +106,7 @@ typedef struct
   __global const int* boxNodeInfo;  // first, count, right per node
   __global const int* boxItems;     // patch p, or edge segment e as patchCount + e
   int patchCount;
-  int certify; // 1: certify every sphere (needs at least one box node)
+  int mode; // MODE_* bits: certification, the exterior (gap) sphere, the walls of all solids
 } Model;
 
 // The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
@@ -111,7 +118,23 @@ typedef struct
 // tolerance are affected.
 inline int from_inside(const Model* m, int sampleFace, int face, real side)
 {
+  // The gap's sphere lies in the air: it touches faces from their outer side.
+  if (m->mode & MODE_EXTERIOR)
+    side = -side;
   return !(side > (face == sampleFace ? (real)0 : m->delta + (real)0.5 * m->slack));
+}
+
+// The solid whose walls bound the sphere at a sample on ownFace: its own, or -1 for every solid
+// (MODE_ALL_SOLIDS).
+inline int scope_solid(const Model* m, int ownFace)
+{
+  return (m->mode & MODE_ALL_SOLIDS) ? -1 : m->faceInfo[FACE_INTS * ownFace + 7];
+}
+
+// A face belongs to the scope (scope_solid).
+inline int in_scope(__global const int* faceInfo, int face, int solid)
+{
+  return solid < 0 || faceInfo[FACE_INTS * face + 7] == solid;
 }
 
 // A point P (relative to O) within the patches' accuracy of O.
@@ -750,6 +773,12 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const int n = stack[--top];
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = make_real3(bx[0], bx[1], bx[2]), hi = make_real3(bx[3], bx[4], bx[5]);
+      // A node wholly behind O's tangent plane (no point more than delta in front of it) holds
+      // no candidate: each of its points would be skipped below. Without this a sample that no
+      // wall faces (an exterior gap to infinity) visits every s1 point.
+      const real3 far = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
+      if (dot(d, far - O) <= delta)
+        continue;
       if (best >= 0 || bounded)
       {
         const real3 M = O + t * d;
@@ -765,7 +794,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           // Walls of other solids don't count; nor does a face already tried. Edge points
           // (stored as ~face) only verify: they start nothing (brt::AddEdgePoints).
           const int face = s1_face(s1Face, i);
-          if (faceInfo[FACE_INTS * face + 7] != solid || face == excludeFace ||
+          if (!in_scope(faceInfo, face, solid) || face == excludeFace ||
             (s1Face[i] < 0 && !bounded))
             continue;
           const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
@@ -1813,9 +1842,9 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
 {
   st->found = 0;
   const real reach = t - depth - (real)0.25 * m->slack;
-  if (!m->certify || !(reach > (real)0))
+  if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
     return 0;
-  const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
+  const int solid = scope_solid(m, ownFace);
   const real3 mr = t * d;               // M - O
   const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
   st->best = reach;
@@ -1835,7 +1864,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         const int item = m->boxItems[i];
         if (item < m->patchCount)
         {
-          if (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid &&
+          if (in_scope(m->faceInfo, m->patchFace[item], solid) &&
             box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best)
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
@@ -1843,7 +1872,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         {
           const int es = item - m->patchCount;
           const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
-          if (f0 >= 0 && m->faceInfo[FACE_INTS * f0 + 7] == solid &&
+          if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
             box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best)
             certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
@@ -1947,7 +1976,7 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, i
 {
   real best = REAL_MAX;
   *hitFace = -1;
-  if (!m->certify)
+  if (!(m->mode & MODE_CERTIFY))
     return best;
   const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
   const real sMin = (real)2 * m->slack;
@@ -2000,7 +2029,7 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, i
 int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
   Result* r)
 {
-  if (!m->certify)
+  if (!(m->mode & MODE_CERTIFY))
     return 0;
   real t = r->t, step = 0;
   PointInside st, last;
@@ -2048,7 +2077,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
 {
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
-  const int solid = faceInfo[FACE_INTS * ownFace + 7];
+  const int solid = scope_solid(m, ownFace);
   // O's projection on its own trim: the edge nearest O, for the descent across it.
   int ownSeg;
   real ownParam, ownDist;
@@ -2289,12 +2318,12 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
   __global const real *samples, __global const int *sampleFace, const int count,                \
     const real scale, const real stepTol, const real newtonTol, const real slack,                \
     const real clearance, const int maxIterations, const int maxEdgeIterations,                 \
-    const real s1Spacing, const int patchCount, const int certify
+    const real s1Spacing, const int patchCount, const int mode
 #define MODEL_INIT                                                                               \
   { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim, trimEdge,      \
     trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,        \
     clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox,            \
-    boxNodeInfo, boxItems, patchCount, certify }
+    boxNodeInfo, boxItems, patchCount, mode }
 
 // The solve: one work-item per sample; results in OUT_REALS and OUT_INTS per sample (arguments
 // 41, 42).
@@ -2311,7 +2340,7 @@ __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __g
 
 // The ray thickness (ray_thickness): one work-item per sample; the distance in outRay (REAL_MAX
 // where the ray meets nothing) and the face hit in outFace (-1) (arguments 41, 42). Needs the
-// certification's boxes (certify = 1).
+// certification's boxes (MODE_CERTIFY).
 __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __global int* outFace)
 {
   const int gid = get_global_id(0);

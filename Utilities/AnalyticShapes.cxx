@@ -4,7 +4,11 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gp_Trsf.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -81,5 +85,36 @@ TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)
       fillet.Add(filletRadius, e);
   }
   return fillet.Shape();
+}
+
+TopoDS_Shape UChannel(double w, double h, double lt, double ft, double l)
+{
+  // The profile in the xz plane, extruded along +y.
+  BRepBuilderAPI_MakePolygon poly;
+  poly.Add(gp_Pnt(0, 0, 0));
+  poly.Add(gp_Pnt(w, 0, 0));
+  poly.Add(gp_Pnt(w, 0, h));
+  poly.Add(gp_Pnt(w - lt, 0, h));
+  poly.Add(gp_Pnt(w - lt, 0, ft));
+  poly.Add(gp_Pnt(lt, 0, ft));
+  poly.Add(gp_Pnt(lt, 0, h));
+  poly.Add(gp_Pnt(0, 0, h));
+  poly.Close();
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(poly.Wire());
+  return BRepPrimAPI_MakePrism(profile, gp_Vec(0, l, 0)).Shape();
+}
+
+TopoDS_Shape TwoPlates(double lx, double ly, double h, double gap)
+{
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(lx, ly, h).Shape();
+  gp_Trsf up;
+  up.SetTranslation(gp_Vec(0, 0, h + gap));
+  const TopoDS_Shape b = BRepBuilderAPI_Transform(a, up, true).Shape();
+  BRep_Builder builder;
+  TopoDS_Compound c;
+  builder.MakeCompound(c);
+  builder.Add(c, a);
+  builder.Add(c, b);
+  return c;
 }
 } // namespace brt::analytic

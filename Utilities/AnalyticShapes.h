@@ -13,4 +13,9 @@ TopoDS_Shape ToroidalShell(double major, double R, double r);    ///< thickness 
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
+/// U-channel along y: outer width w (x), height h (z), legs lt thick, floor ft thick, length l;
+/// the slot between the legs is w - 2 lt wide (the exterior gap's closed form).
+TopoDS_Shape UChannel(double w, double h, double lt, double ft, double l);
+/// Two plates lx x ly x h as two solids of one compound, the second `gap` above the first.
+TopoDS_Shape TwoPlates(double lx, double ly, double h, double gap);
 } // namespace brt::analytic

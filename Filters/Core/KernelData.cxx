@@ -129,6 +129,8 @@ KernelScalars GetKernelScalars(const BRepModel& m, const SolverData& data, const
   s.MaxIterations = options.MaxIterations;
   s.MaxEdgeIterations = options.MaxEdgeIterations;
   s.Certify = options.Certify ? 1 : 0;
+  s.Exterior = options.Exterior ? 1 : 0;
+  s.AllSolids = options.AllSolids ? 1 : 0;
   return s;
 }
 

@@ -41,6 +41,14 @@ struct KernelScalars
   double S1Spacing = 0.0;
   int MaxIterations = 50, MaxEdgeIterations = 50;
   int Certify = 1;
+  int Exterior = 0;  ///< SolverOptions::Exterior
+  int AllSolids = 0; ///< SolverOptions::AllSolids
+  /// The kernels' mode argument (MODE_* in Kernels/thickness.cl); hasBoxes: the certification's
+  /// boxes are packed (the certification needs them).
+  int Mode(bool hasBoxes) const
+  {
+    return (Certify && hasBoxes ? 1 : 0) | (Exterior ? 2 : 0) | (AllSolids ? 4 : 0);
+  }
 };
 
 template <class T>

@@ -35,7 +35,7 @@ struct NativeSolver::Impl
       K.EdgeSeg.data(), K.EdgeAnchor.data(), K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack,
       s.Clearance, s.S1Spacing, K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(),
       K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
-      static_cast<int>(Model.Patches.size()), s.Certify && K.HasBoxes() ? 1 : 0 };
+      static_cast<int>(Model.Patches.size()), s.Mode(K.HasBoxes()) };
   }
 };
 

@@ -94,6 +94,14 @@ struct SolverOptions
   /// faces deeper inside than the clearance restarts the solve from it (docs/Solver.md,
   /// "Certified emptiness"). Off only to measure what it costs and buys.
   bool Certify = true;
+  /// The exterior gap instead of the thickness (issue 16, docs/Solver.md "Exterior gap"): the
+  /// samples' Direction is the outward normal, and the sphere grows into the air, touching
+  /// faces from their outer side. A sample that no wall faces (nothing in front of it) fails with
+  /// NoOppositePoint: its gap is infinite.
+  bool Exterior = false;
+  /// Walls of every solid bound the sphere (the clearance between the solids of an assembly),
+  /// not only those of the sample's own solid.
+  bool AllSolids = false;
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.
