@@ -79,6 +79,10 @@ struct vtkThicknessFilter::Internals
   std::string Key;
   std::vector<brt::SampleResult> Results;
   std::vector<double> Ray; ///< per sample, with Method SPHERE_AND_RAY: the ray thickness (NaN: no hit)
+  /// Per sample, with Measure THICKNESS_AND_GAP: the exterior gap's sphere, and 1 where the gap is
+  /// infinite (no wall faces the sample).
+  std::vector<brt::SampleResult> Gap;
+  std::vector<unsigned char> GapInfinite;
   std::vector<double> Areas; ///< per sample (mesh vertex): a third of its triangles' area
   double PrepareSeconds = 0.0, SolveSeconds = 0.0;
   size_t S1Points = 0;
@@ -143,7 +147,8 @@ int vtkThicknessFilter::RequestData(
   keyStream.precision(17);
   keyStream << input << ' ' << input->GetMTime() << ' ' << this->S1Spacing << ' '
             << this->Clearance << ' ' << this->NewtonTolerance << ' ' << this->MaxIterations << ' '
-            << (this->Device ? this->Device : "") << ' ' << this->Precision << ' ' << this->Method;
+            << (this->Device ? this->Device : "") << ' ' << this->Precision << ' ' << this->Method
+            << ' ' << this->Measure << ' ' << this->GapScope;
   if (empty)
   {
     // Nothing upstream (a reader that failed has already said why): empty outputs.
@@ -232,6 +237,42 @@ int vtkThicknessFilter::RequestData(
     rayMin = std::min(rayMin, I.Ray[i]);
     rayMax = std::max(rayMax, I.Ray[i]);
   }
+  // The exterior gap: per sample its value (+inf: infinite, with the cap; NaN: failed), and the
+  // statistics: area with a gap (finite or infinite), finite area, finite area x gap, infinite
+  // area, failed count, area below MinimumGap; min; max of the finite gaps.
+  const bool withGap = this->Measure == THICKNESS_AND_GAP && I.Gap.size() == R.size();
+  std::vector<double> gapValue(withGap ? R.size() : 0, NaN);
+  std::vector<unsigned char> gapInfinite(gapValue.size(), 0);
+  double gapSums[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }, gapMin = std::numeric_limits<double>::max(),
+         gapMax = -std::numeric_limits<double>::max();
+  for (size_t i = 0; i < gapValue.size(); ++i)
+  {
+    const brt::SampleResult& g = I.Gap[i];
+    const bool solved = g.Type != brt::ContactType::Failed;
+    gapInfinite[i] = I.GapInfinite[i] ||
+        (solved && this->MaximumGap > 0.0 && g.Thickness > this->MaximumGap)
+      ? 1
+      : 0;
+    if (gapInfinite[i])
+    {
+      gapValue[i] = std::numeric_limits<double>::infinity();
+      gapSums[0] += area[i];
+      gapSums[3] += area[i];
+      continue;
+    }
+    if (!solved)
+    {
+      gapSums[4] += 1.0;
+      continue;
+    }
+    gapValue[i] = g.Thickness;
+    gapSums[0] += area[i];
+    gapSums[1] += area[i];
+    gapSums[2] += area[i] * g.Thickness;
+    gapSums[5] += this->MinimumGap > 0.0 && g.Thickness < this->MinimumGap ? area[i] : 0.0;
+    gapMin = std::min(gapMin, g.Thickness);
+    gapMax = std::max(gapMax, g.Thickness);
+  }
   long long localCount = static_cast<long long>(R.size()), offset = 0;
 
   // --- collective part: every process, in the same order -------------------------------------
@@ -257,6 +298,13 @@ int vtkThicknessFilter::RequestData(
     double rs[4];
     ctrl->AllReduce(raySums, rs, 4, vtkCommunicator::SUM_OP);
     std::copy(rs, rs + 4, raySums);
+    double gs[6];
+    ctrl->AllReduce(gapSums, gs, 6, vtkCommunicator::SUM_OP);
+    std::copy(gs, gs + 6, gapSums);
+    ctrl->AllReduce(&gapMin, &v, 1, vtkCommunicator::MIN_OP);
+    gapMin = v;
+    ctrl->AllReduce(&gapMax, &v, 1, vtkCommunicator::MAX_OP);
+    gapMax = v;
     ctrl->AllReduce(&rayMin, &v, 1, vtkCommunicator::MIN_OP);
     rayMin = v;
     ctrl->AllReduce(&rayMax, &v, 1, vtkCommunicator::MAX_OP);
@@ -342,6 +390,30 @@ int vtkThicknessFilter::RequestData(
     pointArray(rayThick.Get(), "RayThickness", 1);
     for (size_t i = 0; i < R.size(); ++i)
       rayThick->SetValue(static_cast<vtkIdType>(i), i < I.Ray.size() ? I.Ray[i] : NaN);
+  }
+  if (withGap)
+  {
+    vtkNew<vtkDoubleArray> gap, gapCentre;
+    vtkNew<vtkIntArray> gapType, gapReason;
+    vtkNew<vtkUnsignedCharArray> gapInf;
+    pointArray(gap.Get(), "Gap", 1);
+    pointArray(gapInf.Get(), "GapInfinite", 1);
+    pointArray(gapType.Get(), "GapContactType", 1);
+    pointArray(gapReason.Get(), "GapFailReason", 1);
+    pointArray(gapCentre.Get(), "GapSphereCenter", 3);
+    for (size_t i = 0; i < R.size(); ++i)
+    {
+      const vtkIdType id = static_cast<vtkIdType>(i);
+      const brt::SampleResult& g = I.Gap[i];
+      const bool finite = std::isfinite(gapValue[i]);
+      gap->SetValue(id, gapValue[i]);
+      gapInf->SetValue(id, gapInfinite[i]);
+      gapType->SetValue(id, finite ? static_cast<int>(g.Type) : 0);
+      // An infinite gap is not a failure: reason 0 unless the solve failed otherwise.
+      gapReason->SetValue(id, gapInfinite[i] ? 0 : static_cast<int>(g.Reason));
+      for (int k = 0; k < 3; ++k)
+        gapCentre->SetComponent(id, k, finite ? g.Center[k] : NaN);
+    }
   }
   vtkNew<vtkPoints> centres;
   centres->SetDataTypeToDouble();
@@ -495,6 +567,20 @@ int vtkThicknessFilter::RequestData(
       row("RayThicknessMax", raySums[0] > 0.0 ? rayMax : NaN, mm);
       row("RayThicknessMean", raySums[2] > 0.0 ? raySums[3] / raySums[2] : NaN, mm);
       row("RayMissed", raySums[1], "samples");
+    }
+    if (withGap)
+    {
+      const bool anyGap = gapMax >= gapMin;
+      row("GapMin", anyGap ? gapMin : NaN, mm);
+      row("GapMax", anyGap ? gapMax : NaN, mm);
+      row("GapMean", gapSums[1] > 0.0 ? gapSums[2] / gapSums[1] : NaN, mm);
+      row("MinimumGap", this->MinimumGap, mm);
+      row("AreaShareBelowMinimumGap",
+        this->MinimumGap > 0.0 && gapSums[0] > 0.0 ? gapSums[5] / gapSums[0] : NaN, "fraction");
+      row("MaximumGap", this->MaximumGap, mm);
+      row("AreaShareInfiniteGap", gapSums[0] > 0.0 ? gapSums[3] / gapSums[0] : NaN, "fraction");
+      row("GapFailed", gapSums[4], "samples");
+      row("GapScope", this->GapScope, "0 own solid, 1 all solids");
     }
     row("Samples", sums[Stats::Samples], "samples");
     if (rayOnly)
@@ -692,38 +778,47 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     : std::string("OpenCL ") + (useDouble ? "double" : "float") + ": " + I.CL->DeviceName();
   I.PrepareSeconds = Seconds(t0);
 
-  // Solve in chunks: progress and abort between them.
+  // Solve in chunks: progress and abort between them. The gap, when asked for, is the second
+  // half of the progress.
   const auto t1 = std::chrono::steady_clock::now();
   const size_t n = samples.size();
-  I.Results.assign(n, brt::SampleResult());
   const bool rayOnly = this->Method == RAY;
+  const bool withGap = this->Measure == THICKNESS_AND_GAP;
   const size_t chunk = std::max<size_t>(2048, (n + 49) / 50);
-  for (size_t first = 0; first < n && !rayOnly; first += chunk)
-  {
-    const size_t last = std::min(n, first + chunk);
-    if (native)
+  auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
+                    std::vector<brt::SampleResult>& out, double from, double to, const char* what) {
+    out.assign(n, brt::SampleResult());
+    for (size_t first = 0; first < n; first += chunk)
     {
-      std::vector<size_t> which(last - first);
-      std::iota(which.begin(), which.end(), first);
-      cpu->Solve(options, samples, I.Results, &which);
+      const size_t last = std::min(n, first + chunk);
+      if (native)
+      {
+        std::vector<size_t> which(last - first);
+        std::iota(which.begin(), which.end(), first);
+        cpu->Solve(o, in, out, &which);
+      }
+      else
+      {
+        const std::vector<brt::Sample> part(in.begin() + first, in.begin() + last);
+        std::vector<brt::SampleResult> got;
+        I.CL->Solve(model, data, o, part, got);
+        std::copy(got.begin(), got.end(), out.begin() + first);
+      }
+      this->UpdateProgress(from + (to - from) * static_cast<double>(last) / n);
+      // CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees this filter's AbortExecute (set
+      // by ParaView's Abort) and an abort upstream, and makes the executive mark the outputs
+      // aborted, so that the next update solves again.
+      if (this->CheckAbort())
+      {
+        vtkWarningMacro(<< what << " solve aborted after " << last << " of " << n << " samples.");
+        return false;
+      }
     }
-    else
-    {
-      const std::vector<brt::Sample> part(samples.begin() + first, samples.begin() + last);
-      std::vector<brt::SampleResult> out;
-      I.CL->Solve(model, data, options, part, out);
-      std::copy(out.begin(), out.end(), I.Results.begin() + first);
-    }
-    this->UpdateProgress(0.05 + 0.95 * static_cast<double>(last) / n);
-    // CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees this filter's AbortExecute (set by
-    // ParaView's Abort) and an abort upstream, and makes the executive mark the outputs aborted,
-    // so that the next update solves again.
-    if (this->CheckAbort())
-    {
-      vtkWarningMacro(<< "Thickness solve aborted after " << last << " of " << n << " samples.");
-      return false;
-    }
-  }
+    return true;
+  };
+  I.Results.assign(n, brt::SampleResult());
+  if (!rayOnly && !solveAll(options, samples, I.Results, 0.05, withGap ? 0.55 : 1.0, "Thickness"))
+    return false;
   if (this->Method != SPHERE)
   {
     // The ray thickness (the kernel source's ray_thickness) on the same device.
@@ -752,6 +847,34 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       else
         r.Reason = brt::FailReason::NoOppositePoint;
     }
+  }
+  I.Gap.clear();
+  I.GapInfinite.clear();
+  if (withGap)
+  {
+    // The exterior gap (docs/Solver.md, "Exterior gap"): the same solve from the outward normal,
+    // the sphere in the air. A sample that no wall faces has an infinite gap (NoOppositePoint,
+    // or a sphere beyond its solid's bounding box), flagged, never a value.
+    std::vector<brt::Sample> outward = samples;
+    for (brt::Sample& sample : outward)
+      for (double& c : sample.Direction)
+        c = -c;
+    brt::SolverOptions gapOptions = options;
+    gapOptions.Exterior = true;
+    gapOptions.AllSolids = this->GapScope == ALL_SOLIDS;
+    if (!solveAll(gapOptions, outward, I.Gap, 0.55, 1.0, "Gap"))
+      return false;
+    I.GapInfinite.assign(n, 0);
+    for (size_t i = 0; i < n; ++i)
+      if (I.Gap[i].Type == brt::ContactType::Failed &&
+        I.Gap[i].Reason == brt::FailReason::NoOppositePoint)
+        I.GapInfinite[i] = 1;
+    // Open shells and non-manifold solids are flagged as for the thickness; a sphere beyond its
+    // solid's bounding box (Unbounded) is an open gap, not a failure.
+    brt::CheckResults(model, outward, I.Gap);
+    for (size_t i = 0; i < n; ++i)
+      if (I.Gap[i].Reason == brt::FailReason::Unbounded)
+        I.GapInfinite[i] = 1;
   }
   I.SolveSeconds = Seconds(t1);
   // Open or non-manifold solids and impossible values are flagged, never shown as thickness.

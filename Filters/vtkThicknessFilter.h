@@ -132,6 +132,44 @@ public:
   vtkGetMacro(Method, int);
   ///@}
 
+  enum MeasureTypes
+  {
+    MEASURE_THICKNESS = 0, ///< the wall thickness (Method says how)
+    THICKNESS_AND_GAP = 1 ///< and the exterior gap: the air between walls (arrays Gap...)
+  };
+
+  enum GapScopes
+  {
+    OWN_SOLID = 0, ///< the gap between walls of the sample's own solid
+    ALL_SOLIDS = 1 ///< and the clearance to every other solid of the file (an assembly)
+  };
+
+  ///@{
+  /// MEASURE_THICKNESS (default) or THICKNESS_AND_GAP: also the exterior gap (docs/Solver.md, "Exterior
+  /// gap"), the largest sphere tangent at each sample from outside that holds no material; its
+  /// diameter is the gap. Point arrays Gap (+inf where no wall faces the sample, NaN where the
+  /// solve failed), GapInfinite, GapContactType, GapFailReason, GapSphereCenter; Summary rows
+  /// GapMin/Max/Mean, AreaShareBelowMinimumGap, AreaShareInfiniteGap, GapFailed.
+  vtkSetClampMacro(Measure, int, MEASURE_THICKNESS, THICKNESS_AND_GAP);
+  vtkGetMacro(Measure, int);
+  ///@}
+
+  ///@{
+  /// Which walls bound the gap's sphere: OWN_SOLID (default) or ALL_SOLIDS.
+  vtkSetClampMacro(GapScope, int, OWN_SOLID, ALL_SOLIDS);
+  vtkGetMacro(GapScope, int);
+  ///@}
+
+  ///@{
+  /// Gaps wider than MaximumGap count as infinite (flagged GapInfinite; 0, the default: no cap);
+  /// the Summary gives the area share with a gap below MinimumGap (0: off). Model units. Changing
+  /// them does not solve again.
+  vtkSetClampMacro(MaximumGap, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumGap, double);
+  vtkSetClampMacro(MinimumGap, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MinimumGap, double);
+  ///@}
+
   ///@{
   /// Thickness limits for the Summary: the share of the area thinner than MinimumThickness and
   /// thicker than MaximumThickness (model units; 0 disables a limit). They do not change the
@@ -192,6 +230,10 @@ protected:
   double MinimumThickness = 0.0;
   double MaximumThickness = 0.0;
   int HistogramBins = 20;
+  int Measure = MEASURE_THICKNESS;
+  int GapScope = OWN_SOLID;
+  double MaximumGap = 0.0;
+  double MinimumGap = 0.0;
   double EdgeZoneAngle = 60.0;
   vtkTypeBool CountEdgeZones = false;
   vtkMultiProcessController* Controller = nullptr;

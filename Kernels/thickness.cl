@@ -773,11 +773,13 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const int n = stack[--top];
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = make_real3(bx[0], bx[1], bx[2]), hi = make_real3(bx[3], bx[4], bx[5]);
-      // A node wholly behind O's tangent plane (no point more than delta in front of it) holds
-      // no candidate: each of its points would be skipped below. Without this a sample that no
-      // wall faces (an exterior gap to infinity) visits every s1 point.
-      const real3 far = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
-      if (dot(d, far - O) <= delta)
+      // A node wholly behind O's tangent plane holds no candidate: each of its points would be
+      // skipped below (no point stands more than delta + max(1e-6 |P - O|, noise) in front of O,
+      // and |P - O| is at least the node's distance from O). Without this a sample that no wall
+      // faces (an exterior gap to infinity) visits every s1 point.
+      const real3 ahead = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
+      const real3 gapToBox = fmax(fmax(lo - O, splat_real3(0)), O - hi);
+      if (dot(d, ahead - O) <= delta + fmax((real)1e-6 * length(gapToBox), noise))
         continue;
       if (best >= 0 || bounded)
       {

@@ -31,10 +31,12 @@ const char* const Preset = R"json({
 
 const char* const Settings = R"json({
   "standard_presets": { "Thickness": "BRepThickness", "RayThickness": "BRepThickness",
+    "Gap": "BRepThickness",
     "ThicknessClass": "BRepThickness classes" },
   "array_lookup_tables": {
     "Thickness": { "Title": "Thickness (mm)" },
     "RayThickness": { "Title": "Ray thickness (mm)" },
+    "Gap": { "Title": "Gap (mm)" },
     "Radius": { "Title": "Radius (mm)" },
     "ContactAngle": { "Title": "Contact angle (deg)" },
     "ThicknessClass": { "Title": "Thickness class" }
