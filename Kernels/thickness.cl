@@ -789,6 +789,10 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           continue;
       }
       const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
+      // An inner node whose subtree lies on one solid has cnt = -(solid + 1) (brt::BVHNode):
+      // another solid's subtree holds no candidate.
+      if (cnt < 0 && solid >= 0 && -cnt - 1 != solid)
+        continue;
       if (cnt > 0)
       {
         for (int i = first; i < first + cnt; ++i)

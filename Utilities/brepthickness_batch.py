@@ -45,6 +45,12 @@ def parse_args(argv=None):
                          "ray: the ray thickness alone (no spheres, no medial points)")
     ap.add_argument("--min-thickness", type=float, default=0.0, help="report the area thinner than this")
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
+    ap.add_argument("--gap", action="store_true",
+                    help="also the exterior gap (the air between walls; Gap array, Summary Gap rows)")
+    ap.add_argument("--gap-scope", choices=("own-solid", "all-solids"), default="own-solid",
+                    help="walls that bound the gap: the sample's solid, or every solid of the file")
+    ap.add_argument("--min-gap", type=float, default=0.0, help="report the area with a narrower gap")
+    ap.add_argument("--max-gap", type=float, default=0.0, help="gaps wider than this count as infinite")
     ap.add_argument("--edge-zone-angle", type=float, default=60.0,
                     help="corners of at least this material angle (degrees) make edge zones")
     ap.add_argument("--count-edge-zones", action="store_true",
@@ -151,7 +157,10 @@ def main(argv=None):
                           MinimumThickness=args.min_thickness, MaximumThickness=args.max_thickness,
                           S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins,
                           Method={"sphere": "Sphere", "sphere-and-ray": "Sphere and ray", "ray": "Ray"}[args.method],
-                          EdgeZoneAngle=args.edge_zone_angle, CountEdgeZones=int(args.count_edge_zones))
+                          EdgeZoneAngle=args.edge_zone_angle, CountEdgeZones=int(args.count_edge_zones),
+                          Measure="Thickness and gap" if args.gap else "Thickness",
+                          GapScope="All solids" if args.gap_scope == "all-solids" else "Own solid",
+                          MinimumGap=args.min_gap, MaximumGap=args.max_gap)
     collect_errors(thick, errors)
     thick.UpdatePipeline()
     if errors:
@@ -272,6 +281,12 @@ def main(argv=None):
         print("  area thicker than %g %s: %.2f%% without edge zones, %.2f%% with them"
               % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximumWithoutEdgeZones"],
                  100 * stats["AreaShareAboveMaximumWithEdgeZones"]))
+    if args.gap:
+        print("  gap (%s): min %.4g, max %.4g, area-weighted mean %.4g %s; infinite on %.2f%% of the area%s"
+              % (args.gap_scope, stats["GapMin"], stats["GapMax"], stats["GapMean"], unit,
+                 100 * stats["AreaShareInfiniteGap"],
+                 "; below %g %s: %.2f%%" % (args.min_gap, unit, 100 * stats["AreaShareBelowMinimumGap"])
+                 if args.min_gap > 0 else ""))
     print("  solids: " + ", ".join(
         "%d: %.4g .. %.4g %s" % (r[0], r[4], r[5], unit) for r in table_rows(sm.Fetch(thick, idx=5))[1]))
     print("  times: read %.2f s, convert %.2f s, mesh %.2f s, prepare %.2f s, solve %.2f s"

@@ -61,7 +61,12 @@ inline Vec3 Axpy(const Vec3& o, double t, const Vec3& d)
 }
 
 // --- BVH -------------------------------------------------------------------------------------
-int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count)
+// Over several solids the first splits separate the solids (at the solid boundary nearest the
+// middle), so that every subtree below them lies on one solid's faces: an inner node records
+// that solid as Count = -(solid + 1), and a solve bounded by its own solid's walls (the exterior
+// gap's default) skips the other solids' subtrees whole. Within one solid the split is spatial.
+int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count,
+  const std::vector<int>& faceSolid)
 {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
@@ -69,28 +74,53 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
   node.Min = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
     std::numeric_limits<double>::max() };
   node.Max = { -node.Min[0], -node.Min[1], -node.Min[2] };
+  auto solidOf = [&](const S1Point& p) {
+    return p.Face >= 0 && p.Face < static_cast<int>(faceSolid.size()) ? faceSolid[p.Face] : -1;
+  };
+  const int solid = count > 0 ? solidOf(pts[first]) : -1;
+  bool oneSolid = true;
   for (int i = first; i < first + count; ++i)
+  {
     for (int k = 0; k < 3; ++k)
     {
       node.Min[k] = std::min(node.Min[k], pts[i].Point[k]);
       node.Max[k] = std::max(node.Max[k], pts[i].Point[k]);
     }
-  if (count <= 4)
+    oneSolid = oneSolid && solidOf(pts[i]) == solid;
+  }
+  if (oneSolid && count <= 4)
   {
     node.First = first;
     node.Count = count;
     nodes[id] = node;
     return id;
   }
-  int axis = 0;
-  for (int k = 1; k < 3; ++k)
-    if (node.Max[k] - node.Min[k] > node.Max[axis] - node.Min[axis])
-      axis = k;
-  const int half = count / 2;
-  std::nth_element(pts.begin() + first, pts.begin() + first + half, pts.begin() + first + count,
-    [axis](const S1Point& a, const S1Point& b) { return a.Point[axis] < b.Point[axis]; });
-  Build(pts, nodes, first, half);
-  node.Right = Build(pts, nodes, first + half, count - half);
+  int half = count / 2;
+  if (!oneSolid)
+  {
+    std::sort(pts.begin() + first, pts.begin() + first + count,
+      [&](const S1Point& a, const S1Point& b) { return solidOf(a) < solidOf(b); });
+    // The solid boundary nearest the middle.
+    int best = -1;
+    for (int i = first + 1; i < first + count; ++i)
+      if (solidOf(pts[i]) != solidOf(pts[i - 1]) &&
+        (best < 0 || std::abs(i - first - half) < std::abs(best - first - half)))
+        best = i;
+    half = best - first;
+  }
+  else
+  {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (node.Max[k] - node.Min[k] > node.Max[axis] - node.Min[axis])
+        axis = k;
+    std::nth_element(pts.begin() + first, pts.begin() + first + half, pts.begin() + first + count,
+      [axis](const S1Point& a, const S1Point& b) { return a.Point[axis] < b.Point[axis]; });
+  }
+  node.First = first;
+  node.Count = oneSolid && solid >= 0 ? -(solid + 1) : 0;
+  Build(pts, nodes, first, half, faceSolid);
+  node.Right = Build(pts, nodes, first + half, count - half, faceSolid);
   nodes[id] = node;
   return id;
 }
@@ -266,7 +296,12 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   }
   AddEdgePoints(model, spacing / 3.0, data.S1);
   if (!data.S1.empty())
-    Build(data.S1, data.Nodes, 0, static_cast<int>(data.S1.size()));
+  {
+    std::vector<int> faceSolid(model.Faces.size());
+    for (size_t f = 0; f < model.Faces.size(); ++f)
+      faceSolid[f] = model.Faces[f].Solid;
+    Build(data.S1, data.Nodes, 0, static_cast<int>(data.S1.size()), faceSolid);
+  }
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);
   return data;

@@ -116,11 +116,13 @@ struct S1Point
 };
 
 /// Node of the AABB BVH over s1, flattened depth first: an inner node's left child follows it,
-/// its right child is at Right. A leaf holds the s1 points [First, First + Count).
+/// its right child is at Right. A leaf holds the s1 points [First, First + Count), all on one
+/// solid's faces. The first splits separate the solids; an inner node whose subtree lies on one
+/// solid has Count = -(solid + 1), one over several solids Count = 0.
 struct BVHNode
 {
   std::array<double, 3> Min{}, Max{};
-  int First = 0, Count = 0; ///< Count > 0: leaf
+  int First = 0, Count = 0; ///< Count > 0: leaf; <= 0: inner (-(solid + 1) or 0, see above)
   int Right = -1;
 };
 
