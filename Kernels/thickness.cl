@@ -2097,6 +2097,18 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     r.reason = FAIL_NO_OPPOSITE;
     return r;
   }
+  // The gap: where even the first sphere (eq. 1 over s1, an upper bound of the maximal one) is
+  // wider than the model's diagonal, and the sphere of that radius holds no point of the faces
+  // (the certification's query), the gap is open: nothing nearer than the model is large.
+  if ((m->mode & MODE_EXTERIOR) && !(t < scale))
+  {
+    PointInside inside;
+    if (!find_point_inside(m, ownFace, Ohi, Olo, d, scale, fmax(m->delta, m->slack), &inside))
+    {
+      r.reason = FAIL_NO_OPPOSITE;
+      return r;
+    }
+  }
   const int first = best;
   r = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
     s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,

@@ -2,7 +2,7 @@
 // OpenCASCADE's exact distance (a program that prints figures, not a test).
 //
 //   brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] [--double]
-//                   [--list K] [--thickness M] FILE.step ...
+//                   [--list K] [--thickness M] [--gap [--all-solids]] FILE.step ...
 //
 // For each file: N samples drawn at random from the display-mesh vertices (default 2,500), solved
 // with the native CPU device (the reference) or an OpenCL device (float, with the host's polish, unless --double);
@@ -15,7 +15,11 @@
 // exact faces enters deeper than the clearance, by bisection on t with OpenCASCADE's distance
 // from the centre to the solid's faces (as Testing/Core/TestSolverRims.cxx does), reported as
 // eq. 1's radius through the exact foot point; printed: the share of them within 1e-4 relative
-// of ours, and the largest differences.
+// of ours, and the largest differences. With --gap the same for the exterior gap (the sphere from
+// the outward normal, in the air; --all-solids: bounded by every solid's faces): the overlap is
+// measured against the faces that bound it, --thickness M checks M gaps by the same bisection,
+// and every sample the solver finds facing nothing (an infinite gap) is checked: its exact
+// sphere must stay empty up to a radius of the model's bounding-box diagonal.
 #include "BRepConverter.h"
 #include "Solver.h"
 #ifdef BRT_HAVE_OPENCL
@@ -45,19 +49,22 @@ namespace
 {
 const char* const Usage =
   "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
-  "[--double] [--no-certify] [--list K] [--thickness M] FILE.step ...\n"
+  "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] FILE.step ...\n"
   "Solves N random samples of each file (default 2500, native CPU device) and measures each sphere\n"
   "against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid.\n"
   "Prints solved, failed (per reason) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list).\n"
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
-  "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n";
+  "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
+  "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
+  "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n";
 }
 
 int main(int argc, char** argv)
 {
   size_t count = 2500;
   unsigned seed = 1;
+  bool gap = false, allSolids = false;
   int list = 5;
   size_t exactCount = 0;
   std::string device = "native";
@@ -86,6 +93,10 @@ int main(int argc, char** argv)
       list = std::atoi(argv[++i]);
     else if (a == "--thickness" && i + 1 < argc)
       exactCount = std::strtoul(argv[++i], nullptr, 10);
+    else if (a == "--gap")
+      gap = true;
+    else if (a == "--all-solids")
+      allSolids = true;
     else if (a.compare(0, 2, "--") == 0)
     {
       std::fprintf(stderr, "error: unknown option %s\n%s", a.c_str(), Usage);
@@ -125,13 +136,30 @@ int main(int argc, char** argv)
     BRep_Builder b;
     for (auto& c : bySolid)
       b.MakeCompound(c);
+    TopoDS_Compound allFaces;
+    b.MakeCompound(allFaces);
     for (size_t f = 0; f < faces.size(); ++f)
+    {
       b.Add(bySolid[static_cast<size_t>(m.Faces[f].Solid + 1)], faces[f]);
+      b.Add(allFaces, faces[f]);
+    }
+    // The faces that bound a sample's sphere: its solid's, or every solid's (--gap --all-solids).
+    auto bounding = [&](const brt::Sample& s) -> const TopoDS_Shape& {
+      if (gap && allSolids)
+        return allFaces;
+      return bySolid[static_cast<size_t>(m.Faces[s.Face].Solid + 1)];
+    };
 
     brt::SolverOptions options;
     options.Certify = certify;
+    options.Exterior = gap;
+    options.AllSolids = gap && allSolids;
     const brt::SolverData data = brt::PrepareSolver(m, options);
-    const std::vector<brt::Sample> all = brt::SamplesFromMesh(m, data);
+    std::vector<brt::Sample> all = brt::SamplesFromMesh(m, data);
+    if (gap)
+      for (brt::Sample& s : all)
+        for (double& c : s.Direction)
+          c = -c; // the outward normal
     std::mt19937 rng(seed);
     std::vector<size_t> pick(all.size());
     for (size_t i = 0; i < pick.size(); ++i)
@@ -179,7 +207,7 @@ int main(int argc, char** argv)
         continue;
       }
       ++solved;
-      const TopoDS_Shape& own = bySolid[static_cast<size_t>(m.Faces[samples[k].Face].Solid + 1)];
+      const TopoDS_Shape& own = bounding(samples[k]);
       BRepExtrema_DistShapeShape dist(
         BRepBuilderAPI_MakeVertex(gp_Pnt(r.Center[0], r.Center[1], r.Center[2])).Vertex(), own,
         Extrema_ExtFlag_MIN);
@@ -243,7 +271,7 @@ int main(int argc, char** argv)
         const brt::SampleResult& r = res[k];
         if (r.Type == brt::ContactType::Failed)
           continue;
-        const TopoDS_Shape& own = bySolid[static_cast<size_t>(m.Faces[samples[k].Face].Solid + 1)];
+        const TopoDS_Shape& own = bounding(samples[k]);
         double lo = 0.0, hi = std::max(2.0 * r.Radius, 1e-6);
         while (nearest(own, samples[k], hi, nullptr) >= -delta && hi < 1e4)
           hi *= 2.0;
@@ -276,6 +304,38 @@ int main(int argc, char** argv)
           samples[k].Face, res[k].Thickness, res[k].Thickness - diffs[w].first,
           brt::ContactTypeName(res[k].Type));
       }
+    }
+    if (gap)
+    {
+      // Every sample the solver finds facing nothing (or nothing nearer than the model is large:
+      // an open gap, docs/Solver.md): the exact sphere tangent at O from outside must stay empty
+      // (no face nearer its centre than its radius, less the clearance) up to a radius of the
+      // bounding-box diagonal. The spheres are nested, so the largest one decides.
+      const double delta = 2.0 * m.Tolerance, far = data.Scale;
+      size_t infinite = 0, confirmed = 0;
+      for (size_t k = 0; k < samples.size(); ++k)
+      {
+        if (res[k].Type != brt::ContactType::Failed || res[k].Reason != brt::FailReason::NoOppositePoint)
+          continue;
+        ++infinite;
+        bool empty = true;
+        for (double t = far; t <= far && empty; t *= 2.0)
+        {
+          const brt::Sample& s = samples[k];
+          BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(s.Point[0] +
+                                            t * s.Direction[0], s.Point[1] + t * s.Direction[1],
+                                            s.Point[2] + t * s.Direction[2])).Vertex(),
+            bounding(s), Extrema_ExtFlag_MIN);
+          empty = dist.IsDone() && dist.Value() >= t - delta;
+        }
+        confirmed += empty;
+        if (!empty && list > 0)
+          std::printf("    sample %zu (face %d at %.4f %.4f %.4f): infinite gap, but a face enters "
+                      "the exact sphere\n",
+            pick[k], samples[k].Face, samples[k].Point[0], samples[k].Point[1], samples[k].Point[2]);
+      }
+      std::printf("    infinite gap on %zu samples: %zu confirmed empty up to a radius of the diagonal\n",
+        infinite, confirmed);
     }
     std::fflush(stdout);
   }

@@ -2,7 +2,7 @@
 """Side-by-side comparison of BRepThickness with the mesh tools users know: trimesh's
 max_sphere and ray thickness, MeshLib's in-sphere and ray thickness.
 
-  python3 Utilities/compare_mesh_tools.py MODEL.step [MODEL.step ...] [--trimesh-samples N]
+  python3 Utilities/compare_mesh_tools.py MODEL.step [MODEL.step ...] [--trimesh-samples N] [--gap]
 
 For each model, pvpython with the built plugin reads the STEP file, solves it with the native CPU
 device (the solver's source compiled for the CPU, double: the reference) and with the OpenCL CPU
@@ -15,6 +15,13 @@ the samples inside faces (vertices of one face only: at face boundaries the weld
 normal where the B-Rep has two): median, 99th percentile and maximum of |T - T_exact|, and the
 share within 1e-4 mm. The exact values are the native device's; failed samples are left out.
 Ours is timed for the solve alone (the Summary's SolveSeconds), as the tools are.
+
+--gap adds the exterior gap (the air between walls): ours (Measure "Thickness and gap", native
+device; the gap's time is the difference of the two solves' SolveSeconds) against trimesh's
+exterior max_sphere and MeshLib's in-sphere on the mesh turned inside out (its maximum radius
+the model's diagonal). Printed per tool: the error on the face-interior samples where ours is
+finite, and how often the tool agrees that a gap is infinite (ours: no wall faces the sample;
+a tool: no value, or a diameter beyond the model's diagonal).
 """
 import argparse
 import os
@@ -30,10 +37,11 @@ from paraview.simple import *
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 LoadPlugin(sys.argv[1], ns=globals())
-model, out = sys.argv[2], sys.argv[3]
+model, out, gap = sys.argv[2], sys.argv[3], sys.argv[4] == "1"
 reader = STEPReader(FileName=model)
-def solve(device):
-    f = BRepThickness(Input=reader, Device=device, Precision="Double" if device == "native" else "Float")
+def solve(device, measure="Thickness"):
+    f = BRepThickness(Input=reader, Device=device, Precision="Double" if device == "native" else "Float",
+                      Measure=measure)
     f.UpdatePipeline()
     mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))
     summary = sm.Fetch(f, idx=3)
@@ -47,8 +55,13 @@ def solve(device):
     return mesh, rows, name
 mesh, rows_ref, _ = solve("native")
 _, rows_dev, dev_name = solve("cpu")
+extra = {}
+if gap:
+    gmesh, rows_gap, _ = solve("native", "Thickness and gap")
+    extra = dict(gap=np.asarray(gmesh.PointData["Gap"]),
+                 gap_seconds=rows_gap["SolveSeconds"] - rows_ref["SolveSeconds"])
 polys = dsa.vtkDataArrayToVTKArray(mesh.VTKObject.GetPolys().GetConnectivityArray())
-np.savez(out, points=np.asarray(mesh.Points), triangles=np.asarray(polys).reshape(-1, 3),
+np.savez(out, **extra, points=np.asarray(mesh.Points), triangles=np.asarray(polys).reshape(-1, 3),
          normals=np.asarray(mesh.PointData["Normals"]), face=np.asarray(mesh.PointData["FaceId"]),
          thickness=np.asarray(mesh.PointData["Thickness"]), contact=np.asarray(mesh.PointData["ContactType"]),
          ref_seconds=rows_ref["SolveSeconds"], dev_seconds=rows_dev["SolveSeconds"], dev_name=dev_name)
@@ -123,6 +136,39 @@ def tools(npz, trimesh_samples, seed=1):
         full = np.full(len(P), np.nan)
         full[sub] = th
         report("trimesh %s" % ("max_sphere" if method == "max_sphere" else "ray (*)"), full, sec, len(sub), sub)
+    if "gap" in d:
+        # The exterior gap: ours against the tools' exterior in-spheres, on the face-interior
+        # samples; a value beyond the model's diagonal (or none) counts as infinite.
+        exact_gap = d["gap"]
+        diag = float(np.linalg.norm(W.max(axis=0) - W.min(axis=0)))
+        ours_inf = ~np.isfinite(exact_gap)
+
+        def report_gap(name, values, seconds, computed, idx):
+            v = values[idx]
+            tool_inf = ~np.isfinite(v) | (v >= 2 * diag * 0.999)
+            both = idx[~ours_inf[idx] & ~tool_inf]
+            err = np.abs(values[both] - exact_gap[both])
+            agree_inf = np.mean(tool_inf == ours_inf[idx])
+            rows.append(("gap: " + name, computed / seconds, np.median(err) if len(err) else np.nan,
+                         np.percentile(err, 99) if len(err) else np.nan, err.max() if len(err) else np.nan,
+                         np.mean(err <= 1e-4) if len(err) else np.nan, 1.0 - agree_inf))
+
+        rows.append(("gap: ours, native CPU", len(P) / max(float(d["gap_seconds"]), 1e-9), 0.0, 0.0, 0.0, 1.0,
+                     0.0))
+        mo = mn.meshFromFacesVerts(wtri[:, ::-1].astype(np.int32), W.astype(np.float32))  # inside out
+        settings = mr.InSphereSearchSettings()
+        settings.maxRadius = diag
+        t0 = time.perf_counter()
+        ext = mr.computeInSphereThicknessAtVertices(mo, settings)
+        t_ext = time.perf_counter() - t0
+        ext = np.fromiter(ext.vec, dtype=float, count=n_w)
+        report_gap("MeshLib in-sphere", ext[inverse], t_ext, n_w, all_idx)
+        t0 = time.perf_counter()
+        th = trimesh.proximity.thickness(tm, P[sub], exterior=True, normals=N[sub], method="max_sphere")
+        sec = time.perf_counter() - t0
+        full = np.full(len(P), np.nan)
+        full[sub] = th
+        report_gap("trimesh max_sphere", full, sec, len(sub), sub)
     return rows, len(P), n_w, interior.sum()
 
 
@@ -131,6 +177,7 @@ def main(argv=None):
     ap.add_argument("models", nargs="+")
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--trimesh-samples", type=int, default=2000)
+    ap.add_argument("--gap", action="store_true", help="also the exterior gap against the tools' exterior in-spheres")
     ap.add_argument("--phase", default="all", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.phase == "tools":
@@ -157,7 +204,7 @@ def main(argv=None):
     for model in args.models:
         name = os.path.basename(model)
         npz = os.path.join(work, os.path.splitext(name)[0] + ".npz")
-        subprocess.check_call(["pvpython", script, plugin, os.path.abspath(model), npz],
+        subprocess.check_call(["pvpython", script, plugin, os.path.abspath(model), npz, "1" if args.gap else "0"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         out = subprocess.check_output([py, os.path.abspath(__file__), npz, "--phase", "tools",
                                        "--trimesh-samples", str(args.trimesh_samples)], text=True)
@@ -173,6 +220,10 @@ def main(argv=None):
                 print("%-34s   samples %s, welded vertices %s, face-interior samples compared %s; OpenCL CPU device: %s"
                       % (name, p[1], p[2], p[3], p[4]))
         sys.stdout.flush()
+    if args.gap:
+        print("gap rows: the error over the face-interior samples where ours is finite and the tool gives a "
+              "value; the last column is the share where the tool and ours disagree whether the gap is "
+              "infinite.")
     print("(*) ray thickness: the distance along the inward normal to the opposite wall, a different "
           "measure; its error against the sphere diameter shows how far the two differ.")
     return 0
