@@ -182,8 +182,11 @@ int vtkThicknessFilter::RequestData(
   // --- local statistics ------------------------------------------------------------------------
   const std::vector<brt::SampleResult>& R = I.Results;
   const std::vector<double>& area = I.Areas;
-  // Method Ray: R holds the ray thickness (Solve), there are no spheres, no edge zones.
-  const bool rayOnly = this->Method == RAY;
+  // Measure Gap: R holds the gap's spheres (Solve), an infinite gap as a failed sample; Method Ray:
+  // R holds the ray thickness. Either way there are no thickness spheres, no edge zones.
+  const bool gapOnly = this->Measure == GAP;
+  const bool rayOnly = this->Method == RAY && !gapOnly;
+  const bool noSpheres = rayOnly || gapOnly;
   // Edge zones and classes: from the sample points and the spheres, without solving again.
   std::vector<unsigned char> zone(R.size(), 0);
   std::vector<double> angle(R.size(), NaN);
@@ -193,8 +196,8 @@ int vtkThicknessFilter::RequestData(
   {
     double O[3];
     input->GetPoint(static_cast<vtkIdType>(i), O);
-    angle[i] = rayOnly ? NaN : brt::ContactAngle(O, R[i]);
-    zone[i] = !rayOnly && brt::IsEdgeZone(O, R[i], this->EdgeZoneAngle) ? 1 : 0;
+    angle[i] = noSpheres ? NaN : brt::ContactAngle(O, R[i]);
+    zone[i] = !noSpheres && brt::IsEdgeZone(O, R[i], this->EdgeZoneAngle) ? 1 : 0;
     const int f =
       faceIds ? static_cast<int>(faceIds->GetComponent(static_cast<vtkIdType>(i), 0)) : -1;
     sampleFace[i] = f;
@@ -221,7 +224,7 @@ int vtkThicknessFilter::RequestData(
   std::vector<double>& residualHist = stats.ResidualHistogram;
   double times[2] = { ok ? I.PrepareSeconds : 0.0, ok ? I.SolveSeconds : 0.0 };
   // The ray thickness's statistics: hits, missed, area of the hits, area x thickness; min; max.
-  const bool withRay = this->Method == SPHERE_AND_RAY; // the ray beside the sphere
+  const bool withRay = this->Method == SPHERE_AND_RAY && !gapOnly; // the ray beside the sphere
   double raySums[4] = { 0.0, 0.0, 0.0, 0.0 }, rayMin = std::numeric_limits<double>::max(),
          rayMax = -std::numeric_limits<double>::max();
   for (size_t i = 0; withRay && i < I.Ray.size() && i < area.size(); ++i)
@@ -240,7 +243,7 @@ int vtkThicknessFilter::RequestData(
   // The exterior gap: per sample its value (+inf: infinite, with the cap; NaN: failed), and the
   // statistics: area with a gap (finite or infinite), finite area, finite area x gap, infinite
   // area, failed count, area below MinimumGap; min; max of the finite gaps.
-  const bool withGap = this->Measure == THICKNESS_AND_GAP && I.Gap.size() == R.size();
+  const bool withGap = this->Measure != MEASURE_THICKNESS && I.Gap.size() == R.size();
   std::vector<double> gapValue(withGap ? R.size() : 0, NaN);
   std::vector<unsigned char> gapInfinite(gapValue.size(), 0);
   double gapSums[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }, gapMin = std::numeric_limits<double>::max(),
@@ -450,7 +453,7 @@ int vtkThicknessFilter::RequestData(
     sampleClass->SetValue(id, static_cast<int>(brt::Classify(r, zone[i] != 0,
                                 this->MinimumThickness, this->MaximumThickness, countZones)));
     solidId->SetValue(id, sampleSolid[i]);
-    if (!solved || rayOnly)
+    if (!solved || noSpheres)
       continue;
     centres->InsertNextPoint(r.Center.data());
     mRadius->InsertNextValue(r.Radius);
@@ -462,13 +465,19 @@ int vtkThicknessFilter::RequestData(
     mId->InsertNextValue(static_cast<vtkIdType>(offset) + id);
   }
   thickness->GetPointData()->SetActiveScalars("Thickness");
-  if (rayOnly)
+  if (noSpheres)
   {
-    // No spheres: only the ray thickness, its classes, the failure reasons and the solids.
+    // No thickness spheres: the ray thickness (with its classes) or the gap, the failure
+    // reasons and the solids.
     for (const char* name : { "Thickness", "Radius", "SphereCenter", "FootPoint", "ContactType",
            "Residual", "Iterations", "OppositeFaceId", "ContactAngle", "EdgeZone" })
       thickness->GetPointData()->RemoveArray(name);
-    thickness->GetPointData()->SetActiveScalars("RayThickness");
+    if (gapOnly)
+    {
+      thickness->GetPointData()->RemoveArray("ThicknessClass");
+      thickness->GetPointData()->RemoveArray("FailReason"); // GapFailReason says it
+    }
+    thickness->GetPointData()->SetActiveScalars(gapOnly ? "Gap" : "RayThickness");
   }
 
   // --- port 1: medial points -------------------------------------------------------------------
@@ -494,7 +503,7 @@ int vtkThicknessFilter::RequestData(
   auto* rSS = NewColumn<vtkIdTypeArray>(residuals, "SurfaceSurface");
   auto* rSE = NewColumn<vtkIdTypeArray>(residuals, "SurfaceEdge");
   auto* rSV = NewColumn<vtkIdTypeArray>(residuals, "SurfaceVertex");
-  if (rank == 0 && !rayOnly)
+  if (rank == 0 && !noSpheres)
     for (int b = 0; b < Stats::ResidualBins; ++b)
     {
       const double w = (Stats::ResidualHigh - Stats::ResidualLow) / Stats::ResidualBins;
@@ -525,8 +534,8 @@ int vtkThicknessFilter::RequestData(
     return limit > 0.0 && whole > 0.0 ? part / whole : NaN;
   };
   // What the limits, classes, histogram and tables measure: the sphere, or the ray (Method Ray).
-  const std::string measure = rayOnly ? "RayThickness" : "Thickness";
-  if (rank == 0)
+  const std::string measure = gapOnly ? "Gap" : rayOnly ? "RayThickness" : "Thickness";
+  if (rank == 0 && !gapOnly)
   {
     row(measure + "Min", anySolved ? stats.Min : NaN, mm);
     row(measure + "Max", anySolved ? stats.Max : NaN, mm);
@@ -559,8 +568,12 @@ int vtkThicknessFilter::RequestData(
       row(classRows[k], totalArea > 0.0 ? sums[Stats::ClassArea + k] / totalArea : NaN,
         "fraction");
     row("EdgeZoneArea", sums[Stats::EdgeZoneArea], mm2);
+  }
+  if (rank == 0)
+  {
     row("TotalArea", totalArea, mm2);
-    row("SolvedArea", solvedArea, mm2);
+    if (!gapOnly)
+      row("SolvedArea", solvedArea, mm2);
     if (withRay)
     {
       row("RayThicknessMin", raySums[0] > 0.0 ? rayMin : NaN, mm);
@@ -586,19 +599,20 @@ int vtkThicknessFilter::RequestData(
     if (rayOnly)
       row("RayMissed",
         sums[Stats::PerReason + static_cast<int>(brt::FailReason::NoOppositePoint)], "samples");
-    else
+    else if (!gapOnly)
     {
       row("SurfaceSurface", sums[Stats::PerType + 1], "samples");
       row("SurfaceEdge", sums[Stats::PerType + 2], "samples");
       row("SurfaceVertex", sums[Stats::PerType + 3], "samples");
     }
-    row("Failed", sums[Stats::PerType + 0], "samples");
+    if (!gapOnly)
+      row("Failed", sums[Stats::PerType + 0], "samples");
     // One row per failure reason (brt::FailReason 1..10), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
       "FailedLeftModel", "FailedNotMaximal", "FailedOpenShell", "FailedNonManifold",
       "FailedUnbounded" };
-    for (int k = 1; k < Stats::FailReasons; ++k)
+    for (int k = 1; k < Stats::FailReasons && !gapOnly; ++k)
       row(reasonRows[k], sums[Stats::PerReason + k], "samples");
     row("Solids", solidCount, "solids");
     row("Faces", faceCount, "faces");
@@ -782,8 +796,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   // half of the progress.
   const auto t1 = std::chrono::steady_clock::now();
   const size_t n = samples.size();
-  const bool rayOnly = this->Method == RAY;
-  const bool withGap = this->Measure == THICKNESS_AND_GAP;
+  const bool gapOnly = this->Measure == GAP;
+  const bool rayOnly = this->Method == RAY && !gapOnly;
+  const bool withGap = this->Measure != MEASURE_THICKNESS;
   const size_t chunk = std::max<size_t>(2048, (n + 49) / 50);
   auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
                     std::vector<brt::SampleResult>& out, double from, double to, const char* what) {
@@ -817,9 +832,10 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     return true;
   };
   I.Results.assign(n, brt::SampleResult());
-  if (!rayOnly && !solveAll(options, samples, I.Results, 0.05, withGap ? 0.55 : 1.0, "Thickness"))
+  if (!rayOnly && !gapOnly &&
+    !solveAll(options, samples, I.Results, 0.05, withGap ? 0.55 : 1.0, "Thickness"))
     return false;
-  if (this->Method != SPHERE)
+  if (this->Method != SPHERE && !gapOnly)
   {
     // The ray thickness (the kernel source's ray_thickness) on the same device.
     if (native)
@@ -862,7 +878,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     brt::SolverOptions gapOptions = options;
     gapOptions.Exterior = true;
     gapOptions.AllSolids = this->GapScope == ALL_SOLIDS;
-    if (!solveAll(gapOptions, outward, I.Gap, 0.55, 1.0, "Gap"))
+    if (!solveAll(gapOptions, outward, I.Gap, gapOnly ? 0.05 : 0.55, 1.0, "Gap"))
       return false;
     I.GapInfinite.assign(n, 0);
     for (size_t i = 0; i < n; ++i)
@@ -877,6 +893,13 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
         I.GapInfinite[i] = 1;
   }
   I.SolveSeconds = Seconds(t1);
+  if (gapOnly)
+  {
+    // Measure Gap: the results carry the gap (an infinite gap as a failed sample), so that the
+    // histogram and the tables measure the finite gaps; the gap's checks ran above.
+    I.Results = I.Gap;
+    return true;
+  }
   // Open or non-manifold solids and impossible values are flagged, never shown as thickness.
   const brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
   if (check.OpenShell > 0)

@@ -135,7 +135,8 @@ public:
   enum MeasureTypes
   {
     MEASURE_THICKNESS = 0, ///< the wall thickness (Method says how)
-    THICKNESS_AND_GAP = 1 ///< and the exterior gap: the air between walls (arrays Gap...)
+    GAP = 1,               ///< the exterior gap alone: the air between walls (arrays Gap...)
+    THICKNESS_AND_GAP = 2  ///< both
   };
 
   enum GapScopes
@@ -145,11 +146,13 @@ public:
   };
 
   ///@{
-  /// MEASURE_THICKNESS (default) or THICKNESS_AND_GAP: also the exterior gap (docs/Solver.md, "Exterior
+  /// MEASURE_THICKNESS (default), GAP or THICKNESS_AND_GAP: the exterior gap (docs/Solver.md, "Exterior
   /// gap"), the largest sphere tangent at each sample from outside that holds no material; its
   /// diameter is the gap. Point arrays Gap (+inf where no wall faces the sample, NaN where the
   /// solve failed), GapInfinite, GapContactType, GapFailReason, GapSphereCenter; Summary rows
-  /// GapMin/Max/Mean, AreaShareBelowMinimumGap, AreaShareInfiniteGap, GapFailed.
+  /// GapMin/Max/Mean, AreaShareBelowMinimumGap, AreaShareInfiniteGap, GapFailed. With GAP alone
+  /// no thickness is solved: port 0 has the gap arrays only, the medial points and residuals are
+  /// empty, and the histogram and the per-solid and per-face tables measure the finite gaps.
   vtkSetClampMacro(Measure, int, MEASURE_THICKNESS, THICKNESS_AND_GAP);
   vtkGetMacro(Measure, int);
   ///@}

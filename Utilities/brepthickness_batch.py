@@ -47,6 +47,7 @@ def parse_args(argv=None):
     ap.add_argument("--max-thickness", type=float, default=0.0, help="report the area thicker than this")
     ap.add_argument("--gap", action="store_true",
                     help="also the exterior gap (the air between walls; Gap array, Summary Gap rows)")
+    ap.add_argument("--gap-only", action="store_true", help="the exterior gap alone, no thickness")
     ap.add_argument("--gap-scope", choices=("own-solid", "all-solids"), default="own-solid",
                     help="walls that bound the gap: the sample's solid, or every solid of the file")
     ap.add_argument("--min-gap", type=float, default=0.0, help="report the area with a narrower gap")
@@ -158,7 +159,7 @@ def main(argv=None):
                           S1Spacing=args.s1_spacing, Clearance=args.clearance, HistogramBins=args.bins,
                           Method={"sphere": "Sphere", "sphere-and-ray": "Sphere and ray", "ray": "Ray"}[args.method],
                           EdgeZoneAngle=args.edge_zone_angle, CountEdgeZones=int(args.count_edge_zones),
-                          Measure="Thickness and gap" if args.gap else "Thickness",
+                          Measure="Gap" if args.gap_only else "Thickness and gap" if args.gap else "Thickness",
                           GapScope="All solids" if args.gap_scope == "all-solids" else "Own solid",
                           MinimumGap=args.min_gap, MaximumGap=args.max_gap)
     collect_errors(thick, errors)
@@ -179,9 +180,10 @@ def main(argv=None):
     files = {}
     files["thickness"] = os.path.join(out, name + "-thickness.vtp")
     simple.SaveData(files["thickness"], proxy=simple.OutputPort(thick, 0))
-    ray_only = args.method == "ray"
-    measure = "RayThickness" if ray_only else "Thickness"  # what the limits and tables measure
-    if not ray_only:  # Method Ray has no spheres: no medial points, no residuals
+    ray_only = args.method == "ray" and not args.gap_only
+    # What the limits, tables and the picture measure.
+    measure = "Gap" if args.gap_only else "RayThickness" if ray_only else "Thickness"
+    if not ray_only and not args.gap_only:  # no thickness spheres: no medial points, no residuals
         files["medial"] = os.path.join(out, name + "-medial.vtp")
         simple.SaveData(files["medial"], proxy=simple.OutputPort(thick, 1))
 
@@ -242,13 +244,13 @@ def main(argv=None):
     lut.RGBPoints = [x * (tmax if i % 4 == 0 else 1) for i, x in enumerate(THICKNESS_RGB)]
     lut.NanColor = FAILED_RGB
     lut.AutomaticRescaleRangeMode = "Never"
-    title = "%s (%s)" % ("Ray thickness" if ray_only else "Thickness", unit)
+    title = "%s (%s)" % ({"Gap": "Gap", "RayThickness": "Ray thickness"}.get(measure, "Thickness"), unit)
     files["png"] = os.path.join(out, name + ".png")
     render(thick, 0, view, files["png"], args.size, lut, tmax, title, array=measure)
     bar = simple.GetScalarBar(lut, view)
     bar.TitleColor = bar.LabelColor = [0, 0, 0]
     simple.SaveScreenshot(files["png"], view, ImageResolution=list(args.size))
-    if not ray_only:
+    if "medial" in files:
         files["medial_png"] = os.path.join(out, name + "-medial.png")
         render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
                context=simple.OutputPort(thick, 0))
@@ -261,27 +263,30 @@ def main(argv=None):
              fd.GetArray("MaxPatchDeviation").GetValue(0), unit, n, stats["S1Points"]))
     if ray_only:
         print("  rays: %d (%.3f%%) met nothing" % (stats["RayMissed"], share("RayMissed")))
+    elif args.gap_only:
+        pass
     else:
         print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% failed"
               % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"), share("Failed")))
     failed = [(k[len("Failed"):], int(v)) for k, v in stats.items() if k.startswith("Failed") and k != "Failed" and v]
     if failed:
         print("  failed: " + ", ".join("%s %d" % kv for kv in failed))
-    print("  %s: min %.4g, max %.4g, area-weighted mean %.4g %s"
-          % ("ray thickness" if ray_only else "thickness", stats[measure + "Min"], stats[measure + "Max"],
-             stats[measure + "Mean"], unit))
-    print("  edge zones (corners of %g deg or more): %.2f%% of the area; the limits %s"
-          % (args.edge_zone_angle, 100 * stats["AreaShareEdgeZone"],
-             "count them" if args.count_edge_zones else "leave them out"))
-    if args.min_thickness > 0:
-        print("  area thinner than %g %s: %.2f%% without edge zones, %.2f%% with them"
-              % (args.min_thickness, unit, 100 * stats["AreaShareBelowMinimumWithoutEdgeZones"],
-                 100 * stats["AreaShareBelowMinimumWithEdgeZones"]))
-    if args.max_thickness > 0:
-        print("  area thicker than %g %s: %.2f%% without edge zones, %.2f%% with them"
-              % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximumWithoutEdgeZones"],
-                 100 * stats["AreaShareAboveMaximumWithEdgeZones"]))
-    if args.gap:
+    if not args.gap_only:
+        print("  %s: min %.4g, max %.4g, area-weighted mean %.4g %s"
+              % ("ray thickness" if ray_only else "thickness", stats[measure + "Min"], stats[measure + "Max"],
+                 stats[measure + "Mean"], unit))
+        print("  edge zones (corners of %g deg or more): %.2f%% of the area; the limits %s"
+              % (args.edge_zone_angle, 100 * stats["AreaShareEdgeZone"],
+                 "count them" if args.count_edge_zones else "leave them out"))
+        if args.min_thickness > 0:
+            print("  area thinner than %g %s: %.2f%% without edge zones, %.2f%% with them"
+                  % (args.min_thickness, unit, 100 * stats["AreaShareBelowMinimumWithoutEdgeZones"],
+                     100 * stats["AreaShareBelowMinimumWithEdgeZones"]))
+        if args.max_thickness > 0:
+            print("  area thicker than %g %s: %.2f%% without edge zones, %.2f%% with them"
+                  % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximumWithoutEdgeZones"],
+                     100 * stats["AreaShareAboveMaximumWithEdgeZones"]))
+    if args.gap or args.gap_only:
         print("  gap (%s): min %.4g, max %.4g, area-weighted mean %.4g %s; infinite on %.2f%% of the area%s"
               % (args.gap_scope, stats["GapMin"], stats["GapMax"], stats["GapMean"], unit,
                  100 * stats["AreaShareInfiniteGap"],

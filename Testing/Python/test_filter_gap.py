@@ -78,6 +78,23 @@ f.UpdatePipeline()
 gap2 = np.asarray(dsa.WrapDataObject(sm.Fetch(f, idx=0)).PointData["Gap"])
 check(np.array_equal(np.isinf(gap2), ~hole), "All solids on one solid: the same infinite samples")
 
+# Measure Gap: the gap alone, the same values; the histogram and tables measure the finite gaps.
+f.GapScope = "Own solid"
+f.Measure = "Gap"
+f.UpdatePipeline()
+mg = dsa.WrapDataObject(sm.Fetch(f, idx=0))
+names = list(mg.PointData.keys())
+check("Thickness" not in names and "ThicknessClass" not in names and "Gap" in names,
+      "Measure Gap: gap arrays only (%s)" % names)
+check(np.array_equal(np.asarray(mg.PointData["Gap"]), gap2, equal_nan=True), "Measure Gap: the same Gap as with the thickness")
+rows = rows_of(f)
+check("ThicknessMin" not in rows and rows["GapMax"] == np.max(gap2[np.isfinite(gap2)]), "Measure Gap: Summary rows")
+hist = sm.Fetch(f, idx=4)
+shares = [hist.GetValue(r, 1).ToDouble() for r in range(hist.GetNumberOfRows())]
+check(abs(sum(shares) - 1.0) < 1e-9 and shares[-1] > 0.9, "Measure Gap: the histogram of the finite gaps (the hole's 20 mm in the last bin)")
+check(sm.Fetch(f, idx=5).GetColumnByName("GapMin") is not None, "Measure Gap: per-solid table of the gap")
+check(sm.Fetch(f, idx=1).GetNumberOfPoints() == 0, "Measure Gap: no medial points")
+
 f.Measure = "Thickness"
 f.UpdatePipeline()
 names = list(dsa.WrapDataObject(sm.Fetch(f, idx=0)).PointData.keys())
