@@ -240,42 +240,16 @@ int vtkThicknessFilter::RequestData(
     rayMin = std::min(rayMin, I.Ray[i]);
     rayMax = std::max(rayMax, I.Ray[i]);
   }
-  // The exterior gap: per sample its value (+inf: infinite, with the cap; NaN: failed), and the
-  // statistics: area with a gap (finite or infinite), finite area, finite area x gap, infinite
-  // area, failed count, area below MinimumGap; min; max of the finite gaps.
+  // The exterior gap: per sample its value (+inf: infinite, with the cap; NaN: failed) and its
+  // statistics (brt::AccumulateGap).
   const bool withGap = this->Measure != MEASURE_THICKNESS && I.Gap.size() == R.size();
-  std::vector<double> gapValue(withGap ? R.size() : 0, NaN);
-  std::vector<unsigned char> gapInfinite(gapValue.size(), 0);
-  double gapSums[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }, gapMin = std::numeric_limits<double>::max(),
-         gapMax = -std::numeric_limits<double>::max();
-  for (size_t i = 0; i < gapValue.size(); ++i)
-  {
-    const brt::SampleResult& g = I.Gap[i];
-    const bool solved = g.Type != brt::ContactType::Failed;
-    gapInfinite[i] = I.GapInfinite[i] ||
-        (solved && this->MaximumGap > 0.0 && g.Thickness > this->MaximumGap)
-      ? 1
-      : 0;
-    if (gapInfinite[i])
-    {
-      gapValue[i] = std::numeric_limits<double>::infinity();
-      gapSums[0] += area[i];
-      gapSums[3] += area[i];
-      continue;
-    }
-    if (!solved)
-    {
-      gapSums[4] += 1.0;
-      continue;
-    }
-    gapValue[i] = g.Thickness;
-    gapSums[0] += area[i];
-    gapSums[1] += area[i];
-    gapSums[2] += area[i] * g.Thickness;
-    gapSums[5] += this->MinimumGap > 0.0 && g.Thickness < this->MinimumGap ? area[i] : 0.0;
-    gapMin = std::min(gapMin, g.Thickness);
-    gapMax = std::max(gapMax, g.Thickness);
-  }
+  using GapStats = brt::GapStatistics;
+  GapStats gapStats = withGap
+    ? brt::AccumulateGap(I.Gap, I.GapInfinite, area, this->MinimumGap, this->MaximumGap)
+    : GapStats();
+  std::vector<double>& gapSums = gapStats.Sums;
+  const std::vector<double>& gapValue = gapStats.Value;
+  const std::vector<unsigned char>& gapInfinite = gapStats.Infinite;
   long long localCount = static_cast<long long>(R.size()), offset = 0;
 
   // --- collective part: every process, in the same order -------------------------------------
@@ -301,13 +275,14 @@ int vtkThicknessFilter::RequestData(
     double rs[4];
     ctrl->AllReduce(raySums, rs, 4, vtkCommunicator::SUM_OP);
     std::copy(rs, rs + 4, raySums);
-    double gs[6];
-    ctrl->AllReduce(gapSums, gs, 6, vtkCommunicator::SUM_OP);
-    std::copy(gs, gs + 6, gapSums);
-    ctrl->AllReduce(&gapMin, &v, 1, vtkCommunicator::MIN_OP);
-    gapMin = v;
-    ctrl->AllReduce(&gapMax, &v, 1, vtkCommunicator::MAX_OP);
-    gapMax = v;
+    std::vector<double> gs(gapSums.size());
+    ctrl->AllReduce(gapSums.data(), gs.data(), static_cast<vtkIdType>(gs.size()),
+      vtkCommunicator::SUM_OP);
+    gapSums.swap(gs);
+    ctrl->AllReduce(&gapStats.Min, &v, 1, vtkCommunicator::MIN_OP);
+    gapStats.Min = v;
+    ctrl->AllReduce(&gapStats.Max, &v, 1, vtkCommunicator::MAX_OP);
+    gapStats.Max = v;
     ctrl->AllReduce(&rayMin, &v, 1, vtkCommunicator::MIN_OP);
     rayMin = v;
     ctrl->AllReduce(&rayMax, &v, 1, vtkCommunicator::MAX_OP);
@@ -583,16 +558,23 @@ int vtkThicknessFilter::RequestData(
     }
     if (withGap)
     {
-      const bool anyGap = gapMax >= gapMin;
-      row("GapMin", anyGap ? gapMin : NaN, mm);
-      row("GapMax", anyGap ? gapMax : NaN, mm);
-      row("GapMean", gapSums[1] > 0.0 ? gapSums[2] / gapSums[1] : NaN, mm);
+      const bool anyGap = gapStats.Max >= gapStats.Min;
+      const double withArea = gapSums[GapStats::AreaWithGap];
+      row("GapMin", anyGap ? gapStats.Min : NaN, mm);
+      row("GapMax", anyGap ? gapStats.Max : NaN, mm);
+      row("GapMean",
+        gapSums[GapStats::FiniteArea] > 0.0
+          ? gapSums[GapStats::AreaGap] / gapSums[GapStats::FiniteArea]
+          : NaN,
+        mm);
       row("MinimumGap", this->MinimumGap, mm);
       row("AreaShareBelowMinimumGap",
-        this->MinimumGap > 0.0 && gapSums[0] > 0.0 ? gapSums[5] / gapSums[0] : NaN, "fraction");
+        this->MinimumGap > 0.0 && withArea > 0.0 ? gapSums[GapStats::AreaBelow] / withArea : NaN,
+        "fraction");
       row("MaximumGap", this->MaximumGap, mm);
-      row("AreaShareInfiniteGap", gapSums[0] > 0.0 ? gapSums[3] / gapSums[0] : NaN, "fraction");
-      row("GapFailed", gapSums[4], "samples");
+      row("AreaShareInfiniteGap",
+        withArea > 0.0 ? gapSums[GapStats::InfiniteArea] / withArea : NaN, "fraction");
+      row("GapFailed", gapSums[GapStats::Failed], "samples");
       row("GapScope", this->GapScope, "0 own solid, 1 all solids");
     }
     row("Samples", sums[Stats::Samples], "samples");

@@ -157,6 +157,44 @@ std::vector<double> AreaHistogram(const std::vector<SampleResult>& results,
   return hist;
 }
 
+GapStatistics AccumulateGap(const std::vector<SampleResult>& results,
+  const std::vector<unsigned char>& infinite, const std::vector<double>& area, double minimum,
+  double maximum)
+{
+  using G = GapStatistics;
+  G s;
+  const size_t n = results.size();
+  s.Value.assign(n, std::numeric_limits<double>::quiet_NaN());
+  s.Infinite.assign(n, 0);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const SampleResult& g = results[i];
+    const bool solved = g.Type != ContactType::Failed;
+    if ((i < infinite.size() && infinite[i]) || (solved && maximum > 0.0 && g.Thickness > maximum))
+    {
+      s.Infinite[i] = 1;
+      s.Value[i] = std::numeric_limits<double>::infinity();
+      s.Sums[G::AreaWithGap] += area[i];
+      s.Sums[G::InfiniteArea] += area[i];
+      continue;
+    }
+    if (!solved)
+    {
+      s.Sums[G::Failed] += 1.0;
+      continue;
+    }
+    s.Value[i] = g.Thickness;
+    s.Sums[G::AreaWithGap] += area[i];
+    s.Sums[G::FiniteArea] += area[i];
+    s.Sums[G::AreaGap] += area[i] * g.Thickness;
+    if (minimum > 0.0 && g.Thickness < minimum)
+      s.Sums[G::AreaBelow] += area[i];
+    s.Min = std::min(s.Min, g.Thickness);
+    s.Max = std::max(s.Max, g.Thickness);
+  }
+  return s;
+}
+
 double GroupStatistics::Mean(int g) const
 {
   const double a = Get(g, SolvedArea);

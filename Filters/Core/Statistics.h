@@ -96,6 +96,33 @@ ThicknessStatistics Accumulate(const std::vector<SampleResult>& results,
   const std::vector<double>& area, double minimum, double maximum,
   const std::vector<unsigned char>* edgeZone = nullptr, bool countEdgeZones = false);
 
+/// The exterior gap's per-sample values and statistics (docs/Solver.md item 17).
+struct GapStatistics
+{
+  std::vector<double> Value;          ///< per sample: 2t, +inf where infinite, NaN where failed
+  std::vector<unsigned char> Infinite; ///< per sample: 1 where the gap is infinite
+  enum Sum
+  {
+    AreaWithGap,  ///< area of the samples with a gap, finite or infinite
+    FiniteArea,   ///< area of the samples with a finite gap
+    AreaGap,      ///< sum of area x gap over the finite gaps
+    InfiniteArea, ///< area of the samples with an infinite gap
+    Failed,       ///< samples whose gap solve failed
+    AreaBelow,    ///< area with a finite gap below the minimum (when > 0)
+    SumCount
+  };
+  std::vector<double> Sums = std::vector<double>(SumCount, 0.0);
+  double Min = std::numeric_limits<double>::max();  ///< over the finite gaps
+  double Max = -std::numeric_limits<double>::max(); ///< over the finite gaps
+};
+
+/// The gap of results[i] (the exterior solve) with area[i]: infinite where infinite[i] (no wall
+/// faces the sample) or, when maximum > 0, where the gap exceeds it; minimum (> 0): the limit of
+/// AreaBelow. Sums, Min and Max combine over processes by sum, min and max.
+GapStatistics AccumulateGap(const std::vector<SampleResult>& results,
+  const std::vector<unsigned char>& infinite, const std::vector<double>& area, double minimum,
+  double maximum);
+
 /// Statistics per group of samples (per solid, per face): group[i] is sample i's group in
 /// [0, Groups) (others are skipped). Every field is a sum, a minimum or a maximum, so processes
 /// combine them by reductions like ThicknessStatistics.

@@ -165,4 +165,33 @@ TEST(Statistics, GroupsSumAndCombine)
   EXPECT_EQ(part.Max, whole.Max);
 }
 
+TEST(Statistics, GapValuesSharesAndCap)
+{
+  // Gaps 2 and 6, one infinite (no wall), one failed; areas 1, 2, 4, 8; minimum 3.
+  const std::vector<SampleResult> results = { Solved(ContactType::SurfaceSurface, 2.0, 0),
+    Solved(ContactType::SurfaceEdge, 6.0, 0), Failed(FailReason::NoOppositePoint),
+    Failed(FailReason::NotMaximal) };
+  const std::vector<unsigned char> infinite = { 0, 0, 1, 0 };
+  const std::vector<double> area = { 1.0, 2.0, 4.0, 8.0 };
+  using G = GapStatistics;
+  const G g = AccumulateGap(results, infinite, area, 3.0, 0.0);
+  EXPECT_EQ(g.Value[0], 2.0);
+  EXPECT_EQ(g.Value[1], 6.0);
+  EXPECT_TRUE(std::isinf(g.Value[2]) && g.Infinite[2] == 1);
+  EXPECT_TRUE(std::isnan(g.Value[3]) && g.Infinite[3] == 0);
+  EXPECT_EQ(g.Sums[G::AreaWithGap], 7);
+  EXPECT_EQ(g.Sums[G::FiniteArea], 3);
+  EXPECT_EQ(g.Sums[G::AreaGap], 2 + 12);
+  EXPECT_EQ(g.Sums[G::InfiniteArea], 4);
+  EXPECT_EQ(g.Sums[G::Failed], 1);
+  EXPECT_EQ(g.Sums[G::AreaBelow], 1);
+  EXPECT_EQ(g.Min, 2.0);
+  EXPECT_EQ(g.Max, 6.0);
+  // A cap of 5: the 6 mm gap counts as infinite.
+  const G c = AccumulateGap(results, infinite, area, 3.0, 5.0);
+  EXPECT_TRUE(std::isinf(c.Value[1]) && c.Infinite[1] == 1);
+  EXPECT_EQ(c.Sums[G::InfiniteArea], 6);
+  EXPECT_EQ(c.Max, 2.0);
+}
+
 } // namespace
