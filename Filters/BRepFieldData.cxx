@@ -144,6 +144,14 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
     F.UVTolerance = uvTol[f];
     F.MaxDeviation = dev.empty() ? 0.0 : dev[f];
   }
+  // Optional: without it (a file saved before it existed) the solver keeps the patches' contacts.
+  const auto exact = Get(fd, "FaceExactSurface", 8, nf, false);
+  if (!exact.empty())
+  {
+    m.FaceExact.resize(NF);
+    for (int f = 0; f < NF; ++f)
+      std::copy(&exact[8 * f], &exact[8 * f] + 8, m.FaceExact[f].begin());
+  }
 
   // Patches.
   const auto cps = Get(fd, "BezierPatches", 48, np);

@@ -574,6 +574,8 @@ int vtkThicknessFilter::RequestData(
       row("MaximumGap", this->MaximumGap, mm);
       row("AreaShareInfiniteGap",
         withArea > 0.0 ? gapSums[GapStats::InfiniteArea] / withArea : NaN, "fraction");
+      row("AreaShareOnOtherSolid",
+        withArea > 0.0 ? gapSums[GapStats::OtherSolidArea] / withArea : NaN, "fraction");
       row("GapFailed", gapSums[GapStats::Failed], "samples");
       row("GapScope", this->GapScope, "0 own solid, 1 all solids");
     }
@@ -678,9 +680,17 @@ int vtkThicknessFilter::RequestData(
         sums[Stats::Samples], sums[Stats::PerType + 0]);
     else
       std::snprintf(counts, sizeof(counts),
-        "%.0f samples: %.0f surface/surface, %.0f surface/edge, %.0f surface/vertex, %.0f failed",
+        "%.0f samples: %.0f surface/surface, %.0f surface/edge, %.0f surface/vertex, %s%.0f "
+        "failed%s",
         sums[Stats::Samples], sums[Stats::PerType + 1], sums[Stats::PerType + 2],
-        sums[Stats::PerType + 3], sums[Stats::PerType + 0]);
+        sums[Stats::PerType + 3],
+        sums[Stats::PerType + 4] > 0.0
+          ? (std::to_string(static_cast<long long>(sums[Stats::PerType + 4])) +
+              " on another solid (gap 0), ")
+              .c_str()
+          : "",
+        sums[Stats::PerType + 0],
+        gapOnly ? " (gap: failed includes the infinite gaps)" : "");
     std::snprintf(answer, sizeof(answer),
       "%s %.4g .. %.4g %s, area-weighted mean %.4g %s; edge zones %.1f%% of the area (corner "
       "angle %g deg)",

@@ -39,6 +39,7 @@ typedef float3 real3;
 #define CONTACT_SURFACE_SURFACE 1
 #define CONTACT_SURFACE_EDGE 2
 #define CONTACT_SURFACE_VERTEX 3
+#define CONTACT_OTHER_SOLID 4 // the gap with all solids: O lies on or in another solid (gap 0)
 #define FAIL_NONE 0
 #define FAIL_NO_OPPOSITE 1
 #define FAIL_NOT_CONVERGED 2
@@ -49,9 +50,23 @@ typedef float3 real3;
 #define FAIL_NOT_MAXIMAL 7
 
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
-// grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid.
-#define FACE_INTS 8
-#define FACE_REALS 7
+// grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid, the
+// kind of its exact surface (EXACT_*).
+#define FACE_INTS 9
+// Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
+// surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
+// unit axis (3) and three sizes (brt::PackKernelModel).
+#define FACE_REALS 19
+#define FACE_EXACT 7
+// Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
+// plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
+// sphere radius; torus major and minor radius.
+#define EXACT_NONE 0
+#define EXACT_PLANE 1
+#define EXACT_CYLINDER 2
+#define EXACT_CONE 3
+#define EXACT_SPHERE 4
+#define EXACT_TORUS 5
 // Per sample: O as hi (3) + lo (3) parts relative to the model's centre, the inward normal d (3),
 // and (u, v) on its face.
 #define SAMPLE_REALS 11
@@ -79,8 +94,7 @@ typedef struct
   __global const real* patchAnchor; // 6 per patch: anchor as hi (3) + lo (3) parts
   __global const real* patchDomain; // 4 per patch
   __global const int* faceInfo;     // FACE_INTS per face
-  __global const real* faceDomain;  // per face: u0, u1, v0, v1, periods in u and v (0: open),
-                                    // UV tolerance (FACE_REALS)
+  __global const real* faceDomain;  // FACE_REALS per face
   __global const real* breaks;      // grid breakpoints
   __global const int* loops;        // first segment, count per loop
   __global const real* trim;        // 8 per trimming segment
@@ -1896,12 +1910,217 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   return st->found;
 }
 
+// --- the exact finish -------------------------------------------------------------------------
+// The patches approximate an analytic face within the conversion tolerance; a contact found on
+// them is moved onto the face's exact surface (plane, cylinder, cone, sphere, torus), so that
+// the closed forms hold at the reader's default tolerance (docs/Solver.md, "Exact finish").
+
+// Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
+// described at e (FACE_EXACT on), and its unit gradient *g. *ok = 0 where the gradient is not
+// defined (X on the axis of a surface of revolution).
+inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, int* ok)
+{
+  const real3 a = make_real3(e[6], e[7], e[8]);
+  *ok = 1;
+  if (kind == EXACT_PLANE)
+  {
+    *g = a;
+    return dot(X, a);
+  }
+  if (kind == EXACT_SPHERE)
+  {
+    const real r = length(X);
+    *ok = r > (real)0;
+    *g = *ok ? X / r : a;
+    return r - e[9];
+  }
+  const real z = dot(X, a);
+  const real3 radial = X - z * a;
+  const real rho = length(radial);
+  if (!(rho > (real)1e-6 * (fabs(z) + e[9])))
+  {
+    *ok = 0;
+    *g = a;
+    return (real)0;
+  }
+  const real3 er = radial / rho;
+  if (kind == EXACT_CYLINDER)
+  {
+    *g = er;
+    return rho - e[9];
+  }
+  if (kind == EXACT_CONE)
+  {
+    // The generator rho = R + z tan(angle) in the meridian half-plane; cos and sin in e[10], e[11].
+    *g = e[10] * er - e[11] * a;
+    return (rho - e[9]) * e[10] - z * e[11];
+  }
+  // Torus: the tube circle of radius e[10] around the circle of radius e[9].
+  const real q = rho - e[9];
+  const real l = sqrt(q * q + z * z);
+  *ok = l > (real)0;
+  *g = *ok ? (q * er + z * a) / l : a;
+  return l - e[10];
+}
+
+// The sphere tangent at O of a surface/surface contact on an analytic face, made tangent to the
+// exact surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the
+// nearest point of the exact surface to the centre. Kept only where it converges next to the
+// patches' foot (within twice their accuracy): a contact near a face's trim, where the surface
+// continued beyond the face would be nearer, keeps the patches' foot.
+// Two faces lie on one exact surface (a seam's face with itself, a cylinder split in halves).
+inline int same_exact_surface(const Model* m, int f0, int f1)
+{
+  if (f0 < 0 || f1 < 0)
+    return 0;
+  if (f0 == f1)
+    return 1;
+  const int kind = m->faceInfo[FACE_INTS * f0 + 8];
+  if (kind == EXACT_NONE || kind != m->faceInfo[FACE_INTS * f1 + 8])
+    return 0;
+  __global const real* a = m->faceDomain + FACE_REALS * f0 + FACE_EXACT;
+  __global const real* b = m->faceDomain + FACE_REALS * f1 + FACE_EXACT;
+  // The origins may differ along the axis (or in the plane): compare the surfaces themselves.
+  const real3 oa = make_real3(a[0], a[1], a[2]) + make_real3(a[3], a[4], a[5]);
+  const real3 ob = make_real3(b[0], b[1], b[2]) + make_real3(b[3], b[4], b[5]);
+  const real3 ax = make_real3(a[6], a[7], a[8]), bx = make_real3(b[6], b[7], b[8]);
+  const real tol = (real)1e-3 * m->slack;
+  if (length(cross(ax, bx)) > (real)1e-9)
+    return 0;
+  const real3 w = ob - oa;
+  if (kind == EXACT_PLANE)
+    return fabs(dot(w, ax)) <= tol;
+  if (kind == EXACT_SPHERE || kind == EXACT_TORUS)
+    return length(w) <= tol && fabs(a[9] - b[9]) <= tol && fabs(a[10] - b[10]) <= tol;
+  // Cylinder, cone: one axis line, and for the cone the same radius at the same height.
+  const real along = dot(w, ax);
+  if (length(w - along * ax) > tol)
+    return 0;
+  if (kind == EXACT_CYLINDER)
+    return fabs(a[9] - b[9]) <= tol;
+  return fabs(a[10] - b[10]) <= (real)1e-9 && fabs(a[11] - b[11]) <= (real)1e-9 &&
+    fabs(a[9] + along * a[11] / a[10] - b[9]) <= tol;
+}
+
+void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
+{
+  int face = r->face;
+  if (r->type == CONTACT_SURFACE_EDGE && r->edge >= 0)
+  {
+    // An edge within one smooth exact surface (a seam, the line where a split cylinder's halves
+    // meet) is no feature: the contact is with the surface.
+    const int f0 = m->edgeInfo[4 * r->edge + 2], f1 = m->edgeInfo[4 * r->edge + 3];
+    face = same_exact_surface(m, f0, f1) ? f0 : -1;
+  }
+  else if (r->type != CONTACT_SURFACE_SURFACE)
+    return;
+  if (face < 0)
+    return;
+  const int kind = m->faceInfo[FACE_INTS * face + 8];
+  if (kind == EXACT_NONE)
+    return;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real3 X0 = -anchor_minus(e, Ohi, Olo); // O - origin
+  real t = sphere_radius(d, r->foot, (real)0);
+  // Spheres of a few clearances (next to a convex edge, where the clearance chose the foot and
+  // the sphere may touch the face across from outside) keep the patches' contact.
+  if (!(t > (real)2 * m->slack))
+    return;
+  if (r->type == CONTACT_SURFACE_SURFACE)
+  {
+    // The centre on the sphere's side of the face (material for thickness, air for the gap),
+    // clearly: the patch's outward normal at the foot against the centre's direction.
+    const PatchEval pe = eval_patch(m, r->patch, r->param.x, r->param.y);
+    real3 n = cross(pe.Du, pe.Dv);
+    const real ln = length(n);
+    if (!(ln > (real)0))
+      return;
+    n = n / ln * (m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1);
+    const real side = dot(t * d - r->foot, n) * ((m->mode & MODE_EXTERIOR) ? (real)-1 : (real)1);
+    if (!(side < (real)-0.5 * t))
+      return;
+  }
+  real3 g;
+  int ok;
+  real f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+  const real sigma = f < (real)0 ? (real)-1 : (real)1;
+  int converged = 0;
+  for (int it = 0; it < 8 && ok; ++it)
+  {
+    const real slope = sigma * dot(g, d) - (real)1;
+    if (!(slope < (real)-1e-3))
+      return; // the foot next to O's direction: ill-conditioned
+    const real step = (sigma * f - t) / slope;
+    t -= step;
+    f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+    if (fabs(step) <= stepTol)
+    {
+      converged = 1;
+      break;
+    }
+  }
+  if (!converged || !ok || !(t > (real)0))
+    return;
+  const real3 foot = t * d - f * g;
+  const real3 moved = foot - r->foot;
+  // The patches lie within the tolerance (slack / 2) of the surface: a sphere that grows by more
+  // is not the same contact. A foot on a face moves by about the patches' error; one found on a
+  // seam may slide along the smooth surface (t is flat that way), staying on the same surface.
+  const real reach =
+    r->type == CONTACT_SURFACE_EDGE ? fmax((real)2 * m->slack, (real)0.05 * t) : (real)2 * m->slack;
+  if (!(length(moved) <= reach) || !(t <= sphere_radius(d, r->foot, (real)0) + (real)0.5 * m->slack))
+    return;
+  if (r->type == CONTACT_SURFACE_EDGE)
+  {
+    real u, v;
+    if (!edge_point_on_face(m, face, r->edge, r->param.x, &u, &v))
+      return;
+    r->type = CONTACT_SURFACE_SURFACE;
+    r->face = face;
+    r->patch = find_patch(m, face, u, v);
+    r->edge = -1;
+    r->param = make_real2(u, v);
+  }
+  r->foot = foot;
+  r->t = t;
+}
+
+// The ray's hit at distance s on an analytic face, moved onto its exact surface (Newton on the
+// signed distance along the ray), where the patches' hit lies within their accuracy of that
+// surface. Along a ray that meets the surface at a small angle the hit moves by that distance
+// over the angle's sine.
+real exact_ray_hit(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real s, real stepTol)
+{
+  const int kind = m->faceInfo[FACE_INTS * face + 8];
+  if (kind == EXACT_NONE)
+    return s;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real3 X0 = -anchor_minus(e, Ohi, Olo);
+  real x = s;
+  for (int it = 0; it < 8; ++it)
+  {
+    real3 g;
+    int ok;
+    const real f = exact_distance(kind, e, X0 + x * d, &g, &ok);
+    if (it == 0 && !(fabs(f) <= m->slack))
+      return s;
+    const real slope = dot(g, d);
+    if (!ok || !(fabs(slope) > (real)1e-3))
+      return s; // grazing
+    const real step = f / slope;
+    x -= step;
+    if (fabs(step) <= stepTol)
+      return x > (real)0 ? x : s;
+  }
+  return s;
+}
+
 // --- ray thickness (issue 14) --------------------------------------------------------------
 // The first point where the ray from O along d (the inward normal) meets patch p beyond sMin and
 // before *best: Newton on S(u, v) - O - s d = 0 in (u, v, s) from the grid points nearest the ray,
 // kept inside the patch, accepted within the patches' accuracy and inside the face's trim.
 void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real* best,
-  int* hitFace)
+  int* hitFace, int* hitPatch, real2* hitUV)
 {
   const int face = m->patchFace[p];
   __global const real* pd = m->patchDomain + 4 * p;
@@ -1940,12 +2159,16 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
   for (int k = 0; k < 3 && seedD[k] < REAL_MAX; ++k)
   {
     real u = seedU[k], v = seedV[k], s = seedS[k], f2 = REAL_MAX;
+    // Accepted within half the patches' accuracy, or the precision's where that is coarser
+    // (float with a fine conversion tolerance).
+    const real accuracy =
+      fmax((real)0.5 * m->slack, (real)32 * REAL_EPS * (fabs(s) + length(anchor)));
     for (int it = 0; it < 20; ++it)
     {
       const PatchEval e = eval_patch(m, p, u, v);
       const real3 F = anchor + e.P - s * d;
       f2 = dot(F, F);
-      if (f2 <= (real)1e-6 * m->slack * m->slack)
+      if (f2 <= (real)4e-6 * accuracy * accuracy)
         break;
       const real J[3][3] = { { e.Du.x, e.Dv.x, -d.x }, { e.Du.y, e.Dv.y, -d.y },
         { e.Du.z, e.Dv.z, -d.z } };
@@ -1958,7 +2181,7 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
       s += x[2];
     }
     const real3 F = anchor + eval_patch_point(m, p, u, v) - s * d;
-    if (!(dot(F, F) <= (real)0.25 * m->slack * m->slack) || !(s > sMin) || !(s < *best))
+    if (!(dot(F, F) <= accuracy * accuracy) || !(s > sMin) || !(s < *best))
       continue;
     // Inside the trim, or on it within the face's UV tolerance (a hit on a seam or an edge
     // belongs to the face, as in ss_on_face).
@@ -1971,21 +2194,20 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
       continue;
     *best = s;
     *hitFace = face;
+    *hitPatch = p;
+    *hitUV = make_real2(u, v);
   }
 }
 
-// The ray thickness at O: the distance along d to the first point of the trimmed faces of O's
-// solid beyond twice the patches' accuracy (O itself lies on its face), over the box BVH of the
-// certification (slab test against the ray). REAL_MAX where nothing is hit (an open solid, or
-// the boxes are not there).
-real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, int* hitFace)
+// The first point of the trimmed faces along the ray from O in direction d beyond sMin, over the
+// box BVH of the certification (slab test against the ray): faces of solid `solid` only
+// (others = 0) or of every solid but it (others = 1). REAL_MAX where nothing is hit.
+real ray_first_hit(const Model* m, int solid, int others, real3 Ohi, real3 Olo, real3 d,
+  real sMin, int* hitFace, int* hitPatch, real2* hitUV)
 {
   real best = REAL_MAX;
   *hitFace = -1;
-  if (!(m->mode & MODE_CERTIFY))
-    return best;
-  const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
-  const real sMin = (real)2 * m->slack;
+  *hitPatch = -1;
   const real3 O = Ohi + Olo; // relative to the model's centre, for the boxes
   const real big = REAL_MAX;
   const real3 inv = make_real3(d.x != (real)0 ? (real)1 / d.x : big,
@@ -2012,8 +2234,9 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, i
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
       {
         const int item = m->boxItems[i];
-        if (item < m->patchCount && m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid)
-          ray_patch(m, item, Ohi, Olo, d, sMin, &best, hitFace);
+        if (item < m->patchCount &&
+          (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid) != (others != 0))
+          ray_patch(m, item, Ohi, Olo, d, sMin, &best, hitFace, hitPatch, hitUV);
       }
       continue;
     }
@@ -2023,6 +2246,75 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, i
     stack[top++] = node + 1;
   }
   return best;
+}
+
+// The ray thickness at O: the distance along d to the first point of the trimmed faces of O's
+// solid beyond twice the patches' accuracy (O itself lies on its face), moved onto the exact
+// surface where the face hit is analytic. REAL_MAX where nothing is hit (an open solid, or the
+// boxes are not there).
+real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real stepTol,
+  int* hitFace)
+{
+  *hitFace = -1;
+  if (!(m->mode & MODE_CERTIFY))
+    return REAL_MAX;
+  int patch;
+  real2 uv;
+  real best = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, Ohi, Olo, d,
+    (real)2 * m->slack, hitFace, &patch, &uv);
+  if (*hitFace >= 0 && best < REAL_MAX)
+    best = exact_ray_hit(m, *hitFace, Ohi, Olo, d, best, stepTol);
+  return best;
+}
+
+// The gap with all solids: whether O, on a face of its solid, lies on or inside another solid
+// (two solids of an assembly that touch there, or overlap). Rays from O (along the outward
+// normal d, then tilted 0.5 rad from it two ways) to the first face of another solid beyond four
+// times the patches' accuracy and the precision's (a face of the other solid through O itself is
+// not hit): where
+// that face's outward normal points along the ray, the ray leaves that solid, so O lies in it.
+// A first ray that meets nothing decides (outside); else two of three. *face: the other
+// solid's face hit (-1 when outside).
+int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  int* face)
+{
+  *face = -1;
+  if (!(m->mode & MODE_CERTIFY))
+    return 0;
+  const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
+  const real3 a = fabs(d.x) < (real)0.9 ? make_real3(1, 0, 0) : make_real3(0, 1, 0);
+  const real3 u = normalize(cross(d, a));
+  const real3 v = cross(d, u);
+  int inside = 0, outside = 0;
+  for (int k = 0; k < 3 && inside < 2 && outside < 2; ++k)
+  {
+    const real3 dir =
+      k == 0 ? d : normalize(d + (real)0.55 * (k == 1 ? u : v)); // 0.5 rad: tan = 0.55
+    int f, p;
+    real2 uv;
+    // Beyond the patches' accuracy and the precision's (float: a face through O must not count).
+    const real sMin = fmax((real)4 * m->slack, (real)256 * REAL_EPS * scale);
+    const real s = ray_first_hit(m, solid, 1, Ohi, Olo, dir, sMin, &f, &p, &uv);
+    if (f < 0 || !(s < REAL_MAX))
+    {
+      if (k == 0)
+        return 0;
+      ++outside;
+      continue;
+    }
+    const PatchEval e = eval_patch(m, p, uv.x, uv.y);
+    const real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * f + 6] ? (real)-1 : (real)1);
+    if (dot(n, dir) > (real)0)
+    {
+      ++inside;
+      *face = f;
+    }
+    else
+      ++outside;
+  }
+  if (inside < 2)
+    *face = -1;
+  return inside >= 2;
 }
 
 // The shrinking ball: from the sphere of r (radius r->t, tangent at O), while a point of the
@@ -2218,7 +2510,7 @@ int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, re
   real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
   Result* r)
 {
-  if (r->type == CONTACT_FAILED)
+  if (r->type == CONTACT_FAILED || r->type == CONTACT_OTHER_SOLID)
     return 0;
   const real reported = sphere_radius(d, r->foot, (real)0);
   const real tDelta = sphere_radius(d, r->foot, m->delta);
@@ -2269,7 +2561,9 @@ int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, re
 void write_result(const Result* r, real3 d, int iterations, int exactPass, __global real* oR,
   __global int* oI)
 {
-  oR[0] = r->type != CONTACT_FAILED ? sphere_radius(d, r->foot, (real)0) : (real)0;
+  oR[0] = r->type != CONTACT_FAILED && r->type != CONTACT_OTHER_SOLID
+    ? sphere_radius(d, r->foot, (real)0)
+    : (real)0;
   oR[1] = r->foot.x;
   oR[2] = r->foot.y;
   oR[3] = r->foot.z;
@@ -2297,6 +2591,19 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
   const real3 d = make_real3(sp[6], sp[7], sp[8]);
   const real2 ownUV = make_real2(sp[9], sp[10]);
   int iterations = 0, exactPass = 0;
+  if ((mm.mode & MODE_EXTERIOR) && (mm.mode & MODE_ALL_SOLIDS))
+  {
+    // The gap with all solids: where another solid touches or overlaps O's, the gap is 0.
+    int other;
+    if (inside_other_solid(&mm, ownFace, Ohi, Olo, d, scale, &other))
+    {
+      Result c = no_result();
+      c.type = CONTACT_OTHER_SOLID;
+      c.face = other;
+      write_result(&c, d, 0, 0, oR, oI);
+      return;
+    }
+  }
   Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
     Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
   if (r.type == CONTACT_FAILED && clearance > (real)0)
@@ -2313,6 +2620,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
       exactPass = 1;
     }
   }
+  exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
   write_result(&r, d, iterations, exactPass, oR, oI);
 }
 
@@ -2368,7 +2676,7 @@ __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __glob
   __global const real* sp = samples + SAMPLE_REALS * gid;
   int face = -1;
   outRay[gid] = ray_thickness(&mm, sampleFace[gid], make_real3(sp[0], sp[1], sp[2]),
-    make_real3(sp[3], sp[4], sp[5]), make_real3(sp[6], sp[7], sp[8]), &face);
+    make_real3(sp[3], sp[4], sp[5]), make_real3(sp[6], sp[7], sp[8]), stepTol, &face);
   outFace[gid] = face;
 }
 
@@ -2405,13 +2713,14 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
   r.param = make_real2(fR[5], fR[6]);
   r.t = sphere_radius(d, r.foot, mm.delta);
   int iterations = fI[5], again = r.type == CONTACT_FAILED;
-  if (!again)
+  if (!again && r.type != CONTACT_OTHER_SOLID)
   {
     polish_result(&mm, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
       maxEdgeIterations, &iterations, &r);
     PointInside inside;
     again = find_point_inside(&mm, ownFace, Ohi, Olo, d, sphere_radius(d, r.foot, (real)0),
       fmax(mm.delta, mm.slack), &inside);
+    exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
   }
   write_result(&r, d, iterations, fI[6], oR, oI);
   redo[gid] = again;

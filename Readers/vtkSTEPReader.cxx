@@ -178,6 +178,9 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
     [](const brt::Face& f, double* o) { o[0] = f.MaxDeviation; });
   AddArray<vtkDoubleArray>(fd, "FaceUVTolerance", 1, m.Faces,
     [](const brt::Face& f, double* o) { o[0] = f.UVTolerance; });
+  if (m.FaceExact.size() == m.Faces.size())
+    AddArray<vtkDoubleArray>(fd, "FaceExactSurface", 8, m.FaceExact,
+      [](const std::array<double, 8>& e, double* o) { std::copy(e.begin(), e.end(), o); });
 
   AddArray<vtkDoubleArray>(fd, "TrimSegments", 8, m.TrimSegments,
     [](const brt::TrimSegment& s, double* o) { std::copy(s.ControlPoints.begin(), s.ControlPoints.end(), o); });

@@ -9,6 +9,7 @@
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Trsf.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -42,6 +43,16 @@ TopoDS_Shape Tube(double R, double r, double length)
 TopoDS_Shape SphericalShell(double R, double r)
 {
   return BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(R).Shape(), BRepPrimAPI_MakeSphere(r).Shape())
+    .Shape();
+}
+
+TopoDS_Shape ConicalShell(double R1, double R2, double height, double h)
+{
+  const gp_Ax2 axis(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1));
+  // Coaxial cones of one semi-angle a (tan a = (R1 - R2) / height), radii apart by h / cos a.
+  const double a = std::atan2(R1 - R2, height), inset = h / std::cos(a);
+  return BRepAlgoAPI_Cut(BRepPrimAPI_MakeCone(axis, R1, R2, height).Shape(),
+    BRepPrimAPI_MakeCone(axis, R1 - inset, R2 - inset, height).Shape())
     .Shape();
 }
 

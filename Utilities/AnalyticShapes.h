@@ -10,6 +10,8 @@ TopoDS_Shape Plate(double lx, double ly, double h);              ///< thickness 
 TopoDS_Shape Tube(double R, double r, double length);            ///< thickness R - r
 TopoDS_Shape SphericalShell(double R, double r);                 ///< thickness R - r
 TopoDS_Shape ToroidalShell(double major, double R, double r);    ///< thickness R - r
+/// Coaxial cones (radius R1 at z = 0 to R2 at z = height), walls h apart normal to them.
+TopoDS_Shape ConicalShell(double R1, double R2, double height, double h);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);

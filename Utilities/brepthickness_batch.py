@@ -287,9 +287,11 @@ def main(argv=None):
                   % (args.max_thickness, unit, 100 * stats["AreaShareAboveMaximumWithoutEdgeZones"],
                      100 * stats["AreaShareAboveMaximumWithEdgeZones"]))
     if args.gap or args.gap_only:
-        print("  gap (%s): min %.4g, max %.4g, area-weighted mean %.4g %s; infinite on %.2f%% of the area%s"
+        print("  gap (%s): min %.4g, max %.4g, area-weighted mean %.4g %s; infinite on %.2f%% of the area; "
+              "0 on another solid (touching or overlapping) on %.2f%%; %d samples failed%s"
               % (args.gap_scope, stats["GapMin"], stats["GapMax"], stats["GapMean"], unit,
-                 100 * stats["AreaShareInfiniteGap"],
+                 100 * stats["AreaShareInfiniteGap"], 100 * stats["AreaShareOnOtherSolid"],
+                 stats["GapFailed"],
                  "; below %g %s: %.2f%%" % (args.min_gap, unit, 100 * stats["AreaShareBelowMinimumGap"])
                  if args.min_gap > 0 else ""))
     print("  solids: " + ", ".join(

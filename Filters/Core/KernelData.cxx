@@ -1,6 +1,7 @@
 #include "KernelData.h"
 
 #include <array>
+#include <cmath>
 
 namespace brt
 {
@@ -42,6 +43,62 @@ std::vector<T> RelativeBoxes(const std::vector<double>& boxes, const std::array<
 }
 } // namespace
 
+int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
+  std::array<double, 12>& out)
+{
+  const Face& F = m.Faces[f];
+  if (m.FaceExact.size() != m.Faces.size() || F.PatchCount <= 0)
+    return 0;
+  const auto& e = m.FaceExact[f];
+  double a[3] = { e[3], e[4], e[5] };
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  if (!(std::fabs(la - 1.0) < 1e-6))
+    return 0; // not a unit axis: not a description this solver trusts
+  for (double& x : a)
+    x /= la;
+  const auto& p = m.Patches[F.FirstPatch].ControlPoints;
+  double o[3] = { e[0], e[1], e[2] };
+  const double s = (p[0] - o[0]) * a[0] + (p[1] - o[1]) * a[1] + (p[2] - o[2]) * a[2];
+  double sizes[3] = { 0.0, 0.0, 0.0 };
+  int kind = 0;
+  switch (F.Kind)
+  {
+    case SurfaceKind::Plane:
+      kind = 1;
+      for (int i = 0; i < 3; ++i)
+        o[i] = p[i] - s * a[i];
+      break;
+    case SurfaceKind::Cylinder:
+      kind = 2;
+      for (int i = 0; i < 3; ++i)
+        o[i] += s * a[i];
+      sizes[0] = e[6];
+      break;
+    case SurfaceKind::Cone:
+      kind = 3;
+      for (int i = 0; i < 3; ++i)
+        o[i] += s * a[i];
+      sizes[0] = e[6] + s * std::tan(e[7]);
+      sizes[1] = std::cos(e[7]);
+      sizes[2] = std::sin(e[7]);
+      break;
+    case SurfaceKind::Sphere:
+      kind = 4;
+      sizes[0] = e[6];
+      break;
+    case SurfaceKind::Torus:
+      kind = 5;
+      sizes[0] = e[6];
+      sizes[1] = e[7];
+      break;
+    default:
+      return 0;
+  }
+  out = { o[0] - c[0], o[1] - c[1], o[2] - c[2], 0.0, 0.0, 0.0, a[0], a[1], a[2], sizes[0],
+    sizes[1], sizes[2] };
+  return kind;
+}
+
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
 {
@@ -62,12 +119,17 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
     const Face& F = m.Faces[f];
+    std::array<double, 12> exact{};
+    const int kind = PackExactSurface(m, static_cast<int>(f), c, exact);
     k.FaceInfo.insert(k.FaceInfo.end(),
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
-        F.Reversed ? 1 : 0, F.Solid });
+        F.Reversed ? 1 : 0, F.Solid, kind });
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });
+    PushSplit(k.FaceDomain, { exact[0], exact[1], exact[2] });
+    for (int i = 6; i < 12; ++i)
+      k.FaceDomain.push_back(static_cast<T>(exact[i]));
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

@@ -7,6 +7,7 @@
 
 #include "Solver.h"
 
+#include <array>
 #include <vector>
 
 namespace brt
@@ -50,6 +51,14 @@ struct KernelScalars
     return (Certify && hasBoxes ? 1 : 0) | (Exterior ? 2 : 0) | (AllSolids ? 4 : 0);
   }
 };
+
+/// The exact surface of face f for the kernel's exact finish (EXACT_* in Kernels/thickness.cl;
+/// returns 0 where there is none: a face that is not analytic, a model without FaceExact): its
+/// origin relative to c (3; the packing splits it into hi + lo parts), 3 unused, the unit axis (3)
+/// and three sizes. The origin is moved to the foot of the face's first patch anchor on the plane
+/// or on the axis, so that float keeps its accuracy on a surface whose origin lies far away.
+int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
+  std::array<double, 12>& out);
 
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data);

@@ -4,6 +4,7 @@
 #include "KernelLanguage.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace brt
@@ -105,7 +106,7 @@ kernel::Result ToKernel(const Sample& s, const SampleResult& r, double delta)
 bool NativeSolver::HoldsBoundary(
   const SolverOptions& options, const Sample& sample, const SampleResult& r) const
 {
-  if (r.Type == ContactType::Failed || P->Data.Nodes.empty())
+  if (r.Type == ContactType::Failed || r.Type == ContactType::OtherSolid || P->Data.Nodes.empty())
     return false;
   KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   s.Certify = 1;
@@ -121,7 +122,7 @@ bool NativeSolver::HoldsBoundary(
 
 void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const
 {
-  if (r.Type == ContactType::Failed || P->Data.Nodes.empty())
+  if (r.Type == ContactType::Failed || r.Type == ContactType::OtherSolid || P->Data.Nodes.empty())
     return;
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
@@ -133,6 +134,7 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
   int iterations = 0;
   kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
     s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
+  kernel::exact_finish(&view, Ohi, Olo, d, s.StepTol, &k);
   // Back through the kernel's own output layout, so that one function reads results; a contact
   // the polish kept gets its radius from its foot in double, as brt_finish gives it.
   double outR[KernelOutReals];
@@ -158,7 +160,7 @@ void NativeSolver::RayThickness(const std::vector<Sample>& samples,
     const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
       d{ in[6], in[7], in[8] };
     int hit = -1;
-    const double t = kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, &hit);
+    const double t = kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, s.StepTol, &hit);
     if (hit >= 0 && t < std::numeric_limits<double>::max())
     {
       thickness[i] = t;
@@ -166,6 +168,25 @@ void NativeSolver::RayThickness(const std::vector<Sample>& samples,
         (*face)[i] = hit;
     }
   });
+}
+
+bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
+  std::array<double, 3>& normal, double maxMove)
+{
+  std::array<double, 12> e{};
+  const int kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, e);
+  if (kind == 0)
+    return false;
+  const kernel::real3 X{ point[0] - e[0], point[1] - e[1], point[2] - e[2] };
+  kernel::real3 g{ 0.0, 0.0, 0.0 };
+  int ok = 0;
+  const double f = kernel::exact_distance(kind, e.data(), X, &g, &ok);
+  if (!ok || !(std::fabs(f) <= maxMove))
+    return false;
+  const double side = g.x * normal[0] + g.y * normal[1] + g.z * normal[2] < 0.0 ? -1.0 : 1.0;
+  point = { point[0] - f * g.x, point[1] - f * g.y, point[2] - f * g.z };
+  normal = { side * g.x, side * g.y, side * g.z };
+  return true;
 }
 
 void SolveReference(const BRepModel& model, const SolverData& data, const SolverOptions& options,

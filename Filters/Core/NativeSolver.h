@@ -6,6 +6,7 @@
 
 #include "Solver.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -53,5 +54,12 @@ private:
   struct Impl;
   std::unique_ptr<Impl> P;
 };
+
+/// Moves `point`, near face f, onto the face's exact analytic surface along that surface's normal
+/// (the kernel's exact_distance), and sets `normal` to the exact unit normal on the side of the
+/// given one. False, and both unchanged, where the face has no exact surface or the move would
+/// exceed maxMove.
+bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
+  std::array<double, 3>& normal, double maxMove);
 
 } // namespace brt

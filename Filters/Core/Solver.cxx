@@ -1,6 +1,7 @@
 #include "Solver.h"
 
 #include "Bezier.h"
+#include "NativeSolver.h"
 #include "TrimClassifier.h"
 
 #include <algorithm>
@@ -20,6 +21,7 @@ const char* ContactTypeName(ContactType type)
     case ContactType::SurfaceSurface: return "surface/surface";
     case ContactType::SurfaceEdge: return "surface/edge";
     case ContactType::SurfaceVertex: return "surface/vertex";
+    case ContactType::OtherSolid: return "on or in another solid";
     case ContactType::Failed: break;
   }
   return "failed";
@@ -493,6 +495,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     const double sign = F.Reversed ? 1.0 : -1.0; // inward = -outward
     s.Point = e.P;
     s.Direction = { sign * n[0] / len, sign * n[1] / len, sign * n[2] / len };
+    // On an analytic face, back onto the exact surface (the patches lie up to the tolerance off).
+    ProjectOnExactSurface(model, s.Face, s.Point, s.Direction, 2.0 * model.Tolerance);
   }
   return out;
 }

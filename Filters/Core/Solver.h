@@ -30,7 +30,11 @@ enum class ContactType : int
   Failed = 0,
   SurfaceSurface = 1, ///< tangent to O's face and to an opposite face inside its trim
   SurfaceEdge = 2,    ///< tangent to O's face and touching an edge (eq. 7)
-  SurfaceVertex = 3   ///< the edge Newton ran into an end of the edge: touches that vertex
+  SurfaceVertex = 3,  ///< the edge Newton ran into an end of the edge: touches that vertex
+  /// The gap with all solids (SolverOptions::Exterior and AllSolids) only: O lies on or inside
+  /// another solid, which touches or overlaps its own there. The gap is 0 (radius 0, the centre
+  /// and the foot at O); OppositeFace is the other solid's face that the test's rays left it by.
+  OtherSolid = 4
 };
 const char* ContactTypeName(ContactType type);
 

@@ -3,6 +3,7 @@
 #include "BinaryIO.h"
 #include "ModelIO.h"
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <stdexcept>
@@ -36,6 +37,7 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
   const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2], d.S1Spacing,
     m.Tolerance };
   Put(out, scalars);
+  Put(out, m.FaceExact); // after everything else: older files end before it
 }
 
 void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector<Sample>& samples)
@@ -67,6 +69,16 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     // Files written before the conversion tolerance was kept: the reader's default (the
     // clearance and the vertex table depend on it).
     m.Tolerance = scalars.size() >= 6 ? scalars[5] : BRepModel().Tolerance;
+    // Files written before the exact surfaces were kept end here: no exact finish.
+    m.FaceExact.clear();
+    if (in.peek() != std::char_traits<char>::eof())
+      Get(in, m.FaceExact);
+    bool finite = m.FaceExact.empty() || m.FaceExact.size() == m.Faces.size();
+    for (const auto& e : m.FaceExact)
+      for (double x : e)
+        finite = finite && std::isfinite(x);
+    if (!finite)
+      throw std::runtime_error("corrupt solve file (exact surfaces)");
   }
   catch (const std::runtime_error& e)
   {

@@ -184,6 +184,8 @@ GapStatistics AccumulateGap(const std::vector<SampleResult>& results,
       continue;
     }
     s.Value[i] = g.Thickness;
+    if (g.Type == ContactType::OtherSolid)
+      s.Sums[G::OtherSolidArea] += area[i];
     s.Sums[G::AreaWithGap] += area[i];
     s.Sums[G::FiniteArea] += area[i];
     s.Sums[G::AreaGap] += area[i] * g.Thickness;

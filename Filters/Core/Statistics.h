@@ -49,7 +49,7 @@ std::vector<double> VertexAreas(const std::vector<double>& points, const std::ve
 
 struct ThicknessStatistics
 {
-  static constexpr int ContactTypes = 4; ///< brt::ContactType values 0..3
+  static constexpr int ContactTypes = 5; ///< brt::ContactType values 0..4
   static constexpr int FailReasons = 11; ///< brt::FailReason values 0..10
   /// log10 |R| histogram: ResidualBins bins over [ResidualLow, ResidualHigh]; residuals outside
   /// (and 0) go to the end bins.
@@ -109,6 +109,7 @@ struct GapStatistics
     InfiniteArea, ///< area of the samples with an infinite gap
     Failed,       ///< samples whose gap solve failed
     AreaBelow,    ///< area with a finite gap below the minimum (when > 0)
+    OtherSolidArea, ///< area where another solid touches or overlaps (gap 0, ContactType::OtherSolid)
     SumCount
   };
   std::vector<double> Sums = std::vector<double>(SumCount, 0.0);

@@ -52,6 +52,7 @@
 #include <TopoDS_Iterator.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
+#include <gp_Ax3.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
@@ -107,19 +108,44 @@ Handle(Geom_Surface) Unwrap(Handle(Geom_Surface) s)
   return s;
 }
 
-void Classify(const Handle(Geom_Surface)& surface, Face& face)
+/// Face::Exact from a point, a direction and two sizes.
+void SetExact(std::array<double, 8>& exact, const gp_Ax3& a, double p1, double p2)
+{
+  const gp_Pnt& o = a.Location();
+  const gp_Dir& z = a.Direction();
+  exact = { o.X(), o.Y(), o.Z(), z.X(), z.Y(), z.Z(), p1, p2 };
+}
+
+/// The face's kind and, for an analytic surface, its exact description (BRepModel::FaceExact).
+void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double, 8>& exact)
 {
   const Handle(Geom_Surface) s = Unwrap(surface);
-  if (s->IsKind(STANDARD_TYPE(Geom_Plane)))
+  exact = {};
+  if (auto pl = Handle(Geom_Plane)::DownCast(s))
+  {
     face.Kind = SurfaceKind::Plane;
-  else if (s->IsKind(STANDARD_TYPE(Geom_CylindricalSurface)))
+    SetExact(exact, pl->Position(), 0.0, 0.0);
+  }
+  else if (auto cy = Handle(Geom_CylindricalSurface)::DownCast(s))
+  {
     face.Kind = SurfaceKind::Cylinder;
-  else if (s->IsKind(STANDARD_TYPE(Geom_ConicalSurface)))
+    SetExact(exact, cy->Position(), cy->Radius(), 0.0);
+  }
+  else if (auto co = Handle(Geom_ConicalSurface)::DownCast(s))
+  {
     face.Kind = SurfaceKind::Cone;
-  else if (s->IsKind(STANDARD_TYPE(Geom_SphericalSurface)))
+    SetExact(exact, co->Position(), co->RefRadius(), co->SemiAngle());
+  }
+  else if (auto sp = Handle(Geom_SphericalSurface)::DownCast(s))
+  {
     face.Kind = SurfaceKind::Sphere;
-  else if (s->IsKind(STANDARD_TYPE(Geom_ToroidalSurface)))
+    SetExact(exact, sp->Position(), sp->Radius(), 0.0);
+  }
+  else if (auto to = Handle(Geom_ToroidalSurface)::DownCast(s))
+  {
     face.Kind = SurfaceKind::Torus;
+    SetExact(exact, to->Position(), to->MajorRadius(), to->MinorRadius());
+  }
   else if (auto bz = Handle(Geom_BezierSurface)::DownCast(s))
   {
     face.Kind = SurfaceKind::BezierSurface;
@@ -985,6 +1011,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
 
   // --- faces: patches and trimming loops ----------------------------------------------------
   model.Faces.resize(faceMap.Extent());
+  model.FaceExact.assign(model.Faces.size(), {});
   for (int fi = 0; fi < faceMap.Extent(); ++fi)
   {
     const TopoDS_Face face = TopoDS::Face(faceMap(fi + 1));
@@ -998,7 +1025,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       warn("face " + std::to_string(fi) + ": has no surface, skipped");
       continue;
     }
-    Classify(surface, F);
+    Classify(surface, F, model.FaceExact[fi]);
     double u0, u1, v0, v1;
     BRepTools::UVBounds(ff, u0, u1, v0, v1);
     F.Domain = { u0, u1, v0, v1 };

@@ -142,6 +142,16 @@ struct BRepModel
   std::string LengthUnit = "mm";
   double Tolerance = 1e-4;
   std::vector<Face> Faces;
+  /// The exact surface of each analytic face (Face::Kind Plane, Cylinder, Cone, Sphere, Torus;
+  /// zeros for every other kind), one row per face or none at all (a model built by hand): a
+  /// point (3), a unit direction (3) and two sizes. Plane: a point on it, its normal. Cylinder: a
+  /// point on the axis, the axis, the radius. Cone: the point on the axis where the radius is the
+  /// reference radius, the axis, that radius, the semi-angle (radius R + z tan(angle) at height
+  /// z along the axis). Sphere: the centre, any axis, the radius. Torus: the centre, the axis,
+  /// the major and the minor radius. The solver's exact finish (docs/Solver.md) moves contacts
+  /// on these faces onto the surface itself. Kept apart from Face so that solve files written
+  /// before it stay readable (it follows the rest of a file).
+  std::vector<std::array<double, 8>> FaceExact;
   std::vector<BezierPatch> Patches;
   std::vector<TrimLoop> Loops;
   std::vector<TrimSegment> TrimSegments;

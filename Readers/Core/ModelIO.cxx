@@ -12,7 +12,7 @@ namespace brt
 {
 namespace
 {
-constexpr std::uint64_t Magic = 0x314C444F4D545242ull; // "BRTMODL1"
+constexpr std::uint64_t Magic = 0x324C444F4D545242ull; // "BRTMODL2": FaceExact
 
 using binary::Get;
 using binary::GetString;
@@ -90,6 +90,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   Put(out, std::vector<std::uint64_t>{ s.Warnings.size() });
   for (const std::string& w : s.Warnings)
     PutString(out, w);
+  Put(out, m.FaceExact);
   if (!out.flush())
     throw std::runtime_error("cannot write '" + path + "' (disk full?)");
 }
@@ -147,6 +148,7 @@ BRepModel ReadModel(const std::string& path)
     s.MeshSeconds = figures[7];
     for (std::uint64_t i = 0; i < warnings[0]; ++i)
       s.Warnings.push_back(GetString(in));
+    Get(in, m.FaceExact);
     ValidateModel(m);
   }
   catch (const std::runtime_error& e)
@@ -182,6 +184,12 @@ void ValidateModel(const BRepModel& m)
       if (m.Patches[p].Face != static_cast<int>(f))
         Bad(at + "patch " + std::to_string(p) + " belongs to another face");
   }
+  if (!m.FaceExact.empty() && m.FaceExact.size() != nf)
+    Bad("exact surfaces: " + std::to_string(m.FaceExact.size()) + " rows for " +
+      std::to_string(nf) + " faces");
+  for (size_t f = 0; f < m.FaceExact.size(); ++f)
+    if (!Finite(m.FaceExact[f].data(), 8))
+      Bad("face " + std::to_string(f) + ": non-finite exact surface");
   for (size_t p = 0; p < np; ++p)
     if (!Index(m.Patches[p].Face, nf) || !Finite(m.Patches[p].ControlPoints.data(), 48) ||
       !Finite(m.Patches[p].Domain.data(), 4))

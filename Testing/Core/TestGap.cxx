@@ -51,13 +51,14 @@ GapRun SolveGap(const TopoDS_Shape& shape, bool allSolids, OpenCLSolver* cl = nu
   return g;
 }
 
-/// Checks every sample: `expected` gives its gap (infinity: no wall faces it; NaN: no closed
-/// form, left out). A finite gap must be solved within `rel`; an infinite one must fail with
-/// NoOppositePoint (nothing in front of it) and never carry a value.
+/// Checks every sample: `expected` gives its gap (infinity: no wall faces it; 0: another solid
+/// touches or overlaps it there; NaN: no closed form, left out). A finite gap must be solved
+/// within `rel`; an infinite one must fail with NoOppositePoint (nothing in front of it) and never
+/// carry a value; a zero one must be typed OtherSolid with gap 0.
 void Check(const char* name, const GapRun& g, const std::function<double(const Sample&)>& expected,
   double rel)
 {
-  size_t finite = 0, infinite = 0, wrong = 0, skipped = 0;
+  size_t finite = 0, infinite = 0, zero = 0, wrong = 0, skipped = 0;
   double worst = 0.0;
   for (size_t i = 0; i < g.Samples.size(); ++i)
   {
@@ -80,6 +81,18 @@ void Check(const char* name, const GapRun& g, const std::function<double(const S
           static_cast<int>(r.Type), static_cast<int>(r.Reason), r.Thickness);
       continue;
     }
+    if (e == 0.0)
+    {
+      ++zero;
+      const bool ok = r.Type == ContactType::OtherSolid && r.Thickness == 0.0;
+      if (!ok && wrong++ < 5)
+        std::printf("[gap] %s: sample %zu at (%.4f, %.4f, %.4f) dir (%.3f, %.3f, %.3f): expected "
+                    "0 on another solid, got type %d reason %d gap %.9g\n",
+          name, i, g.Samples[i].Point[0], g.Samples[i].Point[1], g.Samples[i].Point[2],
+          g.Samples[i].Direction[0], g.Samples[i].Direction[1], g.Samples[i].Direction[2],
+          static_cast<int>(r.Type), static_cast<int>(r.Reason), r.Thickness);
+      continue;
+    }
     ++finite;
     const double err =
       r.Type == ContactType::Failed ? std::numeric_limits<double>::infinity() : std::fabs(r.Thickness - e) / e;
@@ -91,10 +104,11 @@ void Check(const char* name, const GapRun& g, const std::function<double(const S
         static_cast<int>(r.Type), static_cast<int>(r.Reason), e);
   }
   std::printf("[gap] %s: %zu samples: %zu with a finite closed form (max relative error %.2e), "
-              "%zu infinite, %zu without a closed form left out, %zu wrong\n",
-    name, g.Samples.size(), finite, worst, infinite, skipped, wrong);
+              "%zu infinite, %zu on another solid (0), %zu without a closed form left out, %zu "
+              "wrong\n",
+    name, g.Samples.size(), finite, worst, infinite, zero, skipped, wrong);
   EXPECT_EQ(wrong, 0u) << name;
-  EXPECT_GT(finite + infinite, 0u) << name;
+  EXPECT_GT(finite + infinite + zero, 0u) << name;
 }
 
 TEST(Gap, UChannelSlotWidth)
@@ -157,6 +171,31 @@ TEST(Gap, TwoPlatesAllSolidsAndSameSolid)
     [&](const Sample&) { return inf; }, 0.0);
 }
 
+TEST(Gap, TouchingAndOverlappingSolidsAreZero)
+{
+  // Two 60 x 40 x 4 plates as two solids. Stacked (gap 0): with AllSolids the touching faces get
+  // the gap 0 (ContactType::OtherSolid), every other face faces nothing. Overlapping by 1 (the
+  // upper plate from z = 3 to 7): A's top and B's bottom lie inside the other plate (0); the side
+  // faces between z = 3 and 4 lie on the other plate's coplanar side faces, facing the air
+  // (infinite); the samples within 0.05 of the lines z = 3 and 4 on the sides are left out.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto stacked = [&](const Sample& s) {
+    return std::fabs(s.Point[2] - 4) < 1e-6 && std::fabs(s.Direction[2]) > 0.99 ? 0.0 : inf;
+  };
+  Check("stacked plates, all solids", SolveGap(analytic::TwoPlates(60, 40, 4, 0), true), stacked, 0.0);
+  Check("stacked plates, own solid", SolveGap(analytic::TwoPlates(60, 40, 4, 0), false),
+    [&](const Sample&) { return inf; }, 0.0);
+  const auto overlapping = [&](const Sample& s) {
+    const double z = s.Point[2];
+    if (std::fabs(z - 3) < 0.05 || std::fabs(z - 4) < 0.05)
+      return std::fabs(s.Direction[2]) > 0.99 ? 0.0 : nan; // the faces inside; rims left out
+    return inf;
+  };
+  Check("overlapping plates, all solids", SolveGap(analytic::TwoPlates(60, 40, 4, -1), true),
+    overlapping, 0.0);
+}
+
 TEST(Gap, PlainPlateIsInfiniteEverywhere)
 {
   const GapRun g = SolveGap(analytic::Plate(100, 60, 5), false);
@@ -169,31 +208,44 @@ TEST(Gap, OpenCLFloatAgreesWithTheNativeDevice)
   if (OpenCLSolver::ListDevices().empty())
     GTEST_SKIP() << "no OpenCL device";
   OpenCLSolver cl("any", false);
-  const TopoDS_Shape shape = analytic::UChannel(40, 30, 5, 6, 80);
-  const GapRun native = SolveGap(shape, false);
-  const GapRun device = SolveGap(shape, false, &cl);
-  ASSERT_EQ(native.Results.size(), device.Results.size());
-  size_t differ = 0, finite = 0;
-  double worst = 0.0;
-  for (size_t i = 0; i < native.Results.size(); ++i)
+  struct Case
   {
-    const SampleResult &a = native.Results[i], &b = device.Results[i];
-    const bool fa = a.Type != ContactType::Failed, fb = b.Type != ContactType::Failed;
-    if (fa != fb || (!fa && a.Reason != b.Reason))
+    const char* Name;
+    TopoDS_Shape Shape;
+    bool AllSolids;
+  };
+  const Case cases[] = { { "U-channel", analytic::UChannel(40, 30, 5, 6, 80), false },
+    { "stacked plates, all solids", analytic::TwoPlates(60, 40, 4, 0), true } };
+  for (const Case& c : cases)
+  {
+    const GapRun native = SolveGap(c.Shape, c.AllSolids);
+    const GapRun device = SolveGap(c.Shape, c.AllSolids, &cl);
+    ASSERT_EQ(native.Results.size(), device.Results.size());
+    size_t differ = 0, finite = 0, zero = 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < native.Results.size(); ++i)
     {
-      ++differ;
-      continue;
+      const SampleResult &a = native.Results[i], &b = device.Results[i];
+      const bool fa = a.Type != ContactType::Failed, fb = b.Type != ContactType::Failed;
+      if (fa != fb || (!fa && a.Reason != b.Reason) ||
+        (a.Type == ContactType::OtherSolid) != (b.Type == ContactType::OtherSolid))
+      {
+        ++differ;
+        continue;
+      }
+      if (a.Type == ContactType::OtherSolid)
+        ++zero;
+      else if (fa)
+      {
+        ++finite;
+        worst = std::max(worst, std::fabs(a.Thickness - b.Thickness) / a.Thickness);
+      }
     }
-    if (fa)
-    {
-      ++finite;
-      worst = std::max(worst, std::fabs(a.Thickness - b.Thickness) / a.Thickness);
-    }
+    std::printf("[gap] %s on %s (float): %zu samples, %zu finite, %zu on another solid, %zu differ "
+                "from the native device in kind, max relative difference %.2e\n",
+      c.Name, cl.DeviceName().c_str(), native.Results.size(), finite, zero, differ, worst);
+    EXPECT_EQ(differ, 0u) << c.Name;
+    EXPECT_LE(worst, 1e-6) << c.Name;
   }
-  std::printf("[gap] U-channel on %s (float): %zu samples, %zu finite, %zu differ from the native "
-              "device in kind, max relative difference %.2e\n",
-    cl.DeviceName().c_str(), native.Results.size(), finite, differ, worst);
-  EXPECT_EQ(differ, 0u);
-  EXPECT_LE(worst, 1e-6);
 }
 } // namespace

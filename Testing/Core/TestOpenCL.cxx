@@ -420,12 +420,11 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
     { "plate 100x100x0.1", analytic::Plate(100, 100, 0.1), 0.1 },
     { "tube", analytic::Tube(20, 15, 80), 5 },
     { "spherical shell", analytic::SphericalShell(25, 20), 5 },
-    { "toroidal shell", analytic::ToroidalShell(40, 10, 6), 4 } };
+    { "toroidal shell", analytic::ToroidalShell(40, 10, 6), 4 },
+    { "conical shell", analytic::ConicalShell(30, 15, 40, 3), 3 } };
   for (const auto& s : shapes)
   {
-    ConversionOptions conv;
-    conv.Tolerance = 1e-6;
-    const BRepModel m = ConvertShape(s.S, conv);
+    const BRepModel m = ConvertShape(s.S, ConversionOptions()); // the reader's defaults
     SolverOptions options;
     const SolverData data = PrepareSolver(m, options);
     const std::vector<Sample> samples = SamplesFromMesh(m, data);

@@ -79,9 +79,7 @@ TEST(RayThickness, ClosedFormsEverySample)
   };
   for (const Case& c : cases)
   {
-    ConversionOptions conv;
-    conv.Tolerance = 1e-6;
-    const BRepModel m = ConvertShape(c.Shape, conv);
+    const BRepModel m = ConvertShape(c.Shape, ConversionOptions()); // the reader's defaults
     const SolverData data = PrepareSolver(m, SolverOptions());
     const std::vector<Sample> samples = SamplesFromMesh(m, data);
     std::vector<double> ray;
