@@ -2070,17 +2070,52 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
     r->type == CONTACT_SURFACE_EDGE ? fmax((real)2 * m->slack, (real)0.05 * t) : (real)2 * m->slack;
   if (!(length(moved) <= reach) || !(t <= sphere_radius(d, r->foot, (real)0) + (real)0.5 * m->slack))
     return;
+  // The new foot's (u, v): projected onto the face's patches from the old foot's (Gauss-Newton on
+  // |S(u, v) - foot|^2). It must lie inside the face's trim: beyond it the surface continued
+  // past the face (a round's cylinder beyond its edge) would make the sphere too small.
+  real u = r->param.x, v = r->param.y;
+  if (r->type == CONTACT_SURFACE_EDGE && !edge_point_on_face(m, face, r->edge, r->param.x, &u, &v))
+    return;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  int patch = find_patch(m, face, u, v);
+  for (int it = 0; it < 6; ++it)
+  {
+    PatchEval pe = eval_patch(m, patch, u, v);
+    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot;
+    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
+    const real det = a * c - b * b;
+    if (!(det > (real)0))
+      return;
+    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
+    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
+    u += du;
+    v += dv;
+    if (fd[4] > (real)0)
+      u = wrap_param(u, fd[0], fd[4]);
+    if (fd[5] > (real)0)
+      v = wrap_param(v, fd[2], fd[5]);
+    u = clamp(u, fd[0], fd[1]);
+    v = clamp(v, fd[2], fd[3]);
+    patch = find_patch(m, face, u, v);
+    if (fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
+      break;
+  }
+  // Strictly inside for a face contact: a foot within the trim's tolerance band of an edge, where
+  // the sphere may touch the edge rather than the surface, keeps the patches' contact. A seam's or
+  // split line's foot lies on the same surface either side: the band counts.
+  int seg;
+  real param, trimDist;
+  const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
+  if (!inside && !(r->type == CONTACT_SURFACE_EDGE && trimDist <= fd[6]))
+    return;
   if (r->type == CONTACT_SURFACE_EDGE)
   {
-    real u, v;
-    if (!edge_point_on_face(m, face, r->edge, r->param.x, &u, &v))
-      return;
     r->type = CONTACT_SURFACE_SURFACE;
     r->face = face;
-    r->patch = find_patch(m, face, u, v);
     r->edge = -1;
-    r->param = make_real2(u, v);
   }
+  r->patch = patch;
+  r->param = make_real2(u, v);
   r->foot = foot;
   r->t = t;
 }
@@ -2384,15 +2419,20 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
     REAL_MAX, m->delta, &t);
   Result r = no_result();
-  if (best < 0)
+  // The gap: where no s1 point lies in front of O, or even the first sphere (eq. 1 over s1, an
+  // upper bound of the maximal one) is wider than the model's diagonal, and the sphere of that
+  // radius holds no point of the faces (the certification's query), the gap is open: nothing
+  // nearer than the model is large. A point it finds (a wall narrower than s1's spacing, or one
+  // s1 misses) starts the solve instead.
+  int startFace = -1;
+  real startU = 0, startV = 0;
+  if (best >= 0)
   {
-    r.reason = FAIL_NO_OPPOSITE;
-    return r;
+    startFace = s1_face(s1Face, best);
+    startU = s1UV[2 * best];
+    startV = s1UV[2 * best + 1];
   }
-  // The gap: where even the first sphere (eq. 1 over s1, an upper bound of the maximal one) is
-  // wider than the model's diagonal, and the sphere of that radius holds no point of the faces
-  // (the certification's query), the gap is open: nothing nearer than the model is large.
-  if ((m->mode & MODE_EXTERIOR) && !(t < scale))
+  if ((m->mode & MODE_EXTERIOR) && (best < 0 || !(t < scale)))
   {
     PointInside inside;
     if (!find_point_inside(m, ownFace, Ohi, Olo, d, scale, fmax(m->delta, m->slack), &inside))
@@ -2400,11 +2440,21 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       r.reason = FAIL_NO_OPPOSITE;
       return r;
     }
+    if (best < 0)
+    {
+      startFace = inside.face;
+      startU = inside.u;
+      startV = inside.v;
+      t = inside.t;
+    }
   }
-  const int first = best;
-  r = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best), s1UV[2 * best],
-    s1UV[2 * best + 1], t, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-    iterations);
+  else if (best < 0)
+  {
+    r.reason = FAIL_NO_OPPOSITE;
+    return r;
+  }
+  r = solve_from(m, ownFace, Ohi, Olo, d, startFace, startU, startV, t, scale, stepTol, newtonTol,
+    maxIterations, maxEdgeIterations, iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
   {
     // That start led nowhere: try the best start on any other face once.
@@ -2423,8 +2473,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // Newton found no sphere from the best starts: descend on t from the best start, and on
     // the face across the edge nearest O; keep the smaller valid sphere (verified below).
-    const Result a = descend(m, ownFace, s1_face(s1Face, first), Ohi, Olo, d, s1UV[2 * first],
-      s1UV[2 * first + 1], scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
+    const Result a = descend(m, ownFace, startFace, Ohi, Olo, d, startU, startV, scale, newtonTol,
+      maxIterations, maxEdgeIterations, iterations);
     const Result b = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d,
       scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
     if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
