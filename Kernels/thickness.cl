@@ -2453,6 +2453,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     r.reason = FAIL_NO_OPPOSITE;
     return r;
   }
+  const int fromCertification = best < 0;
   r = solve_from(m, ownFace, Ohi, Olo, d, startFace, startU, startV, t, scale, stepTol, newtonTol,
     maxIterations, maxEdgeIterations, iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
@@ -2481,6 +2482,15 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       r = b;
     else if (a.type != CONTACT_FAILED)
       r = a;
+    if (r.type == CONTACT_FAILED && fromCertification)
+    {
+      // The gap's start came from the certification (no s1 point in front): the shrinking ball
+      // instead, from the sphere of the model's diagonal that found it.
+      Result s = no_result();
+      s.t = scale;
+      if (shrink_ball(m, ownFace, Ohi, Olo, d, fmax(m->delta, m->slack), &s))
+        r = s;
+    }
   }
   // Points inside by less than the patches' accuracy (slack) prove nothing, whatever the
   // clearance.
