@@ -2030,7 +2030,8 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   {
     // The centre on the sphere's side of the face (material for thickness, air for the gap),
     // clearly: the patch's outward normal at the foot against the centre's direction.
-    const PatchEval pe = eval_patch(m, r->patch, r->param.x, r->param.y);
+    const int p0 = r->patch >= 0 ? r->patch : find_patch(m, face, r->param.x, r->param.y);
+    const PatchEval pe = eval_patch(m, p0, r->param.x, r->param.y);
     real3 n = cross(pe.Du, pe.Dv);
     const real ln = length(n);
     if (!(ln > (real)0))
