@@ -16,15 +16,10 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
+from brt_checks import check, finish
+
 plugin, model = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("  FAIL: " + what)
 
 
 reader = STEPReader(FileName=model)
@@ -48,7 +43,4 @@ for device in ("native", "any"):
     check(0.005 <= low[0.01] <= 0.02, "%s: thinnest sample %.4g mm at clearance 0.01" % (device, low[0.01]))
     Delete(f)
 
-if failures:
-    print("%d failures" % len(failures))
-    sys.exit(1)
-print("clearance checks passed")
+finish("clearance checks passed")

@@ -11,17 +11,12 @@ import numpy as np
 from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
+
+from brt_checks import check, finish, table_rows
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 
 LoadPlugin(sys.argv[1], ns=globals())
-failures = []
-
-
-def check(cond, what):
-    print(("  ok   " if cond else "  FAIL ") + what)
-    if not cond:
-        failures.append(what)
 
 
 reader = STEPReader(FileName=sys.argv[2])
@@ -48,8 +43,6 @@ solved = ct > 0
 check(solved[~open_solid].mean() > 0.5, "closed box: measured (%.1f%% solved)" % (100 * solved[~open_solid].mean()))
 check(np.all(np.isfinite(T[solved])) and np.nanmax(T) <= np.sqrt(10 ** 2 * 2 + 2 ** 2), "no infinite or impossible thickness")
 summary = sm.Fetch(f, idx=3)
-rows = {}
-for r in range(summary.GetNumberOfRows()):
-    rows[summary.GetValue(r, 0).ToString()] = summary.GetValue(r, 1).ToDouble()
+rows = table_rows(summary)
 check(int(rows.get("FailedOpenShell", -1)) == int(open_solid.sum()), "Summary FailedOpenShell = %s" % rows.get("FailedOpenShell"))
-sys.exit(1 if failures else 0)
+finish()

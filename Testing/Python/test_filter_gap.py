@@ -15,20 +15,10 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
+from brt_checks import check, finish, summary_rows
+
 plugin, model = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
-failures = []
-
-
-def check(cond, what):
-    print(("  ok   " if cond else "  FAIL ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def rows_of(f):
-    t = sm.Fetch(f, idx=3)
-    return {t.GetValue(r, 0).ToString(): t.GetValue(r, 1).ToDouble() for r in range(t.GetNumberOfRows())}
 
 
 reader = STEPReader(FileName=model)
@@ -55,7 +45,7 @@ check(np.all(inf[hole] == 0) and np.all(gtype[hole] > 0), "hole wall: finite, so
 axis = np.hypot(centre[hole & ~rim, 0] - 40, centre[hole & ~rim, 1] - 40)
 check(axis.max() < 1e-4, "the gap's sphere centres lie on the hole's axis away from the rims (max %.2e)" % axis.max())
 check(np.all(np.isnan(centre[~hole])), "no sphere centre where the gap is infinite")
-rows = rows_of(f)
+rows = summary_rows(f)
 wall, total = 2 * math.pi * 10 * 6, 2 * (80**2 - math.pi * 100) + 4 * 80 * 6 + 2 * math.pi * 10 * 6
 print("Summary: GapMin %.9g, GapMax %.9g, below 25 mm %.4f (hole wall %.4f of the area), infinite %.4f"
       % (rows["GapMin"], rows["GapMax"], rows["AreaShareBelowMinimumGap"], wall / total, rows["AreaShareInfiniteGap"]))
@@ -67,7 +57,7 @@ solve = rows["SolveSeconds"]
 
 f.MaximumGap = 15.0  # the hole is wider: infinite everywhere, without solving again
 f.UpdatePipeline()
-rows = rows_of(f)
+rows = summary_rows(f)
 gap = np.asarray(dsa.WrapDataObject(sm.Fetch(f, idx=0)).PointData["Gap"])
 check(np.all(np.isinf(gap)) and rows["AreaShareInfiniteGap"] == 1.0, "MaximumGap 15: every gap infinite")
 check(rows["SolveSeconds"] == solve, "MaximumGap solved again")
@@ -87,7 +77,7 @@ names = list(mg.PointData.keys())
 check("Thickness" not in names and "ThicknessClass" not in names and "Gap" in names,
       "Measure Gap: gap arrays only (%s)" % names)
 check(np.array_equal(np.asarray(mg.PointData["Gap"]), gap2, equal_nan=True), "Measure Gap: the same Gap as with the thickness")
-rows = rows_of(f)
+rows = summary_rows(f)
 check("ThicknessMin" not in rows and rows["GapMax"] == np.max(gap2[np.isfinite(gap2)]), "Measure Gap: Summary rows")
 hist = sm.Fetch(f, idx=4)
 shares = [hist.GetValue(r, 1).ToDouble() for r in range(hist.GetNumberOfRows())]
@@ -98,9 +88,6 @@ check(sm.Fetch(f, idx=1).GetNumberOfPoints() == 0, "Measure Gap: no medial point
 f.Measure = "Thickness"
 f.UpdatePipeline()
 names = list(dsa.WrapDataObject(sm.Fetch(f, idx=0)).PointData.keys())
-check("Gap" not in names and "GapMin" not in rows_of(f), "no gap arrays or rows with Measure Thickness")
+check("Gap" not in names and "GapMin" not in summary_rows(f), "no gap arrays or rows with Measure Thickness")
 
-if failures:
-    print("%d failures" % len(failures))
-    sys.exit(1)
-print("gap passed")
+finish("gap passed")

@@ -18,6 +18,11 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
+import brt_checks
+from brt_checks import check, finish, table_rows
+
+brt_checks.verbose = False  # thousands of checks: print the failures only
+
 plugin, data_dir = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
 
@@ -57,21 +62,6 @@ ANALYTIC = {
     "l_bracket.step": (8.0, l_bracket),
 }
 
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("  FAIL: " + what)
-
-
-def summary_dict(table):
-    out = {}
-    for r in range(table.GetNumberOfRows()):
-        q = table.GetValue(r, 0).ToString()
-        out[q] = table.GetValue(r, 1).ToDouble()
-    return out
 
 
 def run(model, device, tolerance=1e-4):
@@ -118,7 +108,7 @@ def check_consistency(model, mesh, medial, residuals, summary, tables):
     for k, name in ((1, "SurfaceSurface"), (2, "SurfaceEdge"), (3, "SurfaceVertex")):
         check(int(cols[name].sum()) == int((ct == k).sum()), "%s: residual histogram %s count" % (model, name))
     # Summary, recomputed from the arrays.
-    s = summary_dict(summary)
+    s = table_rows(summary)
     check(int(s["Samples"]) == n, "%s: Summary Samples" % model)
     for k, name in ((0, "Failed"), (1, "SurfaceSurface"), (2, "SurfaceEdge"), (3, "SurfaceVertex")):
         check(int(s[name]) == int((ct == k).sum()), "%s: Summary %s" % (model, name))
@@ -181,7 +171,4 @@ for model in sorted(os.listdir(data_dir)):
             check(sel.sum() > 50, "%s: only %d samples selected" % (model, sel.sum()))
             check(worst <= bound, "%s (%s): max relative error %.2e > %.0e" % (model, device, worst, bound))
 
-if failures:
-    print("%d failures" % len(failures))
-    sys.exit(1)
-print("all models passed")
+finish("all models passed")

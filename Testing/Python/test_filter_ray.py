@@ -16,15 +16,10 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
+from brt_checks import check, finish, summary_rows
+
 plugin, model = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("  FAIL: " + what)
 
 
 def exact_ray(p, d):
@@ -100,11 +95,6 @@ check(rows["RayMissed"] == missed, "RayMissed differs from the array")
 # faces, the sides and the hole's wall entirely: 2 (80^2 - pi 10^2 - (74^2 - pi 13^2)) + 4 80 6
 # + 2 pi 10 6 of 2 (80^2 - pi 10^2) + 4 80 6 + 2 pi 10 6 = 0.3164 of the area (the samples' vertex
 # areas make the Summary's share a discretisation of it).
-def summary_rows(filt):
-    t = sm.Fetch(filt, idx=3)
-    return {t.GetValue(r, 0).ToString(): t.GetValue(r, 1).ToDouble() for r in range(t.GetNumberOfRows())}
-
-
 f.MinimumThickness = 5.5
 f.UpdatePipeline()
 rows = summary_rows(f)
@@ -166,7 +156,4 @@ summary = sm.Fetch(f, idx=3)
 names = [summary.GetValue(r, 0).ToString() for r in range(summary.GetNumberOfRows())]
 check("RayThicknessMin" not in names, "ray rows in the Summary with Method Sphere")
 
-if failures:
-    print("%d failures" % len(failures))
-    sys.exit(1)
-print("ray thickness passed")
+finish("ray thickness passed")

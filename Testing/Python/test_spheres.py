@@ -13,15 +13,10 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
+from brt_checks import check, finish
+
 plugin, model = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
-failures = []
-
-
-def check(cond, what):
-    print(("  ok   " if cond else "  FAIL ") + what)
-    if not cond:
-        failures.append(what)
 
 
 reader = STEPReader(FileName=model)
@@ -78,7 +73,4 @@ by_selection = BRepMaximalSpheres(Input=f, Selection=selection, SphereResolution
 by_selection.UpdatePipeline()
 check_closed_form("selection", by_selection, ids[:2])
 
-if failures:
-    print("%d failures" % len(failures))
-    sys.exit(1)
-print("maximal spheres passed")
+finish("maximal spheres passed")
