@@ -679,18 +679,19 @@ int vtkThicknessFilter::RequestData(
       std::snprintf(counts, sizeof(counts), "%.0f samples (method Ray): %.0f rays met nothing",
         sums[Stats::Samples], sums[Stats::PerType + 0]);
     else
+    {
+      // The gap with all solids adds the samples on another solid (ContactType::OtherSolid).
+      char other[64] = "";
+      if (sums[Stats::PerType + 4] > 0.0)
+        std::snprintf(other, sizeof(other), "%.0f on another solid (gap 0), ",
+          sums[Stats::PerType + 4]);
       std::snprintf(counts, sizeof(counts),
         "%.0f samples: %.0f surface/surface, %.0f surface/edge, %.0f surface/vertex, %s%.0f "
         "failed%s",
         sums[Stats::Samples], sums[Stats::PerType + 1], sums[Stats::PerType + 2],
-        sums[Stats::PerType + 3],
-        sums[Stats::PerType + 4] > 0.0
-          ? (std::to_string(static_cast<long long>(sums[Stats::PerType + 4])) +
-              " on another solid (gap 0), ")
-              .c_str()
-          : "",
-        sums[Stats::PerType + 0],
+        sums[Stats::PerType + 3], other, sums[Stats::PerType + 0],
         gapOnly ? " (gap: failed includes the infinite gaps)" : "");
+    }
     std::snprintf(answer, sizeof(answer),
       "%s %.4g .. %.4g %s, area-weighted mean %.4g %s; edge zones %.1f%% of the area (corner "
       "angle %g deg)",

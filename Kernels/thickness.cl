@@ -1963,11 +1963,6 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   return l - e[10];
 }
 
-// The sphere tangent at O of a surface/surface contact on an analytic face, made tangent to the
-// exact surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the
-// nearest point of the exact surface to the centre. Kept only where it converges next to the
-// patches' foot (within twice their accuracy): a contact near a face's trim, where the surface
-// continued beyond the face would be nearer, keeps the patches' foot.
 // Two faces lie on one exact surface (a seam's face with itself, a cylinder split in halves).
 inline int same_exact_surface(const Model* m, int f0, int f1)
 {
@@ -2002,6 +1997,13 @@ inline int same_exact_surface(const Model* m, int f0, int f1)
     fabs(a[9] + along * a[11] / a[10] - b[9]) <= tol;
 }
 
+// The sphere tangent at O of a surface/surface contact on an analytic face (or a surface/edge
+// contact on a seam or split line, then reported as surface/surface), made tangent to the exact
+// surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the nearest
+// point of the exact surface to the centre. Kept only where the sphere is more than twice the
+// patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
+// sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
+// (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is.
 void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
 {
   int face = r->face;
@@ -2307,10 +2309,9 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, r
 // (two solids of an assembly that touch there, or overlap). Rays from O (along the outward
 // normal d, then tilted 0.5 rad from it two ways) to the first face of another solid beyond four
 // times the patches' accuracy and the precision's (a face of the other solid through O itself is
-// not hit): where
-// that face's outward normal points along the ray, the ray leaves that solid, so O lies in it.
-// A first ray that meets nothing decides (outside); else two of three. *face: the other
-// solid's face hit (-1 when outside).
+// not hit): where that face's outward normal points along the ray, the ray leaves that solid, so
+// O lies in it. A first ray that meets nothing decides (outside); else two of three. *face: the
+// other solid's face hit (-1 when outside).
 int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   int* face)
 {
@@ -2321,6 +2322,8 @@ int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
   const real3 a = fabs(d.x) < (real)0.9 ? make_real3(1, 0, 0) : make_real3(0, 1, 0);
   const real3 u = normalize(cross(d, a));
   const real3 v = cross(d, u);
+  // Beyond the patches' accuracy and the precision's (float: a face through O must not count).
+  const real sMin = fmax((real)4 * m->slack, (real)256 * REAL_EPS * scale);
   int inside = 0, outside = 0;
   for (int k = 0; k < 3 && inside < 2 && outside < 2; ++k)
   {
@@ -2328,8 +2331,6 @@ int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
       k == 0 ? d : normalize(d + (real)0.55 * (k == 1 ? u : v)); // 0.5 rad: tan = 0.55
     int f, p;
     real2 uv;
-    // Beyond the patches' accuracy and the precision's (float: a face through O must not count).
-    const real sMin = fmax((real)4 * m->slack, (real)256 * REAL_EPS * scale);
     const real s = ray_first_hit(m, solid, 1, Ohi, Olo, dir, sMin, &f, &p, &uv);
     if (f < 0 || !(s < REAL_MAX))
     {
