@@ -101,6 +101,13 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   std::vector<Sample> s2;
   ReadSolve(path, m2, d2, s2);
   ASSERT_EQ(d2.S1.size(), data.S1.size());
+  // The exact surfaces follow the rest of the file: the hole's cylinder of radius 10 among them.
+  ASSERT_EQ(m2.FaceExact.size(), m.Faces.size());
+  EXPECT_EQ(m2.FaceExact, m.FaceExact);
+  size_t cylinders = 0;
+  for (size_t f = 0; f < m2.Faces.size(); ++f)
+    cylinders += m2.Faces[f].Kind == SurfaceKind::Cylinder && std::fabs(m2.FaceExact[f][6] - 10.0) < 1e-12;
+  EXPECT_GT(cylinders, 0u);
   size_t onEdge2 = 0;
   for (const S1Point& p : d2.S1)
     onEdge2 += p.OnEdge;

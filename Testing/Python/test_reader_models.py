@@ -43,11 +43,20 @@ for name in models:
         "TrimLoops": (int(scalar("NumberOfLoops")), 4),
         "EdgeSegments": (int(scalar("NumberOfEdgeSegments")), 12),
         "EdgeFaces": (int(scalar("NumberOfEdges")), 2),
+        "FaceExactSurface": (faces, 8),
     }
     for arr, (tuples, comps) in sizes.items():
         a = fd.GetArray(arr)
         check(name, a is not None and a.GetNumberOfTuples() == tuples
               and a.GetNumberOfComponents() == comps, "field array %s shape" % arr)
+    # Each analytic face (FaceInfo column 2: 0 plane .. 4 torus) carries a unit axis in its exact
+    # surface (columns 3-5); the others carry zeros.
+    info, exact = fd.GetArray("FaceInfo"), fd.GetArray("FaceExactSurface")
+    if exact is not None:
+        bad = [f for f in range(faces)
+               if (abs(math.sqrt(sum(exact.GetComponent(f, 3 + k) ** 2 for k in range(3))) - 1.0) > 1e-9)
+               != (info.GetComponent(f, 2) > 4)]
+        check(name, not bad, "FaceExactSurface axis of faces %s" % bad[:5])
     check(name, scalar("MaxPatchDeviation") <= scalar("Tolerance"), "patch deviation")
     check(name, int(scalar("OpenLoops")) == 0, "open trimming loops")
     face_ids = pd.GetArray("FaceId")
