@@ -1,5 +1,7 @@
 #include "AnalyticShapes.h"
 
+#include <vector>
+
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
@@ -83,6 +85,8 @@ TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)
   poly.Close();
   const TopoDS_Face profile = BRepBuilderAPI_MakeFace(poly.Wire());
   const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, 0, width));
+  if (filletRadius <= 0.0)
+    return prism;
   BRepFilletAPI_MakeFillet fillet(prism);
   for (TopExp_Explorer ex(prism, TopAbs_EDGE); ex.More(); ex.Next())
   {
@@ -96,6 +100,36 @@ TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)
       fillet.Add(filletRadius, e);
   }
   return fillet.Shape();
+}
+
+namespace
+{
+TopoDS_Shape ExtrudedPolygon(const std::vector<gp_Pnt>& points, double depth)
+{
+  BRepBuilderAPI_MakePolygon poly;
+  for (const gp_Pnt& p : points)
+    poly.Add(p);
+  poly.Close();
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(poly.Wire());
+  return BRepPrimAPI_MakePrism(profile, gp_Vec(0, 0, depth));
+}
+} // namespace
+
+TopoDS_Shape TProfile(double fw, double ft, double wh, double wt, double depth)
+{
+  return ExtrudedPolygon({ gp_Pnt(-fw / 2, -ft, 0), gp_Pnt(fw / 2, -ft, 0), gp_Pnt(fw / 2, 0, 0),
+                           gp_Pnt(wt / 2, 0, 0), gp_Pnt(wt / 2, wh, 0), gp_Pnt(-wt / 2, wh, 0),
+                           gp_Pnt(-wt / 2, 0, 0), gp_Pnt(-fw / 2, 0, 0) },
+    depth);
+}
+
+TopoDS_Shape CrossProfile(double len, double h, double depth)
+{
+  const double a = len / 2, b = h / 2;
+  return ExtrudedPolygon({ gp_Pnt(-a, -b, 0), gp_Pnt(-b, -b, 0), gp_Pnt(-b, -a, 0), gp_Pnt(b, -a, 0),
+                           gp_Pnt(b, -b, 0), gp_Pnt(a, -b, 0), gp_Pnt(a, b, 0), gp_Pnt(b, b, 0),
+                           gp_Pnt(b, a, 0), gp_Pnt(-b, a, 0), gp_Pnt(-b, b, 0), gp_Pnt(-a, b, 0) },
+    depth);
 }
 
 TopoDS_Shape UChannel(double w, double h, double lt, double ft, double l)

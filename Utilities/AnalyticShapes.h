@@ -15,6 +15,12 @@ TopoDS_Shape ConicalShell(double R1, double R2, double height, double h);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
+/// T profile extruded along z by `depth`: flange x in [-fw/2, fw/2], y in [-ft, 0]; web x in
+/// [-wt/2, wt/2], y in [0, wh]. Sharp corners. Its mid-planes: y = -ft/2 and x = 0.
+TopoDS_Shape TProfile(double fw, double ft, double wh, double wt, double depth);
+/// Cross (+) profile extruded along z by `depth`: two bars of length `len` and thickness `h`
+/// crossing at the origin, along x and along y. Sharp corners. Mid-planes x = 0 and y = 0.
+TopoDS_Shape CrossProfile(double len, double h, double depth);
 /// U-channel along y: outer width w (x), height h (z), legs lt thick, floor ft thick, length l;
 /// the slot between the legs is w - 2 lt wide (the exterior gap's closed form).
 TopoDS_Shape UChannel(double w, double h, double lt, double ft, double l);

@@ -14,6 +14,8 @@ packages=(
   ocl-icd-opencl-dev opencl-headers opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # Tests
   libgtest-dev googletest
+  # The midsurface test runs the exported shell deck in CalculiX
+  calculix-ccx
   # Headless rendering
   xvfb xauth libgl1-mesa-dri
   # GUI tests: the screenshot of the ParaView window and its comparison with the baseline;
