@@ -205,8 +205,11 @@ int vtkMidsurfaceFilter::RequestData(
   row("SheetArea", sheetArea);
   row("Junctions", m.Junctions);
   row("NonManifoldEdges", m.NonManifoldEdges);
+  row("FoldEdges", m.FoldEdges);
   row("BoundaryEdges", m.BoundaryEdges);
   row("OpenJunctionEdges", m.OpenJunctionEdges);
+  row("CollapsedTriangles", m.CollapsedTriangles);
+  row("FoldedStripTriangles", m.FoldedStripTriangles);
   row("SheetSamples", m.SheetSamples);
   row("OppositeSideSamples", m.OppositeSideSamples);
   row("ExtendedVertices", m.ExtendedVertices);

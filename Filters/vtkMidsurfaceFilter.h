@@ -52,7 +52,7 @@ public:
   ///@}
 
   ///@{
-  /// Junctions are searched this many thicknesses from a sheet's free boundary (default 3).
+  /// A sheet is extended by at most this many thicknesses to its junction (default 1.5).
   vtkSetClampMacro(JunctionReach, double, 0.0, 100.0);
   vtkGetMacro(JunctionReach, double);
   ///@}
@@ -67,7 +67,7 @@ protected:
 
   double SheetAngle = 150.0;
   double MaximumSlenderness = 0.5;
-  double JunctionReach = 3.0;
+  double JunctionReach = 1.5;
 
 private:
   vtkMidsurfaceFilter(const vtkMidsurfaceFilter&) = delete;

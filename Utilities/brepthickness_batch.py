@@ -61,6 +61,11 @@ def parse_args(argv=None):
                     help="boundary points less deep than this in a sphere do not limit it "
                          "(mm; negative: twice --tolerance; 0: the paper's eq. 1)")
     ap.add_argument("--bins", type=int, default=20, help="bins of the thickness histogram")
+    ap.add_argument("--midsurface", action="store_true",
+                    help="also the midsurface of the thin walls (B-Rep Midsurface): .vtp, a CalculiX "
+                         "shell deck (.inp) and a picture over the see-through part")
+    ap.add_argument("--linear-shells", action="store_true",
+                    help="S3 elements in the shell deck instead of S6")
     ap.add_argument("--size", type=int, nargs=2, default=(1200, 900), metavar=("W", "H"))
     return ap.parse_args(argv)
 
@@ -254,6 +259,23 @@ def main(argv=None):
         files["medial_png"] = os.path.join(out, name + "-medial.png")
         render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
                context=simple.OutputPort(thick, 0))
+    mid_rows = None
+    if args.midsurface and measure == "Thickness":
+        mid = simple.BRepMidsurface(Input=thick)
+        collect_errors(mid, errors)
+        mid.UpdatePipeline()
+        if errors:
+            sys.exit("error: " + errors[0])
+        mid_rows = dict(table_rows(sm.Fetch(mid, idx=2))[1])
+        files["midsurface"] = os.path.join(out, name + "-midsurface.vtp")
+        simple.SaveData(files["midsurface"], proxy=simple.OutputPort(mid, 0))
+        if mid_rows["Sheets"] > 0:
+            files["deck"] = os.path.join(out, name + "-midsurface.inp")
+            simple.SaveData(files["deck"], proxy=simple.OutputPort(mid, 0),
+                            Quadratic=0 if args.linear_shells else 1)
+        files["midsurface_png"] = os.path.join(out, name + "-midsurface.png")
+        render(mid, 0, view, files["midsurface_png"], args.size, lut, tmax, title,
+               context=simple.OutputPort(thick, 0))
 
     n = stats["Samples"]
     share = lambda k: 100.0 * stats[k] / n if n else 0.0
@@ -294,6 +316,16 @@ def main(argv=None):
                  stats["GapFailed"],
                  "; below %g %s: %.2f%%" % (args.min_gap, unit, 100 * stats["AreaShareBelowMinimumGap"])
                  if args.min_gap > 0 else ""))
+    if mid_rows is not None:
+        print("  midsurface: %d sheets (%.4g %s^2), %d junction lines (%d non-manifold edges), %d open "
+              "junction edges; %d sphere centres, %d vertices carried to the outline; %d samples pruned "
+              "in %d branches; %d faces (%.4g %s^2) not thin"
+              % (mid_rows["Sheets"], mid_rows["SheetArea"], unit, mid_rows["Junctions"],
+                 mid_rows["NonManifoldEdges"], mid_rows["OpenJunctionEdges"], mid_rows["SheetSamples"],
+                 mid_rows["ExtendedVertices"], mid_rows["PrunedSamples"], mid_rows["PrunedBranches"],
+                 mid_rows["NotThinFaces"], mid_rows["NotThinArea"], unit))
+    elif args.midsurface:
+        print("  midsurface: needs the thickness (not with --gap-only or --method ray)")
     print("  solids: " + ", ".join(
         "%d: %.4g .. %.4g %s" % (r[0], r[4], r[5], unit) for r in table_rows(sm.Fetch(thick, idx=5))[1]))
     print("  times: read %.2f s, convert %.2f s, mesh %.2f s, prepare %.2f s, solve %.2f s"
@@ -301,7 +333,7 @@ def main(argv=None):
              fd.GetArray("ConvertSeconds").GetValue(0), fd.GetArray("MeshSeconds").GetValue(0),
              stats["PrepareSeconds"], stats["SolveSeconds"]))
     for key in ("thickness", "medial", "summary", "histogram", "per_solid", "per_face", "residuals", "png",
-                "medial_png"):
+                "medial_png", "midsurface", "deck", "midsurface_png"):
         if key in files:
             print("  wrote %s" % files[key])
     # Release the view (and its OpenGL context) before the interpreter's teardown closes X.

@@ -205,6 +205,61 @@ struct Mesh
     *this = std::move(out);
   }
 
+  /// Within one sheet an edge has at most two triangles: strips of neighbouring boundary edges
+  /// that overlap (around a corner of the boundary) would fold it. Removes the strip triangles
+  /// (those with a junction vertex) beyond two, the latest first; returns how many.
+  int RemoveFoldedStrips()
+  {
+    int removed = 0;
+    for (int pass = 0; pass < 4; ++pass)
+    {
+      const auto edges = EdgeMap(this->Tris);
+      std::vector<char> drop(this->TriSheet.size(), 0);
+      for (const auto& e : edges)
+      {
+        if (e.second.size() < 3)
+          continue;
+        std::map<int, std::vector<int>> bySheet;
+        for (int t : e.second)
+          if (!drop[size_t(t)])
+            bySheet[this->TriSheet[size_t(t)]].push_back(t);
+        for (auto& s : bySheet)
+        {
+          auto& ts = s.second;
+          std::sort(ts.begin(), ts.end());
+          size_t kept = ts.size();
+          for (auto it = ts.rbegin(); it != ts.rend() && kept > 2; ++it)
+          {
+            bool strip = false;
+            for (int k = 0; k < 3; ++k)
+              strip = strip || this->Kind[size_t(this->Tris[3 * size_t(*it) + k])] == 2;
+            if (strip)
+            {
+              drop[size_t(*it)] = 1;
+              --kept;
+            }
+          }
+        }
+      }
+      int n = 0;
+      std::vector<int> tris, sheets;
+      for (size_t t = 0; t < this->TriSheet.size(); ++t)
+        if (drop[t])
+          ++n;
+        else
+        {
+          tris.insert(tris.end(), this->Tris.begin() + long(3 * t), this->Tris.begin() + long(3 * t + 3));
+          sheets.push_back(this->TriSheet[t]);
+        }
+      if (n == 0)
+        break;
+      removed += n;
+      this->Tris = std::move(tris);
+      this->TriSheet = std::move(sheets);
+    }
+    return removed;
+  }
+
   /// Splits boundary edges at the boundary points of other triangles that lie on them (within
   /// tol), so that boundaries that meet share their vertices.
   void ConformBoundaries(double tol, double cell)
@@ -625,6 +680,20 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     }
     if (!ok)
       continue;
+    // A sheet that degenerates (the centres of a convex face thicker than its curvature radius
+    // converge on a line: a rod, not a wall) folds or collapses its triangles: they are left out.
+    {
+      const V3 q0 = Add(O(size_t(v[0])), Mul(D(size_t(v[0])), 0.5 * hOf[size_t(v[0])]));
+      const V3 q1 = Add(O(size_t(v[1])), Mul(D(size_t(v[1])), 0.5 * hOf[size_t(v[1])]));
+      const V3 q2 = Add(O(size_t(v[2])), Mul(D(size_t(v[2])), 0.5 * hOf[size_t(v[2])]));
+      const V3 n0 = Cross(Sub(O(size_t(v[1])), O(size_t(v[0]))), Sub(O(size_t(v[2])), O(size_t(v[0]))));
+      const V3 n1 = Cross(Sub(q1, q0), Sub(q2, q0));
+      if (Dot(n1, n0) < opt.MinimumAreaRatio * Dot(n0, n0))
+      {
+        ++out.CollapsedTriangles;
+        continue;
+      }
+    }
     const int s = sheets[1] == sheets[2] ? sheets[1] : sheets[0];
     mesh.Tris.insert(mesh.Tris.end(), { emit(size_t(v[0])), emit(size_t(v[1])), emit(size_t(v[2])) });
     mesh.TriSheet.push_back(s);
@@ -706,7 +775,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     for (size_t i = 0; i < n; ++i)
       if (!bnbr[i].empty())
         hMax = std::max(hMax, mesh.Thickness[i]);
-    Grid grid(std::max(longest, opt.JunctionReach * hMax / 4.0));
+    Grid grid(std::max(longest, opt.JunctionReach * hMax / 2.0));
     for (size_t i = 0; i < n; ++i)
       if (!bnbr[i].empty())
         grid.Insert(At(mesh.Points, i), int(i));
@@ -716,31 +785,6 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     // Edges with a sheet sample at an end are junction edges when both ends find a plane; edges
     // of edge-zone vertices (the outline) only where they continue a junction edge in the same
     // direction (the ends of a junction line, where it meets the outline).
-    auto junctionPoint = [&](size_t i, const V3& e, V3& J) {
-      const V3 p = At(mesh.Points, i);
-      const double hp = mesh.Thickness[i];
-      double bestS = std::numeric_limits<double>::infinity();
-      grid.QueryBall(p, opt.JunctionReach * std::max(hp, hMax), [&](int q) {
-        if (sheetOf[size_t(q)] == sheetOf[i])
-          return;
-        const double R = opt.JunctionReach * std::max(hp, mesh.Thickness[size_t(q)]);
-        const V3 pq = At(mesh.Points, size_t(q));
-        if (Norm(Sub(pq, p)) > R)
-          return;
-        const V3 nq = At(mesh.Normal, size_t(q));
-        const double denom = Dot(nq, e);
-        if (std::fabs(denom) < 0.5)
-          return;
-        const double s = Dot(nq, Sub(pq, p)) / denom;
-        if (s < -tol || s > R || Norm(Sub(Add(p, Mul(e, s)), pq)) > R)
-          return;
-        bestS = std::min(bestS, std::max(s, 0.0));
-      });
-      if (!std::isfinite(bestS))
-        return false;
-      J = Add(p, Mul(e, bestS));
-      return true;
-    };
     struct JEdge
     {
       int A, B;
@@ -749,6 +793,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     };
     std::vector<JEdge> jedges;
     std::vector<std::vector<int>> edgesAt(n);
+    std::vector<V3> eV(n, V3{ 0.0, 0.0, 0.0 }); // per boundary vertex: the mean of its edges' e
     for (const auto& be : boundary)
     {
       JEdge je;
@@ -756,8 +801,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
       je.B = be.second;
       const V3 pa = At(mesh.Points, size_t(je.A)), pb = At(mesh.Points, size_t(je.B));
       const V3 nrm = Unit(Add(At(mesh.Normal, size_t(je.A)), At(mesh.Normal, size_t(je.B))));
-      // The triangle has (a, b) counter-clockwise about its normal, which is -nrm for a sheet
-      // made of its face's mesh: e = (b - a) x nrm points out of it; checked by the centroid.
+      // e: in the sheet's plane, across the edge, away from its triangle (by the centroid).
       V3 e = Unit(Cross(Sub(pb, pa), nrm));
       const int* tv = &mesh.Tris[3 * size_t(triOf[size_t(je.A)])];
       const V3 c = Mul(Add(Add(At(mesh.Points, size_t(tv[0])), At(mesh.Points, size_t(tv[1]))),
@@ -766,14 +810,54 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
       if (Dot(e, Sub(c, Mul(Add(pa, pb), 0.5))) > 0.0)
         e = Mul(e, -1.0);
       je.E = e;
+      eV[size_t(je.A)] = Add(eV[size_t(je.A)], e);
+      eV[size_t(je.B)] = Add(eV[size_t(je.B)], e);
+      edgesAt[size_t(je.A)].push_back(int(jedges.size()));
+      edgesAt[size_t(je.B)].push_back(int(jedges.size()));
+      jedges.push_back(je);
+    }
+    for (auto& e : eV)
+      e = Unit(e);
+    auto junctionPoint = [&](size_t i, const V3& e, V3& J) {
+      const V3 p = At(mesh.Points, i);
+      const double hp = mesh.Thickness[i];
+      double bestS = std::numeric_limits<double>::infinity();
+      // Both boundaries run up to R to the junction point, so they lie up to 2R apart.
+      grid.QueryBall(p, 2.0 * opt.JunctionReach * std::max(hp, hMax), [&](int q) {
+        if (sheetOf[size_t(q)] == sheetOf[i])
+          return;
+        const double R = opt.JunctionReach * std::max(hp, mesh.Thickness[size_t(q)]);
+        const V3 pq = At(mesh.Points, size_t(q));
+        if (Norm(Sub(pq, p)) > 2.0 * R)
+          return;
+        const V3 nq = At(mesh.Normal, size_t(q));
+        const double denom = Dot(nq, e);
+        if (std::fabs(denom) < 0.5)
+          return;
+        const double s = Dot(nq, Sub(pq, p)) / denom;
+        if (s < -tol || s > R)
+          return;
+        // The other boundary must itself run towards the junction point: both sheets end short of
+        // it and meet there (a boundary beside the point, or facing away, is another feature).
+        const V3 qj = Sub(Add(p, Mul(e, std::max(s, 0.0))), pq);
+        const double lqj = Norm(qj);
+        if (lqj > R || (lqj > tol && Dot(qj, eV[size_t(q)]) < 0.5 * lqj))
+          return;
+        bestS = std::min(bestS, std::max(s, 0.0));
+      });
+      if (!std::isfinite(bestS))
+        return false;
+      J = Add(p, Mul(e, bestS));
+      return true;
+    };
+    for (auto& je : jedges)
+    {
+      const V3 e = je.E;
       je.Found = Norm(e) > 0.0 && junctionPoint(size_t(je.A), e, je.JA) &&
         junctionPoint(size_t(je.B), e, je.JB);
       je.Accepted = je.Found && (mesh.Kind[size_t(je.A)] == 0 || mesh.Kind[size_t(je.B)] == 0);
       if (!je.Found && mesh.Kind[size_t(je.A)] == 0 && mesh.Kind[size_t(je.B)] == 0)
         ++out.OpenJunctionEdges;
-      edgesAt[size_t(je.A)].push_back(int(jedges.size()));
-      edgesAt[size_t(je.B)].push_back(int(jedges.size()));
-      jedges.push_back(je);
     }
     for (bool grown = true; grown;)
     {
@@ -804,6 +888,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     mesh.Merge(tol);
     mesh.ConformBoundaries(tol, std::max(longest, tol));
     mesh.Merge(tol);
+    out.FoldedStripTriangles = mesh.RemoveFoldedStrips();
   }
 
   // 5. Results.
@@ -822,6 +907,18 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
       Norm(Cross(Sub(At(out.Points, size_t(v[1])), At(out.Points, size_t(v[0]))),
         Sub(At(out.Points, size_t(v[2])), At(out.Points, size_t(v[0])))));
     s.Triangles += 1;
+  }
+  {
+    const auto edges = EdgeMap(out.Triangles);
+    for (const auto& e : edges)
+    {
+      if (e.second.size() < 3)
+        continue;
+      bool one = true;
+      for (int t : e.second)
+        one = one && out.TriangleSheet[size_t(t)] == out.TriangleSheet[size_t(e.second[0])];
+      out.FoldEdges += one ? 1 : 0;
+    }
   }
   const EdgeCounts ec = CountEdges(out.Triangles);
   out.BoundaryEdges = ec.Boundary;

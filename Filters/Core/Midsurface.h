@@ -37,8 +37,12 @@ struct MidsurfaceOptions
   /// of the face), so the sheet reaches the outline.
   double ExtrapolationLimit = 1.0;
   /// A sheet's free boundary that is not an outline is extended along the sheet to the plane of
-  /// another sheet's boundary within this many thicknesses: the junction (docs/Midsurface.md).
-  double JunctionReach = 3.0;
+  /// another sheet's boundary, by at most this many thicknesses (the larger of the two sheets'):
+  /// the junction (docs/Midsurface.md). 1.5 covers a concave corner's fillet up to one thickness.
+  double JunctionReach = 1.5;
+  /// A face triangle whose image on the sheet keeps less than this share of its area (or turns
+  /// over) is left out: the sheet collapses there towards a line (a rod, not a wall).
+  double MinimumAreaRatio = 0.2;
 };
 
 /// One sheet: the medial surface between two faces, meshed from the display mesh of one of them.
@@ -78,9 +82,17 @@ struct Midsurface
   int PrunedBranches = 0;
   int BoundaryEdges = 0;
   int NonManifoldEdges = 0; ///< edges of three or more triangles: the junction lines
+  /// Non-manifold edges whose triangles all belong to one sheet: folds, not junctions (a defect
+  /// of the sheet's construction, counted so it is seen; 0 on the closed-form parts)
+  int FoldEdges = 0;
   int Junctions = 0;        ///< connected chains of non-manifold edges
   /// Free boundary edges of sheet samples that found no other sheet to join: open junctions
   int OpenJunctionEdges = 0;
+  /// Face triangles left out because their image collapsed or turned over (MinimumAreaRatio)
+  int CollapsedTriangles = 0;
+  /// Junction strip triangles removed because they folded a sheet onto itself (an edge of one
+  /// sheet with more than two triangles, where strips of a boundary's corner overlap)
+  int FoldedStripTriangles = 0;
 };
 
 Midsurface BuildMidsurface(const MidsurfaceInput& input, const MidsurfaceOptions& options = {});

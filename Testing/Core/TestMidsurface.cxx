@@ -92,6 +92,7 @@ void Describe(const char* name, const brt::Midsurface& m)
     name, m.Sheets.size(), m.Triangles.size() / 3, m.Points.size() / 3, m.SheetSamples,
     m.OppositeSideSamples, m.ExtendedVertices, m.JunctionVertices, m.PrunedSamples, m.PrunedBranches, m.BoundaryEdges, m.NonManifoldEdges,
     m.Junctions, m.OpenJunctionEdges, m.NotThinFaces.size());
+  EXPECT_EQ(m.FoldEdges, 0) << name;
 }
 } // namespace
 
