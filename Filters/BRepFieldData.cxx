@@ -1,5 +1,7 @@
 #include "BRepFieldData.h"
 
+#include "Midsurface.h"
+
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -288,6 +290,51 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
   m.Stats.Edges = NE;
   m.Stats.EdgeSegments = NES;
   return m;
+}
+
+namespace
+{
+template <typename T>
+void CopyArray(vtkDataArray* a, std::vector<T>& out)
+{
+  const vtkIdType n = a->GetNumberOfTuples();
+  const int c = a->GetNumberOfComponents();
+  out.resize(static_cast<size_t>(n * c));
+  for (vtkIdType i = 0; i < n; ++i)
+    for (int k = 0; k < c; ++k)
+      out[static_cast<size_t>(i * c + k)] = static_cast<T>(a->GetComponent(i, k));
+}
+} // namespace
+
+bool BRepMidsurfaceInput(vtkPolyData* input, MidsurfaceInput& in, std::string& missing)
+{
+  vtkPointData* pd = input->GetPointData();
+  for (const char* name : { "FaceId", "Normals", "Thickness", "ContactType", "OppositeFaceId",
+         "ContactAngle", "EdgeZone" })
+    if (!pd->GetArray(name))
+    {
+      missing = name;
+      return false;
+    }
+  const vtkIdType nP = input->GetNumberOfPoints();
+  in.Points.resize(static_cast<size_t>(3 * nP));
+  for (vtkIdType i = 0; i < nP; ++i)
+    input->GetPoint(i, &in.Points[static_cast<size_t>(3 * i)]);
+  CopyArray(pd->GetArray("Normals"), in.Normals);
+  CopyArray(pd->GetArray("FaceId"), in.FaceIds);
+  CopyArray(pd->GetArray("Thickness"), in.Thickness);
+  CopyArray(pd->GetArray("ContactType"), in.ContactType);
+  CopyArray(pd->GetArray("OppositeFaceId"), in.OppositeFace);
+  CopyArray(pd->GetArray("ContactAngle"), in.ContactAngle);
+  CopyArray(pd->GetArray("EdgeZone"), in.EdgeZone);
+  in.Triangles.clear();
+  vtkCellArray* polys = input->GetPolys();
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+    if (ids->GetNumberOfIds() == 3)
+      for (int k = 0; k < 3; ++k)
+        in.Triangles.push_back(static_cast<int>(ids->GetId(k)));
+  return true;
 }
 
 } // namespace brt

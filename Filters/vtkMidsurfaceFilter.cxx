@@ -1,5 +1,6 @@
 #include "vtkMidsurfaceFilter.h"
 
+#include "BRepFieldData.h"
 #include "Midsurface.h"
 
 #include "vtkCellArray.h"
@@ -46,20 +47,6 @@ int vtkMidsurfaceFilter::FillOutputPortInformation(int port, vtkInformation* inf
   return this->Superclass::FillOutputPortInformation(port, info);
 }
 
-namespace
-{
-template <typename T>
-void Copy(vtkDataArray* a, std::vector<T>& out)
-{
-  const vtkIdType n = a->GetNumberOfTuples();
-  const int c = a->GetNumberOfComponents();
-  out.resize(static_cast<size_t>(n * c));
-  for (vtkIdType i = 0; i < n; ++i)
-    for (int k = 0; k < c; ++k)
-      out[static_cast<size_t>(i * c + k)] = static_cast<T>(a->GetComponent(i, k));
-}
-} // namespace
-
 int vtkMidsurfaceFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -71,34 +58,15 @@ int vtkMidsurfaceFilter::RequestData(
     return 1;
 
   vtkPointData* pd = input->GetPointData();
-  const char* needed[] = { "FaceId", "Normals", "Thickness", "ContactType", "OppositeFaceId",
-    "ContactAngle", "EdgeZone" };
-  for (const char* name : needed)
-    if (!pd->GetArray(name))
-    {
-      vtkErrorMacro("B-Rep Midsurface: the input has no point array '"
-        << name << "'; connect port 0 of B-Rep Thickness (Measure: Thickness).");
-      return 0;
-    }
-
   brt::MidsurfaceInput in;
+  std::string missing;
+  if (!brt::BRepMidsurfaceInput(input, in, missing))
+  {
+    vtkErrorMacro("B-Rep Midsurface: the input has no point array '"
+      << missing << "'; connect port 0 of B-Rep Thickness (Measure: Thickness).");
+    return 0;
+  }
   const vtkIdType nP = input->GetNumberOfPoints();
-  in.Points.resize(static_cast<size_t>(3 * nP));
-  for (vtkIdType i = 0; i < nP; ++i)
-    input->GetPoint(i, &in.Points[static_cast<size_t>(3 * i)]);
-  Copy(pd->GetArray("Normals"), in.Normals);
-  Copy(pd->GetArray("FaceId"), in.FaceIds);
-  Copy(pd->GetArray("Thickness"), in.Thickness);
-  Copy(pd->GetArray("ContactType"), in.ContactType);
-  Copy(pd->GetArray("OppositeFaceId"), in.OppositeFace);
-  Copy(pd->GetArray("ContactAngle"), in.ContactAngle);
-  Copy(pd->GetArray("EdgeZone"), in.EdgeZone);
-  vtkCellArray* polys = input->GetPolys();
-  vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-    if (ids->GetNumberOfIds() == 3)
-      for (int k = 0; k < 3; ++k)
-        in.Triangles.push_back(static_cast<int>(ids->GetId(k)));
 
   brt::MidsurfaceOptions options;
   options.SheetAngle = this->SheetAngle;

@@ -64,6 +64,8 @@ def parse_args(argv=None):
     ap.add_argument("--midsurface", action="store_true",
                     help="also the midsurface of the thin walls (B-Rep Midsurface): .vtp, a CalculiX "
                          "shell deck (.inp) and a picture over the see-through part")
+    ap.add_argument("--skeleton", action="store_true",
+                    help="also the skeleton of the rod-like regions (B-Rep Skeleton): .vtp")
     ap.add_argument("--linear-shells", action="store_true",
                     help="S3 elements in the shell deck instead of S6")
     ap.add_argument("--size", type=int, nargs=2, default=(1200, 900), metavar=("W", "H"))
@@ -259,6 +261,21 @@ def main(argv=None):
         files["medial_png"] = os.path.join(out, name + "-medial.png")
         render(thick, 1, view, files["medial_png"], args.size, lut, tmax, title, points=True,
                context=simple.OutputPort(thick, 0))
+    skel_fields = None
+    skel = None
+    if args.skeleton and measure == "Thickness":
+        skel = simple.BRepSkeleton(Input=thick)
+        collect_errors(skel, errors)
+        skel.UpdatePipeline()
+        if errors:
+            sys.exit("error: " + errors[0])
+        files["skeleton"] = os.path.join(out, name + "-skeleton.vtp")
+        simple.SaveData(files["skeleton"], proxy=skel)
+        sfd = sm.Fetch(skel).GetFieldData()
+        skel_fields = {k: sfd.GetArray(k).GetValue(0) for k in
+                       ("Branches", "JunctionNodes", "EndNodes", "RodSamples", "RemovedSpurs",
+                        "NoiseClusters")}
+
     mid_rows = None
     if args.midsurface and measure == "Thickness":
         mid = simple.BRepMidsurface(Input=thick)
@@ -276,6 +293,13 @@ def main(argv=None):
         files["midsurface_png"] = os.path.join(out, name + "-midsurface.png")
         render(mid, 0, view, files["midsurface_png"], args.size, lut, tmax, title,
                context=simple.OutputPort(thick, 0))
+        if skel is not None:  # the rods' skeleton in the same picture, black
+            lines = simple.Show(skel, view)
+            simple.ColorBy(lines, None)
+            lines.AmbientColor = lines.DiffuseColor = [0.0, 0.0, 0.0]
+            lines.LineWidth = 4.0
+            simple.Render(view)
+            simple.SaveScreenshot(files["midsurface_png"], view, ImageResolution=list(args.size))
 
     n = stats["Samples"]
     share = lambda k: 100.0 * stats[k] / n if n else 0.0
@@ -324,7 +348,14 @@ def main(argv=None):
                  mid_rows["NonManifoldEdges"], mid_rows["OpenJunctionEdges"], mid_rows["SheetSamples"],
                  mid_rows["ExtendedVertices"], mid_rows["PrunedSamples"], mid_rows["PrunedBranches"],
                  mid_rows["NotThinFaces"], mid_rows["NotThinArea"], unit))
-    elif args.midsurface:
+    if skel_fields:
+        print("  skeleton: %d branches, %d junctions, %d free ends from %d rod samples; %d spurs "
+              "removed, %d noise clusters"
+              % (skel_fields["Branches"], skel_fields["JunctionNodes"], skel_fields["EndNodes"],
+                 skel_fields["RodSamples"], skel_fields["RemovedSpurs"], skel_fields["NoiseClusters"]))
+    elif args.skeleton:
+        print("  skeleton: needs the thickness (not with --gap-only or --method ray)")
+    if mid_rows is None and args.midsurface:
         print("  midsurface: needs the thickness (not with --gap-only or --method ray)")
     print("  solids: " + ", ".join(
         "%d: %.4g .. %.4g %s" % (r[0], r[4], r[5], unit) for r in table_rows(sm.Fetch(thick, idx=5))[1]))
@@ -333,7 +364,7 @@ def main(argv=None):
              fd.GetArray("ConvertSeconds").GetValue(0), fd.GetArray("MeshSeconds").GetValue(0),
              stats["PrepareSeconds"], stats["SolveSeconds"]))
     for key in ("thickness", "medial", "summary", "histogram", "per_solid", "per_face", "residuals", "png",
-                "medial_png", "midsurface", "deck", "midsurface_png"):
+                "medial_png", "midsurface", "deck", "midsurface_png", "skeleton"):
         if key in files:
             print("  wrote %s" % files[key])
     # Release the view (and its OpenGL context) before the interpreter's teardown closes X.

@@ -309,3 +309,97 @@ TEST(Midsurface, BlockIsReportedNotThin)
   EXPECT_FALSE(m.NotThinFaces.empty());
   EXPECT_GT(m.NotThinArea, 0.0);
 }
+
+// --- The skeleton of rods ------------------------------------------------------------------------
+#include "Skeleton.h"
+
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <gp_Ax2.hxx>
+
+namespace
+{
+brt::Skeleton BuildSkeletonOf(const TopoDS_Shape& shape, const char* name)
+{
+  const auto solved = brt::test::SolveShape(shape, 1e-4);
+  const brt::Skeleton s = brt::BuildSkeleton(InputOf(solved));
+  std::printf("%s: %zu nodes, %zu polylines, rod samples %d, noise %d, cycles %d, spurs %d, "
+              "junctions %d, ends %d\n",
+    name, s.Radius.size(), s.Polylines.size(), s.RodSamples, s.NoiseClusters, s.ShortCycles,
+    s.RemovedSpurs, s.JunctionNodes, s.EndNodes);
+  return s;
+}
+} // namespace
+
+TEST(Skeleton, RodIsItsAxis)
+{
+  const auto s = BuildSkeletonOf(
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 5.0, 100.0).Shape(), "rod R5 L100");
+  ASSERT_EQ(s.Polylines.size(), 1u);
+  EXPECT_EQ(s.EndNodes, 2);
+  EXPECT_EQ(s.JunctionNodes, 0);
+  double zmin = 1e9, zmax = -1e9;
+  for (size_t i = 0; i < s.Radius.size(); ++i)
+  {
+    // A rod's sphere touches its own cylinder across: the exact finish does not apply (every
+    // t < R is tangent at O on the exact surface), so the patches' accuracy remains (2e-6).
+    EXPECT_LE(std::hypot(s.Points[3 * i], s.Points[3 * i + 1]), 1e-5);
+    EXPECT_NEAR(s.Radius[i], 5.0, 5e-5);
+    zmin = std::min(zmin, s.Points[3 * i + 2]);
+    zmax = std::max(zmax, s.Points[3 * i + 2]);
+  }
+  // The axis between the end spheres (z = R .. L - R), to a cluster cell (R/2).
+  EXPECT_NEAR(zmin, 5.0, 2.5);
+  EXPECT_NEAR(zmax, 95.0, 2.5);
+  EXPECT_EQ(s.Polylines[0].size(), s.Radius.size());
+}
+
+TEST(Skeleton, RingIsOneClosedCircle)
+{
+  const auto s = BuildSkeletonOf(
+    BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 30.0, 4.0).Shape(), "ring 30/4");
+  ASSERT_EQ(s.Polylines.size(), 1u);
+  EXPECT_EQ(s.Polylines[0].front(), s.Polylines[0].back());
+  EXPECT_EQ(s.EndNodes + s.JunctionNodes, 0);
+  for (size_t i = 0; i < s.Radius.size(); ++i)
+  {
+    // Cluster means of centres on the circle lie inside it by the cell's sagitta.
+    EXPECT_NEAR(std::hypot(s.Points[3 * i], s.Points[3 * i + 1]), 30.0, 0.05);
+    EXPECT_NEAR(s.Points[3 * i + 2], 0.0, 1e-6);
+    EXPECT_NEAR(s.Radius[i], 4.0, 4e-5);
+  }
+}
+
+TEST(Skeleton, CrossedRodsMeetAtOneJunction)
+{
+  const TopoDS_Shape a =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-50, 0, 0), gp_Dir(1, 0, 0)), 4.0, 100.0).Shape();
+  const TopoDS_Shape b =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, -50, 0), gp_Dir(0, 1, 0)), 3.0, 100.0).Shape();
+  const auto s = BuildSkeletonOf(BRepAlgoAPI_Fuse(a, b).Shape(), "rods crossed");
+  EXPECT_EQ(s.JunctionNodes, 1);
+  EXPECT_EQ(s.EndNodes, 4);
+  ASSERT_EQ(s.Polylines.size(), 4u);
+  // The four branches start at one node, at the crossing of the axes (within a cluster cell),
+  // and each runs along one half-axis.
+  std::map<int, int> starts;
+  for (const auto& l : s.Polylines)
+  {
+    ++starts[l.front()];
+    ++starts[l.back()];
+  }
+  int junction = -1;
+  for (const auto& st : starts)
+    if (st.second == 4)
+      junction = st.first;
+  ASSERT_GE(junction, 0);
+  EXPECT_LE(std::hypot(s.Points[3 * junction], s.Points[3 * junction + 1], s.Points[3 * junction + 2]), 2.0);
+  for (size_t i = 0; i < s.Radius.size(); ++i)
+  {
+    const double x = s.Points[3 * i], y = s.Points[3 * i + 1], z = s.Points[3 * i + 2];
+    EXPECT_TRUE((std::hypot(y, z) < 1e-4 && std::fabs(s.Radius[i] - 4.0) < 4e-4) ||
+      (std::hypot(x, z) < 1e-4 && std::fabs(s.Radius[i] - 3.0) < 3e-4) || int(i) == junction)
+      << x << " " << y << " " << z << " r " << s.Radius[i];
+  }
+}
