@@ -53,5 +53,6 @@ int main(int argc, char** argv)
   ok &= Write(ToroidalShell(40.0, 10.0, 6.0), dir + "/toroidal_shell.step", "AP214IS");
   ok &= Write(HolePlate(80.0, 6.0, 10.0), dir + "/hole_plate.step", "AP214IS");
   ok &= Write(LBracket(60.0, 8.0, 40.0, 5.0), dir + "/l_bracket.step", "AP214IS");
+  ok &= Write(TProfile(80.0, 6.0, 40.0, 4.0, 30.0), dir + "/t_profile.step", "AP214IS");
   return ok ? 0 : 1;
 }

@@ -35,7 +35,7 @@ struct MidsurfaceOptions
   /// Edge-zone vertices of a sheet's face (next to a convex rim) take the thickness of the nearest
   /// sheet sample within this many thicknesses (straight distance; the path runs through edge zones
   /// of the face), so the sheet reaches the outline.
-  double ExtrapolationLimit = 1.0;
+  double ExtrapolationLimit = 1.5;
   /// A sheet's free boundary that is not an outline is extended along the sheet to the plane of
   /// another sheet's boundary, by at most this many thicknesses (the larger of the two sheets'):
   /// the junction (docs/Midsurface.md). 1.5 covers a concave corner's fillet up to one thickness.
