@@ -64,7 +64,7 @@ int vtkMidsurfaceFilter::RequestData(
   {
     vtkErrorMacro("B-Rep Midsurface: the input has no point array '"
       << missing << "'; connect port 0 of B-Rep Thickness (Measure: Thickness).");
-    return 0;
+    return 1; // one error, empty outputs (no second message from the executive)
   }
   const vtkIdType nP = input->GetNumberOfPoints();
 
@@ -80,7 +80,7 @@ int vtkMidsurfaceFilter::RequestData(
   catch (const std::exception& e)
   {
     vtkErrorMacro("B-Rep Midsurface: " << e.what());
-    return 0;
+    return 1; // one error, empty outputs (no second message from the executive)
   }
 
   // Port 0.

@@ -39,7 +39,7 @@ int vtkSkeletonFilter::RequestData(
   {
     vtkErrorMacro("B-Rep Skeleton: the input has no point array '"
       << missing << "'; connect port 0 of B-Rep Thickness (Measure: Thickness).");
-    return 0;
+    return 1; // one error, empty outputs (no second message from the executive)
   }
   brt::SkeletonOptions options;
   options.ClusterSize = this->ClusterSize;
@@ -53,7 +53,7 @@ int vtkSkeletonFilter::RequestData(
   catch (const std::exception& e)
   {
     vtkErrorMacro("B-Rep Skeleton: " << e.what());
-    return 0;
+    return 1; // one error, empty outputs (no second message from the executive)
   }
   const vtkIdType n = static_cast<vtkIdType>(s.Radius.size());
   vtkNew<vtkPoints> points;

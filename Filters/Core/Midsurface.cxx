@@ -13,6 +13,7 @@
 #include <numeric>
 #include <queue>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace brt
@@ -301,16 +302,22 @@ EdgeCounts CountEdges(const std::vector<int>& triangles)
   return c;
 }
 
-Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& opt)
+void CheckMidsurfaceInput(const MidsurfaceInput& in, const char* who)
 {
-  const size_t nV = in.Points.size() / 3, nT = in.Triangles.size() / 3;
+  const size_t nV = in.Points.size() / 3;
   if (in.Normals.size() != 3 * nV || in.FaceIds.size() != nV || in.Thickness.size() != nV ||
     in.ContactType.size() != nV || in.OppositeFace.size() != nV ||
     in.ContactAngle.size() != nV || in.EdgeZone.size() != nV)
-    throw std::invalid_argument("BuildMidsurface: per-vertex arrays of different lengths");
+    throw std::invalid_argument(std::string(who) + ": per-vertex arrays of different lengths");
   for (int v : in.Triangles)
     if (v < 0 || size_t(v) >= nV)
-      throw std::invalid_argument("BuildMidsurface: a triangle refers to a missing vertex");
+      throw std::invalid_argument(std::string(who) + ": a triangle refers to a missing vertex");
+}
+
+Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& opt)
+{
+  CheckMidsurfaceInput(in, "BuildMidsurface");
+  const size_t nV = in.Points.size() / 3, nT = in.Triangles.size() / 3;
 
   Midsurface out;
   auto O = [&](size_t v) { return At(in.Points, v); };

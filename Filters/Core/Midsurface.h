@@ -97,6 +97,10 @@ struct Midsurface
 
 Midsurface BuildMidsurface(const MidsurfaceInput& input, const MidsurfaceOptions& options = {});
 
+/// Throws std::invalid_argument, naming `who`, when the per-vertex arrays of `input` differ in
+/// length or a triangle refers to a missing vertex.
+void CheckMidsurfaceInput(const MidsurfaceInput& input, const char* who);
+
 /// Edges of a triangle mesh by the number of triangles sharing them, and the connected chains of
 /// edges shared by three or more.
 struct EdgeCounts

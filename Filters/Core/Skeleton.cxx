@@ -6,7 +6,6 @@
 #include <numeric>
 #include <queue>
 #include <set>
-#include <stdexcept>
 
 namespace brt
 {
@@ -14,14 +13,8 @@ using namespace mesh;
 
 Skeleton BuildSkeleton(const MidsurfaceInput& in, const SkeletonOptions& opt)
 {
+  CheckMidsurfaceInput(in, "BuildSkeleton");
   const size_t nV = in.Points.size() / 3, nT = in.Triangles.size() / 3;
-  if (in.Normals.size() != 3 * nV || in.FaceIds.size() != nV || in.Thickness.size() != nV ||
-    in.ContactType.size() != nV || in.OppositeFace.size() != nV ||
-    in.ContactAngle.size() != nV || in.EdgeZone.size() != nV)
-    throw std::invalid_argument("BuildSkeleton: per-vertex arrays of different lengths");
-  for (int v : in.Triangles)
-    if (v < 0 || size_t(v) >= nV)
-      throw std::invalid_argument("BuildSkeleton: a triangle refers to a missing vertex");
   Skeleton out;
   auto O = [&](size_t v) { return At(in.Points, v); };
   auto centre = [&](size_t v) {

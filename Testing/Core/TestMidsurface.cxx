@@ -61,20 +61,24 @@ double LongestEdge(const brt::Midsurface& m)
   return l;
 }
 
-/// Edges whose triangles belong to more than one sheet: the junctions.
-std::vector<std::pair<int, int>> SheetJunctionEdges(const brt::Midsurface& m)
+/// Every edge (smaller id first) with the sheets of its triangles, one entry per triangle.
+std::map<std::pair<int, int>, std::vector<int>> EdgeSheets(const brt::Midsurface& m)
 {
   std::map<std::pair<int, int>, std::vector<int>> edges;
   for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
     for (int k = 0; k < 3; ++k)
     {
-      int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
-      if (a > b)
-        std::swap(a, b);
-      edges[{ a, b }].push_back(m.TriangleSheet[t]);
+      const int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
+      edges[{ std::min(a, b), std::max(a, b) }].push_back(m.TriangleSheet[t]);
     }
+  return edges;
+}
+
+/// Edges whose triangles belong to more than one sheet: the junctions.
+std::vector<std::pair<int, int>> SheetJunctionEdges(const brt::Midsurface& m)
+{
   std::vector<std::pair<int, int>> out;
-  for (const auto& e : edges)
+  for (const auto& e : EdgeSheets(m))
   {
     bool mixed = false;
     for (int s : e.second)
@@ -121,21 +125,12 @@ TEST(Midsurface, PlateIsItsMidPlaneToTheOutline)
   EXPECT_NEAR(box[3], 60.0, 1e-9);
   EXPECT_NEAR(m.Sheets[0].Area, 6000.0, 6000.0 * 1e-9);
   const double edge = LongestEdge(m);
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    (void)t;
   const brt::EdgeCounts c = brt::CountEdges(m.Triangles);
   EXPECT_EQ(c.NonManifold, 0);
   // Every boundary vertex lies on the outline (within one mesh edge: here exactly).
-  std::map<std::pair<int, int>, int> count;
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    for (int k = 0; k < 3; ++k)
-    {
-      int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
-      ++count[{ std::min(a, b), std::max(a, b) }];
-    }
   double worstOutline = 0.0;
-  for (const auto& e : count)
-    if (e.second == 1)
+  for (const auto& e : EdgeSheets(m))
+    if (e.second.size() == 1)
       for (int v : { e.first.first, e.first.second })
       {
         const auto p = Point(m, size_t(v));
@@ -163,17 +158,8 @@ TEST(Midsurface, TubeIsItsMidCylinder)
   // Closed around: the seam is welded, only the two end circles are boundary.
   const brt::EdgeCounts c = brt::CountEdges(m.Triangles);
   EXPECT_EQ(c.NonManifold, 0);
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    (void)t;
-  std::map<std::pair<int, int>, int> count;
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    for (int k = 0; k < 3; ++k)
-    {
-      int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
-      ++count[{ std::min(a, b), std::max(a, b) }];
-    }
-  for (const auto& e : count)
-    if (e.second == 1)
+  for (const auto& e : EdgeSheets(m))
+    if (e.second.size() == 1)
       for (int v : { e.first.first, e.first.second })
       {
         const double z = Point(m, size_t(v))[2];
@@ -246,15 +232,8 @@ TEST(Midsurface, TProfileIsThreeSheetsOnOneNonManifoldChain)
   EXPECT_EQ(m.Junctions, 1);
   // The chain is the line x = 0, y = -3 across the whole depth; each of its edges has exactly
   // three triangles, one per sheet.
-  std::map<std::pair<int, int>, std::vector<int>> edges;
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    for (int k = 0; k < 3; ++k)
-    {
-      int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
-      edges[{ std::min(a, b), std::max(a, b) }].push_back(m.TriangleSheet[t]);
-    }
   double length = 0.0;
-  for (const auto& e : edges)
+  for (const auto& e : EdgeSheets(m))
     if (e.second.size() > 2)
     {
       EXPECT_EQ(e.second.size(), 3u);
@@ -284,18 +263,11 @@ TEST(Midsurface, CrossIsFourSheetsOnOneNonManifoldChain)
   });
   const brt::EdgeCounts c = brt::CountEdges(m.Triangles);
   EXPECT_EQ(c.NonManifoldChains, 1);
-  std::map<std::pair<int, int>, int> edges;
-  for (size_t t = 0; t < m.Triangles.size() / 3; ++t)
-    for (int k = 0; k < 3; ++k)
-    {
-      int a = m.Triangles[3 * t + k], b = m.Triangles[3 * t + (k + 1) % 3];
-      ++edges[{ std::min(a, b), std::max(a, b) }];
-    }
   double length = 0.0;
-  for (const auto& e : edges)
-    if (e.second > 2)
+  for (const auto& e : EdgeSheets(m))
+    if (e.second.size() > 2)
     {
-      EXPECT_EQ(e.second, 4);
+      EXPECT_EQ(e.second.size(), 4u);
       length += std::fabs(Point(m, size_t(e.first.second))[2] - Point(m, size_t(e.first.first))[2]);
     }
   EXPECT_NEAR(length, 20.0, 1e-9);
@@ -402,4 +374,36 @@ TEST(Skeleton, CrossedRodsMeetAtOneJunction)
       (std::hypot(x, z) < 1e-4 && std::fabs(s.Radius[i] - 3.0) < 3e-4) || int(i) == junction)
       << x << " " << y << " " << z << " r " << s.Radius[i];
   }
+}
+
+TEST(Midsurface, BadInputIsOneClearError)
+{
+  brt::MidsurfaceInput in;
+  in.Points = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+  in.Normals = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+  in.FaceIds = { 0, 0, 0 };
+  in.Thickness = { 1, 1, 1 };
+  in.ContactType = { 1, 1, 1 };
+  in.OppositeFace = { 1, 1, 1 };
+  in.ContactAngle = { 180, 180, 180 };
+  in.EdgeZone = { 0, 0, 0 };
+  in.Triangles = { 0, 1, 2 };
+  EXPECT_NO_THROW(brt::BuildMidsurface(in));
+  EXPECT_NO_THROW(brt::BuildSkeleton(in));
+  auto bad = in;
+  bad.Thickness.pop_back();
+  EXPECT_THROW(brt::BuildMidsurface(bad), std::invalid_argument);
+  EXPECT_THROW(brt::BuildSkeleton(bad), std::invalid_argument);
+  bad = in;
+  bad.Triangles = { 0, 1, 3 };
+  EXPECT_THROW(brt::BuildMidsurface(bad), std::invalid_argument);
+  // NaN thickness everywhere (all samples failed): no sheet, no crash.
+  bad = in;
+  bad.Thickness = { std::nan(""), std::nan(""), std::nan("") };
+  bad.ContactType = { 0, 0, 0 };
+  EXPECT_TRUE(brt::BuildMidsurface(bad).Triangles.empty());
+  EXPECT_TRUE(brt::BuildSkeleton(bad).Polylines.empty());
+  // An empty input.
+  EXPECT_TRUE(brt::BuildMidsurface(brt::MidsurfaceInput{}).Triangles.empty());
+  EXPECT_TRUE(brt::BuildSkeleton(brt::MidsurfaceInput{}).Polylines.empty());
 }

@@ -44,6 +44,19 @@ t = np.asarray(out.PointData["Thickness"])
 check(np.max(np.abs(pts[:, 2] - 2.5)) <= 1e-6, "every vertex on the mid-plane z = 2.5")
 check(np.max(np.abs(t - 5.0)) <= 5e-6, "Thickness 5 within 1e-6 relative")
 
+# The plate has no rod: an empty skeleton. The reader's output (no thickness arrays): one error.
+skel = BRepSkeleton(Input=thickness)
+skel.UpdatePipeline()
+check(sm.Fetch(skel).GetNumberOfPoints() == 0, "no skeleton on a plate")
+errors = []
+wrong = BRepMidsurface(Input=reader)
+from vtkmodules.vtkCommonCore import vtkCommand
+wrong.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, lambda o, e: errors.append(e))
+wrong.UpdatePipeline()
+check(len(errors) == 1 and sm.Fetch(wrong).GetNumberOfPoints() == 0,
+      "B-Rep Midsurface on the reader's output: one error, empty output")
+Delete(wrong)
+
 vtp = os.path.join(work, "plate_midsurface.vtp")
 SaveData(vtp, proxy=OutputPort(mid, 0))
 r = vtkXMLPolyDataReader()
