@@ -2045,26 +2045,66 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   }
   real3 g;
   int ok;
-  real f = exact_distance(kind, e, X0 + t * d, &g, &ok);
-  const real sigma = f < (real)0 ? (real)-1 : (real)1;
-  int converged = 0;
-  for (int it = 0; it < 8 && ok; ++it)
+  real3 foot;
+  real f = exact_distance(kind, e, X0, &g, &ok);
+  if ((kind == EXACT_CYLINDER || kind == EXACT_SPHERE || kind == EXACT_TORUS) && ok &&
+    fabs(f) <= m->slack && dot(g, d) < (real)-0.999)
   {
-    const real slope = sigma * dot(g, d) - (real)1;
-    if (!(slope < (real)-1e-3))
-      return; // the foot next to O's direction: ill-conditioned
-    const real step = (sigma * f - t) / slope;
-    t -= step;
-    f = exact_distance(kind, e, X0 + t * d, &g, &ok);
-    if (fabs(step) <= stepTol)
+    // O lies on the contact's own surface, d along its inward normal: a rod, a ball or a ring,
+    // the sphere touching the surface across. |dist(O + t d)| = t holds for every t up to the
+    // largest (O is the nearest point), so Newton cannot find it; the sphere through the axis
+    // (the centre, the tube's core circle) is the closed form: t where O + t d comes nearest to
+    // it, and the foot the surface point across from the patches' foot.
+    const real3 a = make_real3(e[6], e[7], e[8]);
+    if (kind == EXACT_TORUS)
+      t = e[10] + f; // the distance from O to the core circle, along the normal
+    else
     {
-      converged = 1;
-      break;
+      const real3 Xp = kind == EXACT_SPHERE ? X0 : X0 - dot(X0, a) * a;
+      const real3 dp = kind == EXACT_SPHERE ? d : d - dot(d, a) * a;
+      const real dd = dot(dp, dp);
+      if (!(dd > (real)0.5))
+        return;
+      t = -dot(Xp, dp) / dd;
     }
+    real3 across = r->foot - t * d; // from the centre towards the patches' foot
+    if (kind == EXACT_CYLINDER)
+      across = across - dot(across, a) * a;
+    else if (kind == EXACT_TORUS)
+    {
+      // In the meridian plane of the centre: without the core circle's tangent.
+      const real3 C = X0 + t * d;
+      const real3 tangent = normalize(cross(a, C - dot(C, a) * a));
+      across = across - dot(across, tangent) * tangent;
+    }
+    const real la = length(across);
+    if (!(t > (real)0) || !(la > (real)0.5 * t))
+      return;
+    foot = t * d + across * (t / la);
   }
-  if (!converged || !ok || !(t > (real)0))
-    return;
-  const real3 foot = t * d - f * g;
+  else
+  {
+    f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+    const real sigma = f < (real)0 ? (real)-1 : (real)1;
+    int converged = 0;
+    for (int it = 0; it < 8 && ok; ++it)
+    {
+      const real slope = sigma * dot(g, d) - (real)1;
+      if (!(slope < (real)-1e-3))
+        return; // the foot next to O's direction: ill-conditioned
+      const real step = (sigma * f - t) / slope;
+      t -= step;
+      f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+      if (fabs(step) <= stepTol)
+      {
+        converged = 1;
+        break;
+      }
+    }
+    if (!converged || !ok || !(t > (real)0))
+      return;
+    foot = t * d - f * g;
+  }
   const real3 moved = foot - r->foot;
   // The patches lie within the tolerance (slack / 2) of the surface: a sphere that grows by more
   // is not the same contact. A foot on a face moves by about the patches' error; one found on a

@@ -115,6 +115,21 @@ TopoDS_Shape ExtrudedPolygon(const std::vector<gp_Pnt>& points, double depth)
 }
 } // namespace
 
+TopoDS_Shape Rod(double R, double length)
+{
+  return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), R, length).Shape();
+}
+
+TopoDS_Shape Ball(double R)
+{
+  return BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), R).Shape();
+}
+
+TopoDS_Shape Ring(double major, double minor)
+{
+  return BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), major, minor).Shape();
+}
+
 TopoDS_Shape TProfile(double fw, double ft, double wh, double wt, double depth)
 {
   return ExtrudedPolygon({ gp_Pnt(-fw / 2, -ft, 0), gp_Pnt(fw / 2, -ft, 0), gp_Pnt(fw / 2, 0, 0),

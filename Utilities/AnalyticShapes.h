@@ -15,6 +15,11 @@ TopoDS_Shape ConicalShell(double R1, double R2, double height, double h);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
+/// Solids whose medial axis is a curve or a point: a rod (cylinder of radius R and length L
+/// along z), a ball, a solid ring (torus). Thickness 2R, 2R, 2 minor.
+TopoDS_Shape Rod(double R, double length);
+TopoDS_Shape Ball(double R);
+TopoDS_Shape Ring(double major, double minor);
 /// T profile extruded along z by `depth`: flange x in [-fw/2, fw/2], y in [-ft, 0]; web x in
 /// [-wt/2, wt/2], y in [0, wh]. Sharp corners. Its mid-planes: y = -ft/2 and x = 0.
 TopoDS_Shape TProfile(double fw, double ft, double wh, double wt, double depth);
