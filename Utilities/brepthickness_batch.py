@@ -271,8 +271,9 @@ def main(argv=None):
             sys.exit("error: " + errors[0])
         files["skeleton"] = os.path.join(out, name + "-skeleton.vtp")
         simple.SaveData(files["skeleton"], proxy=skel)
-        sfd = sm.Fetch(skel).GetFieldData()
-        skel_fields = {k: sfd.GetArray(k).GetValue(0) for k in
+        skel_data = sm.Fetch(skel)
+        sfd = skel_data.GetFieldData()
+        skel_fields = {k: sfd.GetArray(k).GetValue(0) if sfd.GetArray(k) else 0 for k in
                        ("Branches", "JunctionNodes", "EndNodes", "RodSamples", "RemovedSpurs",
                         "NoiseClusters")}
 
@@ -293,7 +294,7 @@ def main(argv=None):
         files["midsurface_png"] = os.path.join(out, name + "-midsurface.png")
         render(mid, 0, view, files["midsurface_png"], args.size, lut, tmax, title,
                context=simple.OutputPort(thick, 0))
-        if skel is not None:  # the rods' skeleton in the same picture, black
+        if skel is not None and skel_data.GetNumberOfPoints() > 0:  # the rods' skeleton, black
             lines = simple.Show(skel, view)
             simple.ColorBy(lines, None)
             lines.AmbientColor = lines.DiffuseColor = [0.0, 0.0, 0.0]

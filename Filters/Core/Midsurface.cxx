@@ -360,6 +360,8 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     int Rep = -1;
     int Sheet = -1;
     double Median = 0.0;
+    int Triangles = 0;
+    bool Noise = false;
   };
   std::map<uint64_t, int> pairIndex;
   std::vector<Pair> pairs;
@@ -384,12 +386,28 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
       p.Area[f == p.A ? 0 : 1] += area[v];
       p.H.push_back(in.Thickness[v]);
     }
+  // Triangles whose three vertices are sheet samples of one pair: a pair without one is a few
+  // isolated samples (next to edges), not a wall.
+  for (size_t t = 0; t < nT; ++t)
+  {
+    const int* v = &in.Triangles[3 * t];
+    if (!sheet[size_t(v[0])] || !sheet[size_t(v[1])] || !sheet[size_t(v[2])])
+      continue;
+    const int g = in.OppositeFace[size_t(v[0])];
+    if (in.OppositeFace[size_t(v[1])] == g && in.OppositeFace[size_t(v[2])] == g)
+      pairs[size_t(pairOf(in.FaceIds[size_t(v[0])], g))].Triangles += 1;
+  }
   std::vector<double> thinH;
   for (auto& p : pairs)
   {
     p.Median = Median(p.H);
-    p.Thin = p.H.size() >= 3 &&
+    p.Noise = p.H.size() < 3 || p.Triangles == 0;
+    // Slender: thin against its extent. Thin: slender and a wall (not noise). Pairs that are not
+    // slender are reported (a block's few wall samples included), noise that is slender is not.
+    const bool slender =
       p.Median <= opt.MaximumSlenderness * std::sqrt(std::max(p.Area[0], p.Area[1]));
+    p.Thin = !p.Noise && slender;
+    p.Noise = p.Noise && slender;
     if (p.Thin)
       thinH.push_back(p.Median);
   }
@@ -398,7 +416,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     // Nothing thin: report the faces with wall samples.
     std::map<int, double> faces;
     for (size_t v = 0; v < nV; ++v)
-      if (sheet[v])
+      if (sheet[v] && !pairs[size_t(pairOf(in.FaceIds[v], in.OppositeFace[v]))].Noise)
         faces[in.FaceIds[v]] = 0.0;
     for (size_t v = 0; v < nV; ++v)
       if (faces.count(in.FaceIds[v]))
@@ -417,8 +435,11 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     std::map<int, std::array<double, 2>> faceArea; // thin, not thin
     for (size_t v = 0; v < nV; ++v)
       if (sheet[v])
-        faceArea[in.FaceIds[v]][pairs[size_t(pairOf(in.FaceIds[v], in.OppositeFace[v]))].Thin ? 0 : 1] +=
-          area[v];
+      {
+        const Pair& p = pairs[size_t(pairOf(in.FaceIds[v], in.OppositeFace[v]))];
+        if (p.Thin || !p.Noise) // noise (isolated samples) is neither
+          faceArea[in.FaceIds[v]][p.Thin ? 0 : 1] += area[v];
+      }
     std::map<int, char> notThin;
     for (const auto& f : faceArea)
       if (f.second[1] > f.second[0])
@@ -509,8 +530,14 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
   {
     if (!p.Thin)
       continue;
+    // A side that sees much less of the sheet than the other (its samples touch other faces
+    // there, or none at all) cannot carry it: the larger side does. Between comparable sides the
+    // junction edges decide.
     const double sa = junctionScore[size_t(p.A)], sb = junctionScore[size_t(p.B)];
-    if (std::fabs(sa - sb) > 1e-9 * (sa + sb))
+    const double small = std::min(p.Area[0], p.Area[1]), large = std::max(p.Area[0], p.Area[1]);
+    if (small < 0.75 * large)
+      p.Rep = p.Area[0] > p.Area[1] ? p.A : p.B;
+    else if (std::fabs(sa - sb) > 1e-9 * (sa + sb))
       p.Rep = sa > sb ? p.A : p.B;
     else if (std::fabs(p.Area[0] - p.Area[1]) > 1e-3 * (p.Area[0] + p.Area[1]))
       p.Rep = p.Area[0] > p.Area[1] ? p.A : p.B;
@@ -527,7 +554,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
   // 3. The vertices of the sheets' faces: sheet samples at their sphere centres; edge-zone
   //    vertices within ExtrapolationLimit thicknesses of a sheet sample (along the face) at
   //    O + d h/2 with that sample's h (Dijkstra from the sheet samples, through edge zones only).
-  std::vector<int> partner(nV, -1), source(nV, -1);
+  std::vector<int> partner(nV, -1), source(nV, -1), hops(nV, 0);
   std::vector<double> hOf(nV, 0.0), dist(nV, std::numeric_limits<double>::infinity());
   {
     using QE = std::pair<double, int>;
@@ -556,12 +583,16 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
           continue;
         // Ordered by the path along the face, limited by the straight distance to the source
         // (a corner of a rim is sqrt(2) h/2 from the nearest sheet sample, its path longer).
+        // On a mesh coarser than the wall is thick the edge zone is the rim's own vertices, an
+        // edge or two from the nearest sheet sample: two steps are always allowed.
         const double dw = dv + Norm(Sub(O(size_t(w)), O(size_t(v))));
         const int src = source[size_t(v)];
-        if (Norm(Sub(O(size_t(w)), O(size_t(src)))) > opt.ExtrapolationLimit * hOf[size_t(v)] ||
+        if ((Norm(Sub(O(size_t(w)), O(size_t(src)))) > opt.ExtrapolationLimit * hOf[size_t(v)] &&
+              hops[size_t(v)] >= 2) ||
           dw >= dist[size_t(w)])
           continue;
         dist[size_t(w)] = dw;
+        hops[size_t(w)] = hops[size_t(v)] + 1;
         source[size_t(w)] = src;
         partner[size_t(w)] = partner[size_t(v)];
         hOf[size_t(w)] = hOf[size_t(v)];
