@@ -2004,6 +2004,80 @@ inline int same_exact_surface(const Model* m, int f0, int f1)
 // patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
 // sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
 // (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is.
+// O on a cylinder, sphere or torus (X0 = O - its origin), d its inward normal: the sphere that
+// touches that surface across, through its axis, centre or core circle (a rod, a ball, a ring).
+// |dist(O + t d)| = t holds for every t up to that sphere's radius (O is the nearest point), so
+// Newton on the exact surface cannot find it; this is its closed form: t where O + t d comes
+// nearest to the axis or centre (the torus: the distance to the core circle). 0 where O is not on
+// the surface (within slack) or d not its inward normal.
+int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, real slack, real* t)
+{
+  if (kind != EXACT_CYLINDER && kind != EXACT_SPHERE && kind != EXACT_TORUS)
+    return 0;
+  real3 g;
+  int ok;
+  const real f = exact_distance(kind, e, X0, &g, &ok);
+  if (!ok || !(fabs(f) <= slack) || !(dot(g, d) < (real)-0.999))
+    return 0;
+  if (kind == EXACT_TORUS)
+    *t = e[10] + f;
+  else
+  {
+    const real3 a = make_real3(e[6], e[7], e[8]);
+    const real3 Xp = kind == EXACT_SPHERE ? X0 : X0 - dot(X0, a) * a;
+    const real3 dp = kind == EXACT_SPHERE ? d : d - dot(d, a) * a;
+    const real dd = dot(dp, dp);
+    if (!(dd > (real)0.5))
+      return 0;
+    *t = -dot(Xp, dp) / dd;
+  }
+  return *t > (real)0;
+}
+
+// `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
+// |S(u, v) - foot|^2. 1 when the projection lies inside the face's trim (with `band`, within its
+// tolerance band of an edge too), with its (u, v) and patch.
+int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
+  real* vio, int* patchOut)
+{
+  real u = *uio, v = *vio;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  int patch = find_patch(m, face, u, v);
+  for (int it = 0; it < 6; ++it)
+  {
+    PatchEval pe = eval_patch(m, patch, u, v);
+    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot;
+    if (length(q) <= (real)0.01 * m->slack)
+      break; // there already (also where the parametrisation degenerates: a sphere's pole)
+    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
+    const real det = a * c - b * b;
+    if (!(det > (real)0))
+      return 0;
+    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
+    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
+    u += du;
+    v += dv;
+    if (fd[4] > (real)0)
+      u = wrap_param(u, fd[0], fd[4]);
+    if (fd[5] > (real)0)
+      v = wrap_param(v, fd[2], fd[5]);
+    u = clamp(u, fd[0], fd[1]);
+    v = clamp(v, fd[2], fd[3]);
+    patch = find_patch(m, face, u, v);
+    if (fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
+      break;
+  }
+  int seg;
+  real param, trimDist;
+  const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
+  if (!inside && !(band && trimDist <= fd[6]))
+    return 0;
+  *uio = u;
+  *vio = v;
+  *patchOut = patch;
+  return 1;
+}
+
 void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
 {
   int face = r->face;
@@ -2046,27 +2120,16 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   real3 g;
   int ok;
   real3 foot;
-  real f = exact_distance(kind, e, X0, &g, &ok);
-  if ((kind == EXACT_CYLINDER || kind == EXACT_SPHERE || kind == EXACT_TORUS) && ok &&
-    fabs(f) <= m->slack && dot(g, d) < (real)-0.999)
+  real f;
+  real tSelf;
+  const int selfContact = self_contact_radius(kind, e, X0, d, m->slack, &tSelf);
+  if (selfContact)
   {
     // O lies on the contact's own surface, d along its inward normal: a rod, a ball or a ring,
-    // the sphere touching the surface across. |dist(O + t d)| = t holds for every t up to the
-    // largest (O is the nearest point), so Newton cannot find it; the sphere through the axis
-    // (the centre, the tube's core circle) is the closed form: t where O + t d comes nearest to
-    // it, and the foot the surface point across from the patches' foot.
+    // the sphere touching the surface across; the foot the surface point across from the
+    // patches' foot.
     const real3 a = make_real3(e[6], e[7], e[8]);
-    if (kind == EXACT_TORUS)
-      t = e[10] + f; // the distance from O to the core circle, along the normal
-    else
-    {
-      const real3 Xp = kind == EXACT_SPHERE ? X0 : X0 - dot(X0, a) * a;
-      const real3 dp = kind == EXACT_SPHERE ? d : d - dot(d, a) * a;
-      const real dd = dot(dp, dp);
-      if (!(dd > (real)0.5))
-        return;
-      t = -dot(Xp, dp) / dd;
-    }
+    t = tSelf;
     real3 across = r->foot - t * d; // from the centre towards the patches' foot
     if (kind == EXACT_CYLINDER)
       across = across - dot(across, a) * a;
@@ -2119,37 +2182,13 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   real u = r->param.x, v = r->param.y;
   if (r->type == CONTACT_SURFACE_EDGE && !edge_point_on_face(m, face, r->edge, r->param.x, &u, &v))
     return;
-  __global const real* fd = m->faceDomain + FACE_REALS * face;
-  int patch = find_patch(m, face, u, v);
-  for (int it = 0; it < 6; ++it)
-  {
-    PatchEval pe = eval_patch(m, patch, u, v);
-    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot;
-    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
-    const real det = a * c - b * b;
-    if (!(det > (real)0))
-      return;
-    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
-    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
-    u += du;
-    v += dv;
-    if (fd[4] > (real)0)
-      u = wrap_param(u, fd[0], fd[4]);
-    if (fd[5] > (real)0)
-      v = wrap_param(v, fd[2], fd[5]);
-    u = clamp(u, fd[0], fd[1]);
-    v = clamp(v, fd[2], fd[3]);
-    patch = find_patch(m, face, u, v);
-    if (fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
-      break;
-  }
+  int patch;
   // Strictly inside for a face contact: a foot within the trim's tolerance band of an edge, where
   // the sphere may touch the edge rather than the surface, keeps the patches' contact. A seam's or
-  // split line's foot lies on the same surface either side: the band counts.
-  int seg;
-  real param, trimDist;
-  const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
-  if (!inside && !(r->type == CONTACT_SURFACE_EDGE && trimDist <= fd[6]))
+  // split line's foot lies on the same surface either side: the band counts, as it does for a
+  // sphere touching its own closed surface across (its foot may fall on the surface's seam).
+  if (!project_on_face(m, face, Ohi, Olo, foot, r->type == CONTACT_SURFACE_EDGE || selfContact, &u,
+        &v, &patch))
     return;
   if (r->type == CONTACT_SURFACE_EDGE)
   {
@@ -2683,6 +2722,57 @@ void write_result(const Result* r, real3 d, int iterations, int exactPass, __glo
 
 // The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
 // the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
+// The last resort of a sample on a cylinder, sphere or torus whose solve failed: the sphere that
+// touches its own surface across (self_contact_radius). A ball is the case: its maximal sphere is
+// the ball and touches every s1 point, which no restart settles (NotMaximal). Kept when no s1
+// point and no point of the faces lies inside it deeper than the patches' accuracy or the
+// clearance (the verification's and the certification's tests), with the foot across from O.
+void self_contact_sphere(const Model* m, __global const real* s1Point, __global const int* s1Face,
+  __global const real* nodeBox, __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi,
+  real3 Olo, real3 d, real scale, Result* r)
+{
+  const int kind = m->faceInfo[FACE_INTS * ownFace + 8];
+  __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
+  real t;
+  if (!self_contact_radius(kind, e, -anchor_minus(e, Ohi, Olo), d, m->slack, &t))
+    return;
+  const real depth = fmax(m->delta, m->slack);
+  real tt;
+  if (initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, Ohi + Olo, d,
+        scope_solid(m, ownFace), -1, scale, t * (real)(1.0 - 1e-6), depth, &tt) >= 0)
+    return;
+  PointInside inside;
+  if (find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &inside))
+    return;
+  // The foot: across from O through the axis, centre or core circle; its (u, v) from O's moved by
+  // half a period (OpenCASCADE's angles: a sphere's longitude and latitude, a cylinder's angle, a
+  // torus's angle around its tube).
+  __global const real* fd = m->faceDomain + FACE_REALS * ownFace;
+  real u = ownUV.x, v = ownUV.y;
+  if (kind == EXACT_TORUS && fd[5] > (real)0)
+    v = wrap_param(v + (real)0.5 * fd[5], fd[2], fd[5]);
+  else if (fd[4] > (real)0)
+  {
+    u = wrap_param(u + (real)0.5 * fd[4], fd[0], fd[4]);
+    if (kind == EXACT_SPHERE)
+      v = -v;
+  }
+  u = clamp(u, fd[0], fd[1]);
+  v = clamp(v, fd[2], fd[3]);
+  const real3 foot = (real)2 * t * d;
+  int patch;
+  // The band counts: across from a sample on the far side of a seam, the foot lies on the seam.
+  if (!project_on_face(m, ownFace, Ohi, Olo, foot, 1, &u, &v, &patch))
+    return;
+  *r = no_result();
+  r->type = CONTACT_SURFACE_SURFACE;
+  r->face = ownFace;
+  r->patch = patch;
+  r->param = make_real2(u, v);
+  r->foot = foot;
+  r->t = t;
+}
+
 void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* sp, int ownFace, real scale, real stepTol, real newtonTol,
@@ -2720,6 +2810,25 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     {
       r = exact;
       exactPass = 1;
+    }
+  }
+  if (!(mm.mode & MODE_EXTERIOR))
+  {
+    // A sphere touching O's own cylinder, sphere or torus across: the closed form where the solve
+    // failed, or fell short of it (a ball's spheres touch every point: in float the solve may stop
+    // on a foot next to O).
+    const int kind = mm.faceInfo[FACE_INTS * ownFace + 8];
+    __global const real* e = mm.faceDomain + FACE_REALS * ownFace + FACE_EXACT;
+    real tc;
+    if (self_contact_radius(kind, e, -anchor_minus(e, Ohi, Olo), d, mm.slack, &tc) &&
+      (r.type == CONTACT_FAILED ||
+        (same_exact_surface(&mm, r.face, ownFace) && r.t < tc - (real)0.5 * mm.slack)))
+    {
+      Result c = no_result();
+      self_contact_sphere(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, ownUV, Ohi, Olo, d,
+        scale, &c);
+      if (c.type != CONTACT_FAILED)
+        r = c;
     }
   }
   exact_finish(&mm, Ohi, Olo, d, stepTol, &r);

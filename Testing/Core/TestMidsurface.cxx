@@ -338,9 +338,7 @@ TEST(Skeleton, RingIsOneClosedCircle)
     // Cluster means of centres on the circle lie inside it by the cell's sagitta.
     EXPECT_NEAR(std::hypot(s.Points[3 * i], s.Points[3 * i + 1]), 30.0, 0.05);
     EXPECT_NEAR(s.Points[3 * i + 2], 0.0, 1e-6);
-    // A node's mean over its samples: the ring's samples next to its inner equator keep the
-    // patches' accuracy (docs/Solver.md item 18): 1e-6 relative.
-    EXPECT_NEAR(s.Radius[i], 4.0, 4e-6);
+    EXPECT_NEAR(s.Radius[i], 4.0, 4e-9);
   }
 }
 

@@ -421,7 +421,9 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
     { "tube", analytic::Tube(20, 15, 80), 5 },
     { "spherical shell", analytic::SphericalShell(25, 20), 5 },
     { "toroidal shell", analytic::ToroidalShell(40, 10, 6), 4 },
-    { "conical shell", analytic::ConicalShell(30, 15, 40, 3), 3 } };
+    { "conical shell", analytic::ConicalShell(30, 15, 40, 3), 3 },
+    { "rod", analytic::Rod(5, 60), 10 }, { "ball", analytic::Ball(10), 20 },
+    { "ring", analytic::Ring(30, 4), 8 } };
   for (const auto& s : shapes)
   {
     const BRepModel m = ConvertShape(s.S, ConversionOptions()); // the reader's defaults

@@ -32,8 +32,9 @@ std::vector<ClosedForm> Shapes()
   v.push_back({ "toroidal shell 40 R10 r6", analytic::ToroidalShell(40, 10, 6), 4.0 });
   v.push_back({ "conical shell R30 R15 H40 h3", analytic::ConicalShell(30, 15, 40, 3), 3.0 });
   // The sphere touches the surface it is tangent to, across (the exact finish's closed form).
-  // (A solid ring and a ball are not here yet: docs/Solver.md, item 18.)
   v.push_back({ "rod R5 L60", analytic::Rod(5, 60), 10.0 });
+  v.push_back({ "ball R10", analytic::Ball(10), 20.0 });
+  v.push_back({ "ring 30 / 4", analytic::Ring(30, 4), 8.0 });
   return v;
 }
 
