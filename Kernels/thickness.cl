@@ -2035,8 +2035,8 @@ int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, rea
 }
 
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
-// |S(u, v) - foot|^2. 1 when the projection lies inside the face's trim (with `band`, within its
-// tolerance band of an edge too), with its (u, v) and patch.
+// |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
+// `band`, within its tolerance band of an edge too), with its (u, v) and patch.
 int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
   real* vio, int* patchOut)
 {
@@ -2067,6 +2067,10 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
     if (fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
       break;
   }
+  // Converged onto the foot (the patches lie within slack / 2 of the surface it is on).
+  const PatchEval pe = eval_patch(m, patch, u, v);
+  if (!(length(pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot) <= m->slack))
+    return 0;
   int seg;
   real param, trimDist;
   const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
