@@ -100,6 +100,15 @@ def collect_errors(proxy, errors):
     proxy.GetClientSideObject().AddObserver("ErrorEvent", on_error)
 
 
+def updated(proxy, errors):
+    """Updates a filter proxy; its first error ends the batch with that message."""
+    collect_errors(proxy, errors)
+    proxy.UpdatePipeline()
+    if errors:
+        sys.exit("error: " + errors[0])
+    return proxy
+
+
 def table_rows(table):
     cols = [table.GetColumn(c) for c in range(table.GetNumberOfColumns())]
     names = [c.GetName() for c in cols]
@@ -264,11 +273,7 @@ def main(argv=None):
     skel_fields = None
     skel = None
     if args.skeleton and measure == "Thickness":
-        skel = simple.BRepSkeleton(Input=thick)
-        collect_errors(skel, errors)
-        skel.UpdatePipeline()
-        if errors:
-            sys.exit("error: " + errors[0])
+        skel = updated(simple.BRepSkeleton(Input=thick), errors)
         files["skeleton"] = os.path.join(out, name + "-skeleton.vtp")
         simple.SaveData(files["skeleton"], proxy=skel)
         skel_data = sm.Fetch(skel)
@@ -279,11 +284,7 @@ def main(argv=None):
 
     mid_rows = None
     if args.midsurface and measure == "Thickness":
-        mid = simple.BRepMidsurface(Input=thick)
-        collect_errors(mid, errors)
-        mid.UpdatePipeline()
-        if errors:
-            sys.exit("error: " + errors[0])
+        mid = updated(simple.BRepMidsurface(Input=thick), errors)
         mid_rows = dict(table_rows(sm.Fetch(mid, idx=2))[1])
         files["midsurface"] = os.path.join(out, name + "-midsurface.vtp")
         simple.SaveData(files["midsurface"], proxy=simple.OutputPort(mid, 0))
