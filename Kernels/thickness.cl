@@ -1997,13 +1997,6 @@ inline int same_exact_surface(const Model* m, int f0, int f1)
     fabs(a[9] + along * a[11] / a[10] - b[9]) <= tol;
 }
 
-// The sphere tangent at O of a surface/surface contact on an analytic face (or a surface/edge
-// contact on a seam or split line, then reported as surface/surface), made tangent to the exact
-// surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the nearest
-// point of the exact surface to the centre. Kept only where the sphere is more than twice the
-// patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
-// sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
-// (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is.
 // O on a cylinder, sphere or torus (X0 = O - its origin), d its inward normal: the sphere that
 // touches that surface across, through its axis, centre or core circle (a rod, a ball, a ring).
 // |dist(O + t d)| = t holds for every t up to that sphere's radius (O is the nearest point), so
@@ -2082,6 +2075,15 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
   return 1;
 }
 
+// The sphere tangent at O of a surface/surface contact on an analytic face (or a surface/edge
+// contact on a seam or split line, then reported as surface/surface), made tangent to the exact
+// surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the nearest
+// point of the exact surface to the centre. Kept only where the sphere is more than twice the
+// patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
+// sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
+// (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is. A
+// sphere touching O's own cylinder, sphere or torus across takes self_contact_radius's closed
+// form instead of the Newton.
 void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
 {
   int face = r->face;
@@ -2724,22 +2726,17 @@ void write_result(const Result* r, real3 d, int iterations, int exactPass, __glo
   oI[6] = exactPass;
 }
 
-// The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
-// the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
-// The last resort of a sample on a cylinder, sphere or torus whose solve failed: the sphere that
-// touches its own surface across (self_contact_radius). A ball is the case: its maximal sphere is
-// the ball and touches every s1 point, which no restart settles (NotMaximal). Kept when no s1
-// point and no point of the faces lies inside it deeper than the patches' accuracy or the
-// clearance (the verification's and the certification's tests), with the foot across from O.
+// The last resort of a sample on a cylinder, sphere or torus whose solve failed or fell short:
+// the sphere of radius t that touches its own surface across (self_contact_radius). A ball is
+// the case: its maximal sphere is the ball and touches every s1 point, which no restart settles
+// (NotMaximal). Kept when no s1 point and no point of the faces lies inside it deeper than the
+// patches' accuracy or the clearance (the verification's and the certification's tests), with
+// the foot across from O.
 void self_contact_sphere(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* nodeBox, __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi,
-  real3 Olo, real3 d, real scale, Result* r)
+  real3 Olo, real3 d, real scale, real t, Result* r)
 {
   const int kind = m->faceInfo[FACE_INTS * ownFace + 8];
-  __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
-  real t;
-  if (!self_contact_radius(kind, e, -anchor_minus(e, Ohi, Olo), d, m->slack, &t))
-    return;
   const real depth = fmax(m->delta, m->slack);
   real tt;
   if (initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, Ohi + Olo, d,
@@ -2777,6 +2774,8 @@ void self_contact_sphere(const Model* m, __global const real* s1Point, __global 
   r->t = t;
 }
 
+// The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
+// the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
 void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* sp, int ownFace, real scale, real stepTol, real newtonTol,
@@ -2830,7 +2829,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     {
       Result c = no_result();
       self_contact_sphere(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, ownUV, Ohi, Olo, d,
-        scale, &c);
+        scale, tc, &c);
       if (c.type != CONTACT_FAILED)
         r = c;
     }

@@ -82,7 +82,6 @@ struct Mesh
       this->Kind[size_t(found)] = std::min(this->Kind[size_t(found)], this->Kind[i]);
     }
     std::vector<int> tris, sheets;
-    std::unordered_map<uint64_t, int> seen; // sorted triple hash -> triangle, against duplicates
     std::map<std::array<int, 3>, int> unique;
     for (size_t t = 0; t < this->Tris.size() / 3; ++t)
     {
@@ -694,15 +693,16 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
   {
     const auto edges = EdgeMap(mesh.Tris);
     const size_t n = mesh.NumberOfPoints();
-    std::vector<std::vector<int>> bnbr(n);
-    std::vector<int> triOf(n, -1), sheetOf(n, -1);
+    std::vector<char> onBoundary(n, 0);
+    std::vector<int> sheetOf(n, -1);
     for (size_t t = 0; t < mesh.Tris.size() / 3; ++t)
       for (int k = 0; k < 3; ++k)
-      {
-        triOf[size_t(mesh.Tris[3 * t + k])] = int(t);
         sheetOf[size_t(mesh.Tris[3 * t + k])] = mesh.TriSheet[t];
-      }
-    std::vector<std::pair<int, int>> boundary; // oriented as in their triangle
+    struct BoundaryEdge
+    {
+      int A, B, Tri; // (A, B) as in its triangle
+    };
+    std::vector<BoundaryEdge> boundary;
     double longest = 0.0;
     for (const auto& e : edges)
       if (e.second.size() == 1)
@@ -712,19 +712,18 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
         for (int k = 0; k < 3; ++k)
           if (mesh.Tris[3 * size_t(t) + k] == b && mesh.Tris[3 * size_t(t) + (k + 1) % 3] == a)
             std::swap(a, b);
-        boundary.emplace_back(a, b);
-        bnbr[size_t(a)].push_back(b);
-        bnbr[size_t(b)].push_back(a);
+        boundary.push_back({ a, b, t });
+        onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
         longest =
           std::max(longest, Norm(Sub(At(mesh.Points, size_t(a)), At(mesh.Points, size_t(b)))));
       }
     double hMax = 0.0;
     for (size_t i = 0; i < n; ++i)
-      if (!bnbr[i].empty())
+      if (onBoundary[i])
         hMax = std::max(hMax, mesh.Thickness[i]);
     Grid grid(std::max(longest, opt.JunctionReach * hMax / 2.0));
     for (size_t i = 0; i < n; ++i)
-      if (!bnbr[i].empty())
+      if (onBoundary[i])
         grid.Insert(At(mesh.Points, i), int(i));
 
     // Per boundary edge (a, b): the direction e away from the sheet, in its plane, and for each
@@ -744,13 +743,13 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
     for (const auto& be : boundary)
     {
       JEdge je;
-      je.A = be.first;
-      je.B = be.second;
+      je.A = be.A;
+      je.B = be.B;
       const V3 pa = At(mesh.Points, size_t(je.A)), pb = At(mesh.Points, size_t(je.B));
       const V3 nrm = Unit(Add(At(mesh.Normal, size_t(je.A)), At(mesh.Normal, size_t(je.B))));
       // e: in the sheet's plane, across the edge, away from its triangle (by the centroid).
       V3 e = Unit(Cross(Sub(pb, pa), nrm));
-      const int* tv = &mesh.Tris[3 * size_t(triOf[size_t(je.A)])];
+      const int* tv = &mesh.Tris[3 * size_t(be.Tri)];
       const V3 c = Mul(Add(Add(At(mesh.Points, size_t(tv[0])), At(mesh.Points, size_t(tv[1]))),
                          At(mesh.Points, size_t(tv[2]))),
         1.0 / 3.0);
