@@ -48,6 +48,8 @@ typedef float3 real3;
 #define FAIL_SINGULAR 5
 #define FAIL_LEFT_MODEL 6
 #define FAIL_NOT_MAXIMAL 7
+// The s1 tree's root First where it splits the faces' points from the edges' (brt::S1SplitRoot).
+#define S1_SPLIT_ROOT (-2)
 
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid, the
@@ -629,6 +631,9 @@ inline int ss_on_face(const SurfaceSolve* s, __global const real* fd, real newto
   return (s->inside || s->trimDist <= fd[6]) && (!s->clamped || ss_converged(s, newtonTol));
 }
 
+// Steps in a row without halving the residual that end a Newton (surface_newton).
+#define STALL_STEPS 4
+
 // Newton on (u, v, t) on `face`, with trust region and backtracking, then the trim test.
 SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
   real v, real t, real scale, real stepTol, real newtonTol, int maxIterations, int* iterations)
@@ -642,7 +647,7 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
   real3 w = e.P - t * d;
   real R[3] = { dot(e.Du, w), dot(e.Dv, w), t - m->delta - length(w) }; // eq. 4, clearance
   real res = residual3(&e, R);
-  int clamped = 0, capped = 1;
+  int clamped = 0, capped = 1, slow = 0;
   for (int it = 0; it < maxIterations; ++it)
   {
     ++*iterations;
@@ -698,6 +703,13 @@ SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real
       capped = 0;
       break;
     }
+    // Stagnation: near a regular solution Newton's residual falls quadratically. One that has
+    // not halved in STALL_STEPS steps in a row has no regular solution to go to (a whole arc of
+    // contacts on a round, a foot held at the domain's border): stop as capped, as the
+    // iteration cap would, without its evaluations.
+    slow = res > (real)0.5 * res0 ? slow + 1 : 0;
+    if (slow >= STALL_STEPS)
+      break;
   }
   out.u = u;
   out.v = v;
@@ -760,10 +772,12 @@ inline int s1_face(__global const int* s1Face, int i)
 
 // Eq. 1 with the clearance over the BVH: the s1 point with the smallest
 // t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
-// finite bound it finds the s1 points more than delta deep inside that sphere (the verification).
+// finite bound it finds the s1 points more than delta deep inside that sphere (the verification);
+// edgesOnly: only the points along the edges.
 int initialise(__global const real* s1Point, __global const int* s1Face,
   __global const int* faceInfo, __global const real* nodeBox, __global const int* nodeInfo,
-  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta, real* tOut)
+  real3 O, real3 d, int solid, int excludeFace, real scale, real bound, real delta, int edgesOnly,
+  real* tOut)
 {
   int best = -1;
   real t = bound;
@@ -781,7 +795,13 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
 #endif
     int stack[64];
     int top = 0;
-    stack[top++] = 0;
+    // Below a split root (brt::S1SplitRoot) the faces' points lie left, the edges' right: a start
+    // (no bound) needs only the faces', the verification next to the certification only the
+    // edges'.
+    if (nodeInfo[0] == S1_SPLIT_ROOT && (!bounded || edgesOnly))
+      stack[top++] = bounded ? nodeInfo[2] : 1;
+    else
+      stack[top++] = 0;
     while (top > 0)
     {
       const int n = stack[--top];
@@ -815,7 +835,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           // (stored as ~face) only verify: they start nothing (brt::AddEdgePoints).
           const int face = s1_face(s1Face, i);
           if (!in_scope(faceInfo, face, solid) || face == excludeFace ||
-            (s1Face[i] < 0 && !bounded))
+            (s1Face[i] < 0 && !bounded) || (edgesOnly && s1Face[i] >= 0))
             continue;
           const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
           const real dn = dot(d, w), l2 = dot(w, w);
@@ -844,6 +864,20 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
     }
   *tOut = t;
   return best;
+}
+
+// The verification of a sphere of radius t against s1: an s1 point more than `depth` inside it
+// (its index; -1 where none), *tOut the radius of eq. 1 through it. Where the certification
+// checks the patches themselves (MODE_CERTIFY), only the points along the edges: the
+// certification finds what the faces' points would, and the edge points, taken from the exact
+// edge curves, still catch a corner's edge reaching into the sphere within a few tolerances of O,
+// where the certification counts nothing (docs/Solver.md, "The verification").
+inline int verify_s1(const Model* m, __global const real* s1Point, __global const int* s1Face,
+  __global const real* nodeBox, __global const int* nodeInfo, real3 O, real3 d, int solid,
+  real scale, real t, real depth, real* tOut)
+{
+  return initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
+    t * (real)(1.0 - 1e-6), depth, (m->mode & MODE_CERTIFY) != 0, tOut);
 }
 
 typedef struct
@@ -1680,13 +1714,15 @@ int inside_by_crossings(const Model* m, int face, real u, real v)
   return inside;
 }
 
-// The deepest point found so far: face, (u, v) and eq. 1's radius through it
+// The deepest point found so far: the point itself, its face and (u, v) there (a start for the
+// restart), its edge and T when it lies on an edge (-1 otherwise), and eq. 1's radius through it
 // with the depth as clearance.
 typedef struct
 {
   real best; // its distance from the centre M
-  int found, face;
-  real u, v, t;
+  int found, face, edge;
+  real u, v, t, T;
+  real3 w; // the point, relative to O
 } PointInside;
 
 // Squared distance from p to a box (min x, y, z, max x, y, z); p and the box relative to the
@@ -1726,9 +1762,11 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
   st->best = dist;
   st->found = 1;
   st->face = face;
+  st->edge = -1;
   st->u = u;
   st->v = v;
   st->t = (real)0.5 * (dot(w, w) - depth * depth) / (dn - depth);
+  st->w = w;
 }
 
 // The nearest point of patch p to the centre: a 5x5 grid (its points inside the trim are
@@ -1831,25 +1869,91 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
     ((f0 == ownFace || f1 == ownFace) && !(dist < reach - (real)2 * tol)) ||
     dot(C, C) <= (real)16 * tol * tol)
     return;
-  for (int k = 0; k < 2; ++k)
+  // The point counts whether or not a face's trim covers T (a file whose trims fall short of
+  // their edge); the restart's start is then the middle of the first face's domain.
+  int start = -1;
+  real su = 0, sv = 0;
+  for (int k = 0; k < 2 && start < 0; ++k)
   {
     const int face = k == 0 ? f0 : f1;
     if (face < 0)
       continue;
     __global const int* fi = m->faceInfo + FACE_INTS * face;
-    real u, v, nu, nv;
-    if (fi[1] * fi[2] == 0 || !edge_point_into_face(m, face, edge, T, &u, &v, &nu, &nv))
-      continue;
     __global const real* fd = m->faceDomain + FACE_REALS * face;
+    real u, v, nu, nv;
+    if (fi[1] * fi[2] == 0)
+      continue;
+    if (!edge_point_into_face(m, face, edge, T, &u, &v, &nu, &nv))
+    {
+      if (k == 0)
+      {
+        su = (real)0.5 * (fd[0] + fd[1]);
+        sv = (real)0.5 * (fd[2] + fd[3]);
+      }
+      continue;
+    }
     const real hair = (real)1e-6 * (fd[1] - fd[0] + fd[3] - fd[2]);
-    st->best = dist;
-    st->found = 1;
-    st->face = face;
-    st->u = u + hair * nu;
-    st->v = v + hair * nv;
-    st->t = (real)0.5 * (dot(C, C) - depth * depth) / (dn - depth);
-    break;
+    start = face;
+    su = u + hair * nu;
+    sv = v + hair * nv;
   }
+  if (start < 0)
+    start = f0 >= 0 && m->faceInfo[FACE_INTS * f0 + 1] * m->faceInfo[FACE_INTS * f0 + 2] > 0 ? f0 : -1;
+  if (start < 0)
+    return;
+  st->best = dist;
+  st->found = 1;
+  st->face = start;
+  st->edge = edge;
+  st->u = su;
+  st->v = sv;
+  st->T = T;
+  st->t = (real)0.5 * (dot(C, C) - depth * depth) / (dn - depth);
+  st->w = C;
+}
+
+// A lower bound of the distance from the centre M to a Bezier piece with n control points c
+// (relative to the piece's anchor, a = anchor - M): the piece lies in the hull of its control
+// points, so none of its points is nearer to M than the least of their offsets along a unit
+// direction u. Cheaper than the search by far, and tight where the piece is flat across u: a
+// wall tangent to the sphere, O's own patch.
+inline real hull_gap(__global const real* c, int n, real3 a, real3 u)
+{
+  real g = REAL_MAX;
+  for (int i = 0; i < n; ++i)
+    g = fmin(g, dot(a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]), u));
+  return g;
+}
+
+// The unit direction from M to the mean of the control points (zero where they meet at M).
+inline real3 toward_hull(__global const real* c, int n, real3 a)
+{
+  real3 s = splat_real3(0);
+  for (int i = 0; i < n; ++i)
+    s += make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+  s = a + s / (real)n;
+  const real l = length(s);
+  return l > (real)0 ? s / l : splat_real3(0);
+}
+
+// hull_gap of patch p (a = anchor - M) along its mean normal (the cross product of its control
+// net's diagonals, turned away from M) and towards its control points' mean: the larger bound.
+inline real patch_gap(const Model* m, int p, real3 a)
+{
+  __global const real* c = m->patches + 48 * p;
+  const real3 c00 = make_real3(c[0], c[1], c[2]), c03 = make_real3(c[9], c[10], c[11]);
+  const real3 c30 = make_real3(c[36], c[37], c[38]), c33 = make_real3(c[45], c[46], c[47]);
+  real3 n = cross(c33 - c00, c03 - c30);
+  const real ln = length(n);
+  real g = hull_gap(c, 16, a, toward_hull(c, 16, a));
+  if (ln > (real)0)
+  {
+    n = n / ln;
+    if (dot(a + (real)0.25 * (c00 + c03 + c30 + c33), n) < (real)0)
+      n = -n;
+    g = fmax(g, hull_gap(c, 16, a, n));
+  }
+  return g;
 }
 
 // The certification of the sphere of radius t tangent at O: the deepest
@@ -1861,6 +1965,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   real depth, PointInside* st)
 {
   st->found = 0;
+  st->edge = -1;
   const real reach = t - depth - (real)0.25 * m->slack;
   if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
     return 0;
@@ -1885,7 +1990,8 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         if (item < m->patchCount)
         {
           if (in_scope(m->faceInfo, m->patchFace[item], solid) &&
-            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best)
+            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best &&
+            patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr) < st->best)
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
         else
@@ -1893,7 +1999,10 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
           const int es = item - m->patchCount;
           const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
           if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
-            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best)
+            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best &&
+            hull_gap(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr,
+              toward_hull(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr)) <
+              st->best)
             certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
       }
@@ -2460,16 +2569,25 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
     {
       if (!last.found)
         return 0;
-      const int patch = find_patch(m, last.face, last.u, last.v);
+      // The foot is the deepest point itself: on an edge, the face's (u, v) from its trim
+      // is only a start, and a file's trim may not meet its edge.
       Result c = no_result();
-      c.type = CONTACT_SURFACE_SURFACE;
       c.face = last.face;
-      c.patch = patch;
       c.t = t;
       c.res = step;
-      c.foot = anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) +
-        eval_patch_point(m, patch, last.u, last.v);
-      c.param = make_real2(last.u, last.v);
+      c.foot = last.w;
+      if (last.edge >= 0)
+      {
+        c.type = at_edge_end(m, last.edge, last.T) ? CONTACT_SURFACE_VERTEX : CONTACT_SURFACE_EDGE;
+        c.edge = last.edge;
+        c.param = make_real2(last.T, 0);
+      }
+      else
+      {
+        c.type = CONTACT_SURFACE_SURFACE;
+        c.patch = find_patch(m, last.face, last.u, last.v);
+        c.param = make_real2(last.u, last.v);
+      }
       // A contact on O's own face next to O is the trivial or an osculating solution, not a
       // wall (as for Newton's contacts).
       if (shallow_own_face_contact(m, ownFace, c.face, c.foot, d, sphere_radius(d, c.foot, (real)0)))
@@ -2504,7 +2622,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-    REAL_MAX, m->delta, &t);
+    REAL_MAX, m->delta, 0, &t);
   Result r = no_result();
   // The gap: where no s1 point lies in front of O, or even the first sphere (eq. 1 over s1, an
   // upper bound of the maximal one) is wider than the model's diagonal, and the sphere of that
@@ -2547,7 +2665,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   {
     // That start led nowhere: try the best start on any other face once.
     best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, r.face, scale,
-      REAL_MAX, m->delta, &t);
+      REAL_MAX, m->delta, 0, &t);
     if (best >= 0)
     {
       const Result other = solve_from(m, ownFace, Ohi, Olo, d, s1_face(s1Face, best),
@@ -2584,8 +2702,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   const real depth = fmax(m->delta, m->slack);
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
-    best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-      r.t * (real)(1.0 - 1e-6), depth, &t);
+    best = verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, O, d, solid, scale, r.t, depth, &t);
     int inFace;
     real inU, inV;
     if (best >= 0)
@@ -2634,8 +2751,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       // No Newton or descent shrinks the sphere from the point inside: shrink it through the
       // deepest point of the faces instead (the shrinking ball), then check s1 once more.
       if (shrink_ball(m, ownFace, Ohi, Olo, d, depth, &r) &&
-        initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-          r.t * (real)(1.0 - 1e-6), depth, &t) < 0)
+        verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, O, d, solid, scale, r.t, depth, &t) < 0)
         break;
       r.type = CONTACT_FAILED;
       r.reason = FAIL_NOT_MAXIMAL;
@@ -2739,8 +2855,8 @@ void self_contact_sphere(const Model* m, __global const real* s1Point, __global 
   const int kind = m->faceInfo[FACE_INTS * ownFace + 8];
   const real depth = fmax(m->delta, m->slack);
   real tt;
-  if (initialise(s1Point, s1Face, m->faceInfo, nodeBox, nodeInfo, Ohi + Olo, d,
-        scope_solid(m, ownFace), -1, scale, t * (real)(1.0 - 1e-6), depth, &tt) >= 0)
+  if (verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, Ohi + Olo, d, scope_solid(m, ownFace),
+        scale, t, depth, &tt) >= 0)
     return;
   PointInside inside;
   if (find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &inside))

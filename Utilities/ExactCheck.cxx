@@ -7,7 +7,8 @@
 // For each file: N samples drawn at random from the display-mesh vertices (default 2,500), solved
 // with the native CPU device (the reference) or an OpenCL device (float, with the host's polish, unless --double);
 // for each solved sample the distance from its sphere's centre to the exact faces of the
-// sample's own solid (BRepExtrema). A sphere overlaps when its radius exceeds that distance by
+// sample's own solid (BRepExtrema). --indices I,J,... checks those samples (every mesh vertex
+// numbered as brt_thickness_bench --counts 0 numbers them) instead. A sphere overlaps when its radius exceeds that distance by
 // more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
 // solved, failed (per reason) and overlapping shares, the largest overlap and the K worst
 // samples. With --thickness M, the first M solved samples also get an independent exact
@@ -52,7 +53,8 @@ namespace
 {
 const char* const Usage =
   "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
-  "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] FILE.step ...\n"
+  "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] [--indices I,J,...]\n"
+  "       FILE.step ...\n"
   "Solves N random samples of each file (default 2500, native CPU device) and measures each sphere\n"
   "against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid.\n"
   "Prints solved, failed (per reason) and overlapping shares (overlap beyond the clearance plus\n"
@@ -60,7 +62,9 @@ const char* const Usage =
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
   "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
   "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
-  "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n";
+  "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n"
+  "--indices I,J,...: those samples (indices into every mesh vertex, as brt_thickness_bench\n"
+  "--counts 0 numbers them) instead of a random draw.\n";
 }
 
 int main(int argc, char** argv)
@@ -73,6 +77,7 @@ int main(int argc, char** argv)
   std::string device = "native";
   [[maybe_unused]] bool useDouble = false;
   bool certify = true;
+  std::vector<size_t> indices;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i)
   {
@@ -84,6 +89,17 @@ int main(int argc, char** argv)
     }
     if (a == "--samples" && i + 1 < argc)
       count = std::strtoul(argv[++i], nullptr, 10);
+    else if (a == "--indices" && i + 1 < argc)
+    {
+      for (const char* c = argv[++i]; *c;)
+      {
+        char* end = nullptr;
+        indices.push_back(std::strtoul(c, &end, 10));
+        c = *end == ',' ? end + 1 : end;
+        if (end == c && *c)
+          break;
+      }
+    }
     else if (a == "--seed" && i + 1 < argc)
       seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
     else if (a == "--device" && i + 1 < argc)
@@ -169,6 +185,13 @@ int main(int argc, char** argv)
       pick[i] = i;
     std::shuffle(pick.begin(), pick.end(), rng);
     pick.resize(std::min(count, pick.size()));
+    if (!indices.empty())
+    {
+      pick.clear();
+      for (size_t i : indices)
+        if (i < all.size())
+          pick.push_back(i);
+    }
     std::sort(pick.begin(), pick.end());
     std::vector<brt::Sample> samples;
     for (size_t i : pick)
@@ -201,6 +224,7 @@ int main(int argc, char** argv)
     std::map<std::string, size_t> reasons;
     std::vector<std::pair<double, size_t>> worst;
     std::vector<double> deepestFromO(samples.size(), 0.0); // |P - O| of the deepest point
+    std::vector<int> deepestFace(samples.size(), -1);      // the face it lies on (-1: an edge or vertex)
     for (size_t k = 0; k < samples.size(); ++k)
     {
       const brt::SampleResult& r = res[k];
@@ -221,6 +245,10 @@ int main(int argc, char** argv)
       {
         const gp_Pnt P = dist.PointOnShape2(1);
         deepestFromO[k] = P.Distance(gp_Pnt(samples[k].Point[0], samples[k].Point[1], samples[k].Point[2]));
+        if (dist.SupportTypeShape2(1) == BRepExtrema_IsInFace)
+          for (size_t f = 0; f < faces.size(); ++f)
+            if (faces[f].IsSame(dist.SupportOnShape2(1)))
+              deepestFace[k] = static_cast<int>(f);
       }
       if (overlap > allowed && overlap > 1e-4 * r.Radius)
       {
@@ -301,9 +329,10 @@ int main(int argc, char** argv)
       const size_t k = worst[w].second;
       const brt::SampleResult& r = res[k];
       std::printf("    sample %zu (face %d at %.4f %.4f %.4f): 2t = %.6g, %s, sphere %.3g into "
-                  "the exact faces, %.3g from O\n",
+                  "the exact faces (%s %d), %.3g from O\n",
         pick[k], samples[k].Face, samples[k].Point[0], samples[k].Point[1], samples[k].Point[2],
-        r.Thickness, brt::ContactTypeName(r.Type), worst[w].first, deepestFromO[k]);
+        r.Thickness, brt::ContactTypeName(r.Type), worst[w].first,
+        deepestFace[k] >= 0 ? "face" : "edge or vertex", deepestFace[k], deepestFromO[k]);
     }
     if (exactCount > 0)
     {

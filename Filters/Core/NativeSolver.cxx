@@ -14,6 +14,7 @@ namespace kernel
 // The kernel source, compiled here as C++ in double (KernelLanguage.h).
 #include "thickness.cl"
 } // namespace kernel
+static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker differs from Solver.h");
 
 struct NativeSolver::Impl
 {

@@ -297,16 +297,53 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
       }
   }
   AddEdgePoints(model, spacing / 3.0, data.S1);
-  if (!data.S1.empty())
-  {
-    std::vector<int> faceSolid(model.Faces.size());
-    for (size_t f = 0; f < model.Faces.size(); ++f)
-      faceSolid[f] = model.Faces[f].Solid;
-    Build(data.S1, data.Nodes, 0, static_cast<int>(data.S1.size()), faceSolid);
-  }
+  BuildS1Tree(model, data);
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);
   return data;
+}
+
+void BuildS1Tree(const BRepModel& model, SolverData& data)
+{
+  data.Nodes.clear();
+  std::vector<S1Point>& pts = data.S1;
+  if (pts.empty())
+    return;
+  std::vector<int> faceSolid(model.Faces.size());
+  for (size_t f = 0; f < model.Faces.size(); ++f)
+    faceSolid[f] = model.Faces[f].Solid;
+  const auto edgeBegin = std::stable_partition(
+    pts.begin(), pts.end(), [](const S1Point& p) { return !p.OnEdge; });
+  const int faces = static_cast<int>(edgeBegin - pts.begin());
+  const int all = static_cast<int>(pts.size());
+  if (faces == 0 || faces == all)
+  {
+    Build(pts, data.Nodes, 0, all, faceSolid);
+    return;
+  }
+  // The split root over the faces' points (left) and the edges' (right).
+  data.Nodes.emplace_back();
+  Build(pts, data.Nodes, 0, faces, faceSolid);
+  const int right = Build(pts, data.Nodes, faces, all - faces, faceSolid);
+  BVHNode root;
+  const BVHNode& l = data.Nodes[1];
+  const BVHNode& r = data.Nodes[static_cast<size_t>(right)];
+  for (int k = 0; k < 3; ++k)
+  {
+    root.Min[k] = std::min(l.Min[k], r.Min[k]);
+    root.Max[k] = std::max(l.Max[k], r.Max[k]);
+  }
+  // One solid below both: its marker, as Build gives an inner node over one solid.
+  const auto solidOf = [&](const S1Point& p) {
+    return p.Face >= 0 && p.Face < static_cast<int>(faceSolid.size()) ? faceSolid[p.Face] : -1;
+  };
+  const int solid = solidOf(pts.front());
+  const bool oneSolid = std::all_of(
+    pts.begin(), pts.end(), [&](const S1Point& p) { return solidOf(p) == solid; });
+  root.First = S1SplitRoot;
+  root.Count = oneSolid && solid >= 0 ? -(solid + 1) : 0;
+  root.Right = right;
+  data.Nodes[0] = root;
 }
 
 void BuildPatchBoxes(const BRepModel& model, SolverData& data)

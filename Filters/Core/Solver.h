@@ -122,7 +122,11 @@ struct S1Point
 /// Node of the AABB BVH over s1, flattened depth first: an inner node's left child follows it,
 /// its right child is at Right. A leaf holds the s1 points [First, First + Count), all on one
 /// solid's faces. The first splits separate the solids; an inner node whose subtree lies on one
-/// solid has Count = -(solid + 1), one over several solids Count = 0.
+/// solid has Count = -(solid + 1), one over several solids Count = 0. Where s1 has points on
+/// faces and along edges, the root splits them first: its First is S1SplitRoot, its left subtree
+/// holds the faces' points (all eq. 1 starts from) and its right one the edges' (the verification
+/// next to the certification checks only those; thickness.cl, verify_s1).
+constexpr int S1SplitRoot = -2;
 struct BVHNode
 {
   std::array<double, 3> Min{}, Max{};
@@ -194,6 +198,10 @@ void ParallelFor(size_t n, unsigned threads, F&& f)
   for (auto& t : pool)
     t.join();
 }
+
+/// Builds the BVH over s1 (data.Nodes, reordering data.S1; see BVHNode): PrepareSolver and
+/// ReadSolve call it.
+void BuildS1Tree(const BRepModel& model, SolverData& data);
 
 /// Patch of `face` containing (u,v), by binary search on the face's grid breakpoints.
 int FindPatchFast(const BRepModel& model, const SolverData& data, int face, double u, double v);

@@ -84,6 +84,9 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
   {
     throw std::runtime_error("'" + path + "': " + e.what());
   }
+  // The tree is built again rather than trusted: files written before the split root
+  // (BVHNode) have none, and a tree that names points outside s1 would be read out of bounds.
+  BuildS1Tree(m, d);
   BuildVertices(m, d);
   BuildPatchBoxes(m, d);
   m.Stats.Faces = static_cast<int>(m.Faces.size());
