@@ -57,9 +57,11 @@ typedef float3 real3;
 #define FACE_INTS 9
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
-// unit axis (3) and three sizes (brt::PackKernelModel).
-#define FACE_REALS 19
+// unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
+// brt::PackKernelModel).
+#define FACE_REALS 20
 #define FACE_EXACT 7
+#define FACE_DEVIATION 19
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
 // plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
 // sphere radius; torus major and minor radius.
@@ -1493,15 +1495,18 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
   return best;
 }
 
-// Descends on the face across the edge nearest O (ownSeg and
-// ownParam: O's projection on its own trim, from classify): a sample next to a convex edge has a
-// sphere of about its distance from the edge, closer to O than any s1 point. The start is moved
-// into that face by the offset (1e-6 to 1e-1 of its UV diagonal) that gives the smallest t.
-Result descend_across_nearest_edge(const Model* m, int ownFace, int ownSeg, real ownParam,
-  real3 Ohi, real3 Olo, real3 d, real scale, real newtonTol, int maxIterations,
-  int maxEdgeIterations, int* iterations)
+// Descends on the face across the edge nearest O (O's projection on its own trim, from classify
+// at ownUV): a sample next to a convex edge has a sphere of about its distance from the edge,
+// closer to O than any s1 point. The start is moved into that face by the offset (1e-6 to 1e-1 of
+// its UV diagonal) that gives the smallest t.
+Result descend_across_nearest_edge(const Model* m, int ownFace, real2 ownUV, real3 Ohi,
+  real3 Olo, real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations,
+  int* iterations)
 {
   Result none = no_result();
+  int ownSeg;
+  real ownParam, ownDist;
+  classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   if (ownSeg < 0 || m->trimEdge[ownSeg] < 0)
     return none;
   const int edge = m->trimEdge[ownSeg];
@@ -1956,74 +1961,6 @@ inline real patch_gap(const Model* m, int p, real3 a)
   return g;
 }
 
-// The certification of the sphere of radius t tangent at O: the deepest
-// point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
-// conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
-// segment whose control-point box reaches into the sphere is searched. 0 where none is that
-// deep: the sphere is empty up to the depth, at the patches' accuracy.
-int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
-  real depth, PointInside* st)
-{
-  st->found = 0;
-  st->edge = -1;
-  const real reach = t - depth - (real)0.25 * m->slack;
-  if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
-    return 0;
-  const int solid = scope_solid(m, ownFace);
-  const real3 mr = t * d;               // M - O
-  const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
-  st->best = reach;
-  int stack[64];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0)
-  {
-    const int node = stack[--top];
-    if (box_gap2(m->boxNodeBox + 6 * node, M) >= st->best * st->best)
-      continue;
-    __global const int* ni = m->boxNodeInfo + 3 * node;
-    if (ni[1] > 0)
-    {
-      for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
-      {
-        const int item = m->boxItems[i];
-        if (item < m->patchCount)
-        {
-          if (in_scope(m->faceInfo, m->patchFace[item], solid) &&
-            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best &&
-            patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr) < st->best)
-            certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
-        }
-        else
-        {
-          const int es = item - m->patchCount;
-          const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
-          if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
-            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best &&
-            hull_gap(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr,
-              toward_hull(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr)) <
-              st->best)
-            certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
-        }
-      }
-      continue;
-    }
-    if (top + 2 > 64)
-      continue; // cannot happen for a balanced tree
-    const int left = node + 1, right = ni[2];
-    const int leftFirst =
-      box_gap2(m->boxNodeBox + 6 * left, M) <= box_gap2(m->boxNodeBox + 6 * right, M);
-    stack[top++] = leftFirst ? right : left;
-    stack[top++] = leftFirst ? left : right;
-  }
-  return st->found;
-}
-
-// --- the exact finish -------------------------------------------------------------------------
-// The patches approximate an analytic face within the conversion tolerance; a contact found on
-// them is moved onto the face's exact surface (plane, cylinder, cone, sphere, torus), so that
-// the closed forms hold at the reader's default tolerance (docs/Solver.md, "Exact finish").
-
 // Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
 // described at e (FACE_EXACT on), and its unit gradient *g. *ok = 0 where the gradient is not
 // defined (X on the axis of a surface of revolution).
@@ -2071,6 +2008,95 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   *g = *ok ? (q * er + z * a) / l : a;
   return l - e[10];
 }
+
+// A lower bound of the distance from the centre M (O + mr) to `face`, from its exact surface
+// (plane, cylinder, cone, sphere, torus): no point of the face is nearer to M than M's distance
+// from the whole surface. Its patches lie within their deviation of it (measured at samples; the
+// conversion tolerance, half the slack, where none was measured), which the bound gives up, so
+// that a point of the patches more than that deviation inside the sphere still counts. Tight where
+// the sphere touches a round or a boss, where the control points' hull is not; negative where the
+// face has no exact surface (or M lies on its axis, where exact_distance gives 0).
+inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr)
+{
+  const int kind = m->faceInfo[FACE_INTS * face + 8];
+  if (kind == EXACT_NONE)
+    return (real)-1;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  __global const real* e = fd + FACE_EXACT;
+  real3 g;
+  int ok;
+  const real f = exact_distance(kind, e, mr - anchor_minus(e, Ohi, Olo), &g, &ok);
+  return fabs(f) - fmax((real)0.5 * m->slack, fd[FACE_DEVIATION]);
+}
+
+// The certification of the sphere of radius t tangent at O: the deepest
+// point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
+// conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
+// segment whose control-point box reaches into the sphere is searched. 0 where none is that
+// deep: the sphere is empty up to the depth, at the patches' accuracy.
+int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
+  real depth, PointInside* st)
+{
+  st->found = 0;
+  st->edge = -1;
+  const real reach = t - depth - (real)0.25 * m->slack;
+  if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
+    return 0;
+  const int solid = scope_solid(m, ownFace);
+  const real3 mr = t * d;               // M - O
+  const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
+  st->best = reach;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const int node = stack[--top];
+    if (box_gap2(m->boxNodeBox + 6 * node, M) >= st->best * st->best)
+      continue;
+    __global const int* ni = m->boxNodeInfo + 3 * node;
+    if (ni[1] > 0)
+    {
+      for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
+      {
+        const int item = m->boxItems[i];
+        if (item < m->patchCount)
+        {
+          if (in_scope(m->faceInfo, m->patchFace[item], solid) &&
+            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best &&
+            exact_gap(m, m->patchFace[item], Ohi, Olo, mr) < st->best &&
+            patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr) < st->best)
+            certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+        }
+        else
+        {
+          const int es = item - m->patchCount;
+          const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
+          if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
+            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best &&
+            hull_gap(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr,
+              toward_hull(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr)) <
+              st->best)
+            certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+        }
+      }
+      continue;
+    }
+    if (top + 2 > 64)
+      continue; // cannot happen for a balanced tree
+    const int left = node + 1, right = ni[2];
+    const int leftFirst =
+      box_gap2(m->boxNodeBox + 6 * left, M) <= box_gap2(m->boxNodeBox + 6 * right, M);
+    stack[top++] = leftFirst ? right : left;
+    stack[top++] = leftFirst ? left : right;
+  }
+  return st->found;
+}
+
+// --- the exact finish -------------------------------------------------------------------------
+// The patches approximate an analytic face within the conversion tolerance; a contact found on
+// them is moved onto the face's exact surface (plane, cylinder, cone, sphere, torus), so that
+// the closed forms hold at the reader's default tolerance (docs/Solver.md, "Exact finish").
 
 // Two faces lie on one exact surface (a seam's face with itself, a cylinder split in halves).
 inline int same_exact_surface(const Model* m, int f0, int f1)
@@ -2616,10 +2642,6 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const int solid = scope_solid(m, ownFace);
-  // O's projection on its own trim: the edge nearest O, for the descent across it.
-  int ownSeg;
-  real ownParam, ownDist;
-  classify(m, ownFace, ownUV, &ownSeg, &ownParam, &ownDist);
   real t;
   int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
     REAL_MAX, m->delta, 0, &t);
@@ -2681,7 +2703,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     // the face across the edge nearest O; keep the smaller valid sphere (verified below).
     const Result a = descend(m, ownFace, startFace, Ohi, Olo, d, startU, startV, scale, newtonTol,
       maxIterations, maxEdgeIterations, iterations);
-    const Result b = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo, d,
+    const Result b = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo, d,
       scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
     if (b.type != CONTACT_FAILED && (a.type == CONTACT_FAILED || b.t < a.t))
       r = b;
@@ -2740,7 +2762,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
         maxEdgeIterations, iterations);
       if (again.type == CONTACT_FAILED || !(again.t < r.t * (real)(1.0 - 1e-6)))
       {
-        const Result across = descend_across_nearest_edge(m, ownFace, ownSeg, ownParam, Ohi, Olo,
+        const Result across = descend_across_nearest_edge(m, ownFace, ownUV, Ohi, Olo,
           d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations);
         if (across.type != CONTACT_FAILED)
           again = across;

@@ -130,6 +130,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     PushSplit(k.FaceDomain, { exact[0], exact[1], exact[2] });
     for (int i = 6; i < 12; ++i)
       k.FaceDomain.push_back(static_cast<T>(exact[i]));
+    k.FaceDomain.push_back(static_cast<T>(F.MaxDeviation));
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

@@ -90,7 +90,7 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
     }
     oneSolid = oneSolid && solidOf(pts[i]) == solid;
   }
-  if (oneSolid && count <= 4)
+  if (oneSolid && count <= 16)
   {
     node.First = first;
     node.Count = count;
