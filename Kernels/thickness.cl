@@ -2059,24 +2059,34 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
     {
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
       {
+        // A piece is searched only where its bounds leave room for a point that would count
+        // (consider_point, certify_edge): nearer to M than the best so far (on O's own face,
+        // also a slack deeper than the reach) and in front of O by more than the depth (the
+        // control points' farthest offset along d bounds the piece's).
         const int item = m->boxItems[i];
         if (item < m->patchCount)
         {
-          if (in_scope(m->faceInfo, m->patchFace[item], solid) &&
-            box_gap2(m->patchBoxes + 6 * item, M) < st->best * st->best &&
-            exact_gap(m, m->patchFace[item], Ohi, Olo, mr) < st->best &&
-            patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr) < st->best)
+          const int face = m->patchFace[item];
+          const real need = face == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          __global const real* c = m->patches + 48 * item;
+          const real3 a = anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo); // anchor - O
+          if (in_scope(m->faceInfo, face, solid) &&
+            box_gap2(m->patchBoxes + 6 * item, M) < need * need &&
+            -hull_gap(c, 16, a, -d) > depth && exact_gap(m, face, Ohi, Olo, mr) < need &&
+            patch_gap(m, item, a - mr) < need)
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
         else
         {
           const int es = item - m->patchCount;
-          const int f0 = m->edgeInfo[4 * m->edgeSegEdge[es] + 2];
+          const int edge = m->edgeSegEdge[es];
+          const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+          const real need = f0 == ownFace || f1 == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          __global const real* c = m->edgeSeg + 12 * es;
+          const real3 a = anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo);
           if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
-            box_gap2(m->edgeBoxes + 6 * es, M) < st->best * st->best &&
-            hull_gap(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr,
-              toward_hull(m->edgeSeg + 12 * es, 4, anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo) - mr)) <
-              st->best)
+            box_gap2(m->edgeBoxes + 6 * es, M) < need * need && -hull_gap(c, 4, a, -d) > depth &&
+            hull_gap(c, 4, a - mr, toward_hull(c, 4, a - mr)) < need)
             certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
       }
