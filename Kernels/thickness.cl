@@ -1782,13 +1782,36 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
   const int face = m->patchFace[p];
   __global const real* pd = m->patchDomain + 4 * p;
   const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+  __global const real* c = m->patches + 48 * p;
   real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
+  // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
+  // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
+  real B[5][4];
+  for (int k = 0; k <= 4; ++k)
+  {
+    const real x = (real)0.25 * (real)k, y = (real)1 - x;
+    B[k][0] = y * y * y;
+    B[k][1] = (real)3 * y * y * x;
+    B[k][2] = (real)3 * y * x * x;
+    B[k][3] = x * x * x;
+  }
   for (int i = 0; i <= 4; ++i)
+  {
+    real3 row[4];
+    for (int j = 0; j < 4; ++j)
+    {
+      row[j] = splat_real3(0);
+      for (int a = 0; a < 4; ++a)
+      {
+        const int k = (4 * a + j) * 3;
+        row[j] += B[i][a] * make_real3(c[k], c[k + 1], c[k + 2]);
+      }
+    }
     for (int j = 0; j <= 4; ++j)
     {
       const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
       const real v = pd[2] + (real)0.25 * (real)j * (pd[3] - pd[2]);
-      const real3 w = anchor + eval_patch_point(m, p, u, v);
+      const real3 w = anchor + (B[j][0] * row[0] + B[j][1] * row[1] + B[j][2] * row[2] + B[j][3] * row[3]);
       const real dd = dot(w - mr, w - mr);
       if (dd < bd)
       {
@@ -1799,6 +1822,7 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
       if (dd < st->best * st->best)
         consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
     }
+  }
   real u = bu, v = bv;
   for (int it = 0; it < 8; ++it)
   {
