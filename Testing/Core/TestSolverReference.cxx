@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -129,6 +130,90 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   for (const S1Point& p : d2.S1)
     onEdge2 += p.OnEdge;
   EXPECT_EQ(onEdge2, 0u);
+  std::remove(path.c_str());
+}
+
+namespace
+{
+/// Walks the s1 tree below `node`: every leaf's points inside every box above them, each point
+/// in one leaf; counts the faces' and the edges' points.
+void WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& faces,
+  size_t& edges, std::vector<int>& path)
+{
+  const BVHNode& n = d.Nodes[static_cast<size_t>(node)];
+  path.push_back(node);
+  if (n.Count > 0)
+  {
+    EXPECT_LE(n.Count, 16);
+    for (int i = n.First; i < n.First + n.Count; ++i)
+    {
+      ++seen[static_cast<size_t>(i)];
+      const S1Point& p = d.S1[static_cast<size_t>(i)];
+      (p.OnEdge ? edges : faces) += 1;
+      for (int a : path)
+        for (int k = 0; k < 3; ++k)
+        {
+          EXPECT_GE(p.Point[k], d.Nodes[static_cast<size_t>(a)].Min[k]);
+          EXPECT_LE(p.Point[k], d.Nodes[static_cast<size_t>(a)].Max[k]);
+        }
+    }
+  }
+  else
+  {
+    WalkS1Tree(d, node + 1, seen, faces, edges, path);
+    WalkS1Tree(d, n.Right, seen, faces, edges, path);
+  }
+  path.pop_back();
+}
+} // namespace
+
+/// The s1 tree's root splits the faces' points (left: eq. 1's starts) from the edges' (right: the
+/// verification beside the certification), on a fresh solve and on one read from a file; a tree
+/// without edge points has no split root.
+TEST(SolverData, S1TreeSplitsFacesFromEdges)
+{
+  const BRepModel m = ConvertShape(analytic::HolePlate(80, 6, 10), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const auto check = [](const SolverData& d, bool split) {
+    ASSERT_FALSE(d.Nodes.empty());
+    const BVHNode& root = d.Nodes[0];
+    EXPECT_EQ(root.First == S1SplitRoot, split);
+    std::vector<int> seen(d.S1.size(), 0), path;
+    size_t faces = 0, edges = 0;
+    if (split)
+    {
+      WalkS1Tree(d, 1, seen, faces, edges, path);
+      EXPECT_GT(faces, 0u);
+      EXPECT_EQ(edges, 0u);
+      const size_t facesLeft = faces;
+      faces = 0;
+      WalkS1Tree(d, root.Right, seen, faces, edges, path);
+      EXPECT_EQ(faces, 0u);
+      EXPECT_GT(edges, 0u);
+      faces = facesLeft;
+    }
+    else
+      WalkS1Tree(d, 0, seen, faces, edges, path);
+    EXPECT_EQ(faces + edges, d.S1.size());
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(d.S1.size()));
+  };
+  check(data, true);
+
+  const std::string path = ::testing::TempDir() + "brt_split_tree.brtsolve";
+  WriteSolve(path, m, data, SamplesFromMesh(m, data));
+  BRepModel m2;
+  SolverData d2;
+  std::vector<Sample> s2;
+  ReadSolve(path, m2, d2, s2);
+  check(d2, true);
+  // As version 1 (no edge points): one tree over the faces' points.
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(7);
+    f.put('1');
+  }
+  ReadSolve(path, m2, d2, s2);
+  check(d2, false);
   std::remove(path.c_str());
 }
 
