@@ -831,22 +831,27 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
         continue;
       if (cnt > 0)
       {
+        // Walls of other solids don't count: a leaf's points lie on one solid (brt::BVHNode),
+        // its first point's.
+        if (!in_scope(faceInfo, s1_face(s1Face, first), solid))
+          continue;
         for (int i = first; i < first + cnt; ++i)
         {
-          // Walls of other solids don't count; nor does a face already tried. Edge points
-          // (stored as ~face) only verify: they start nothing (brt::AddEdgePoints).
-          const int face = s1_face(s1Face, i);
-          if (!in_scope(faceInfo, face, solid) || face == excludeFace ||
-            (s1Face[i] < 0 && !bounded) || (edgesOnly && s1Face[i] >= 0))
+          // Nor does a face already tried. Edge points (stored as ~face) only verify: they start
+          // nothing (brt::AddEdgePoints); edgesOnly verifies with them alone.
+          const int f = s1Face[i];
+          if ((f < 0 ? !bounded : edgesOnly) || (f < 0 ? ~f : f) == excludeFace)
             continue;
           const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
-          const real dn = dot(d, w), l2 = dot(w, w);
-          if (dn <= delta + fmax((real)1e-6 * sqrt(l2), noise) || l2 <= minDist * minDist)
+          // e = d.w - delta must exceed max(1e-6 |w|, noise): squared, without a root.
+          const real e = dot(d, w) - delta, l2 = dot(w, w);
+          if (!(e > noise) || e * e <= (real)1e-12 * l2 || l2 <= minDist * minDist)
             continue;
-          const real tt = (real)0.5 * (l2 - delta * delta) / (dn - delta);
-          if (tt < t)
+          // t_delta = (l2 - delta^2) / (2 e) below t, compared without a division.
+          const real num = (real)0.5 * (l2 - delta * delta);
+          if (num < t * e)
           {
-            t = tt;
+            t = num / e;
             best = i;
           }
         }
@@ -1983,23 +1988,39 @@ inline real3 toward_hull(__global const real* c, int n, real3 a)
 }
 
 // hull_gap of patch p (a = anchor - M) along its mean normal (the cross product of its control
-// net's diagonals, turned away from M) and towards its control points' mean: the larger bound.
-inline real patch_gap(const Model* m, int p, real3 a)
+// net's diagonals, turned away from M) and towards its control points' mean: the larger bound;
+// *ahead gets the control points' farthest offset along d from O (mr = M - O), which bounds the
+// patch's. Two passes over the control points.
+inline real patch_gap(const Model* m, int p, real3 a, real3 mr, real3 d, real* ahead)
 {
   __global const real* c = m->patches + 48 * p;
+  real3 mean = splat_real3(0);
+  real far = -REAL_MAX;
+  for (int i = 0; i < 16; ++i)
+  {
+    const real3 q = make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    mean += q;
+    far = fmax(far, dot(a + mr + q, d));
+  }
+  *ahead = far;
+  mean = a + mean / (real)16;
+  const real lm = length(mean);
+  const real3 u = lm > (real)0 ? mean / lm : splat_real3(0);
   const real3 c00 = make_real3(c[0], c[1], c[2]), c03 = make_real3(c[9], c[10], c[11]);
   const real3 c30 = make_real3(c[36], c[37], c[38]), c33 = make_real3(c[45], c[46], c[47]);
   real3 n = cross(c33 - c00, c03 - c30);
   const real ln = length(n);
-  real g = hull_gap(c, 16, a, toward_hull(c, 16, a));
-  if (ln > (real)0)
+  n = ln > (real)0 ? n / ln : splat_real3(0);
+  if (dot(a + (real)0.25 * (c00 + c03 + c30 + c33), n) < (real)0)
+    n = -n;
+  real gu = REAL_MAX, gn = REAL_MAX;
+  for (int i = 0; i < 16; ++i)
   {
-    n = n / ln;
-    if (dot(a + (real)0.25 * (c00 + c03 + c30 + c33), n) < (real)0)
-      n = -n;
-    g = fmax(g, hull_gap(c, 16, a, n));
+    const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    gu = fmin(gu, dot(q, u));
+    gn = fmin(gn, dot(q, n));
   }
-  return g;
+  return ln > (real)0 ? fmax(gu, gn) : gu;
 }
 
 // Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
@@ -2109,12 +2130,13 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         {
           const int face = m->patchFace[item];
           const real need = face == ownFace ? fmin(st->best, reach - m->slack) : st->best;
-          __global const real* c = m->patches + 48 * item;
-          const real3 a = anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo); // anchor - O
+          real ahead;
           if (in_scope(m->faceInfo, face, solid) &&
             box_gap2(m->patchBoxes + 6 * item, M) < need * need &&
-            -hull_gap(c, 16, a, -d) > depth && exact_gap(m, face, Ohi, Olo, mr) < need &&
-            patch_gap(m, item, a - mr) < need)
+            exact_gap(m, face, Ohi, Olo, mr) < need &&
+            patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
+              &ahead) < need &&
+            ahead > depth)
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
         else
