@@ -815,7 +815,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       // faces (an exterior gap to infinity) visits every s1 point.
       const real3 ahead = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
       const real3 gapToBox = fmax(fmax(lo - O, splat_real3(0)), O - hi);
-      if (dot(d, ahead - O) <= delta + fmax((real)1e-6 * length(gapToBox), noise))
+      const real lead = dot(d, ahead - O) - delta; // against max(1e-6 |gap|, noise), squared
+      if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
         continue;
       if (best >= 0 || bounded)
       {
