@@ -135,6 +135,18 @@ TEST(SolverData, EdgePointsAndSolveFiles)
 
 namespace
 {
+/// Writes the model's solve file (every mesh sample) to the tests' temporary folder as `name`
+/// and reads it back into m2 and d2; returns its path.
+std::string RoundTrip(const BRepModel& m, const SolverData& data, const char* name, BRepModel& m2,
+  SolverData& d2)
+{
+  const std::string path = ::testing::TempDir() + name;
+  WriteSolve(path, m, data, SamplesFromMesh(m, data));
+  std::vector<Sample> s2;
+  ReadSolve(path, m2, d2, s2);
+  return path;
+}
+
 /// Walks the s1 tree below `node`: every leaf's points inside every box above them, each point
 /// in one leaf; counts the faces' and the edges' points.
 void WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& faces,
@@ -199,12 +211,9 @@ TEST(SolverData, S1TreeSplitsFacesFromEdges)
   };
   check(data, true);
 
-  const std::string path = ::testing::TempDir() + "brt_split_tree.brtsolve";
-  WriteSolve(path, m, data, SamplesFromMesh(m, data));
   BRepModel m2;
   SolverData d2;
-  std::vector<Sample> s2;
-  ReadSolve(path, m2, d2, s2);
+  const std::string path = RoundTrip(m, data, "brt_split_tree.brtsolve", m2, d2);
   check(d2, true);
   // As version 1 (no edge points): one tree over the faces' points.
   {
@@ -212,6 +221,7 @@ TEST(SolverData, S1TreeSplitsFacesFromEdges)
     f.seekp(7);
     f.put('1');
   }
+  std::vector<Sample> s2;
   ReadSolve(path, m2, d2, s2);
   check(d2, false);
   std::remove(path.c_str());
@@ -242,12 +252,9 @@ TEST(SolverData, VerticesJoinEdgeEnds)
   for (size_t id = 0; id < 2 * m.Edges.size(); ++id)
     EXPECT_GE(v[id], 0) << "edge end " << id << " has no vertex";
 
-  const std::string path = ::testing::TempDir() + "brt_vertices.brtsolve";
-  WriteSolve(path, m, data, SamplesFromMesh(m, data));
   BRepModel m2;
   SolverData d2;
-  std::vector<Sample> s2;
-  ReadSolve(path, m2, d2, s2);
+  const std::string path = RoundTrip(m, data, "brt_vertices.brtsolve", m2, d2);
   EXPECT_EQ(d2.VertexInfo, data.VertexInfo);
   EXPECT_EQ(m2.Tolerance, m.Tolerance);
   std::remove(path.c_str());
