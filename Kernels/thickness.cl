@@ -60,6 +60,8 @@ typedef float3 real3;
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
 // brt::PackKernelModel).
 #define FACE_REALS 20
+// Per trimming segment: its four (u, v) control points, then their box (u0, v0, u1, v1).
+#define TRIM_REALS 12
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
@@ -101,7 +103,7 @@ typedef struct
   __global const real* faceDomain;  // FACE_REALS per face
   __global const real* breaks;      // grid breakpoints
   __global const int* loops;        // first segment, count per loop
-  __global const real* trim;        // 8 per trimming segment
+  __global const real* trim;        // TRIM_REALS per trimming segment
   __global const int* trimEdge;     // edge per trimming segment (-1: degenerated)
   __global const real* trimRange;   // T0, T1 per trimming segment
   __global const int* edgeInfo;     // first segment, count, face 0, face 1 per edge
@@ -409,15 +411,8 @@ inline real2 seg_tangent(__global const real* c, real t)
 // squared distance to the curve (convex hull property).
 inline real box_distance2(__global const real* c, real2 P)
 {
-  real u0 = c[0], u1 = c[0], v0 = c[1], v1 = c[1];
-  for (int i = 1; i < 4; ++i)
-  {
-    const real u = c[2 * i], v = c[2 * i + 1];
-    u0 = u < u0 ? u : u0;
-    u1 = u > u1 ? u : u1;
-    v0 = v < v0 ? v : v0;
-    v1 = v > v1 ? v : v1;
-  }
+  // The segment's control box, packed after its control points (TRIM_REALS).
+  const real u0 = c[8], v0 = c[9], u1 = c[10], v1 = c[11];
   const real du = P.x < u0 ? u0 - P.x : (P.x > u1 ? P.x - u1 : (real)0);
   const real dv = P.y < v0 ? v0 - P.y : (P.y > v1 ? P.y - v1 : (real)0);
   return du * du + dv * dv;
@@ -432,7 +427,7 @@ inline real cross2(real2 a, real2 b)
 inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, int* bestSeg,
   real* bestT, int* bestLoop)
 {
-  __global const real* c = m->trim + 8 * s;
+  __global const real* c = m->trim + TRIM_REALS * s;
   if (!(seg_length(c) > (real)0))
     return;
   real dd;
@@ -463,7 +458,7 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
     {
-      const real b = box_distance2(m->trim + 8 * s, P);
+      const real b = box_distance2(m->trim + TRIM_REALS * s, P);
       if (b < firstBound)
       {
         firstBound = b;
@@ -480,7 +475,7 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
     for (int s = first; s < first + count; ++s)
     {
       const real bound = bestD * (real)(1 + 1e-6); // rounding must not drop a tie
-      if (s != firstSeg && !(box_distance2(m->trim + 8 * s, P) > bound * bound))
+      if (s != firstSeg && !(box_distance2(m->trim + TRIM_REALS * s, P) > bound * bound))
         nearer_segment(m, l, s, P, &bestD, &bestSeg, &bestT, &bestLoop);
     }
   }
@@ -489,7 +484,7 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   *distOut = bestD;
   if (bestSeg < 0)
     return 0;
-  __global const real* c = m->trim + 8 * bestSeg;
+  __global const real* c = m->trim + TRIM_REALS * bestSeg;
   real2 d1, d2;
   const real2 q = P - seg_point(c, bestT, &d1, &d2);
   const real endEps = (real)1e-9;
@@ -501,7 +496,7 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   for (int k = 0; k < count; ++k)
   {
     idx = (idx + dir + count) % count;
-    if (seg_length(m->trim + 8 * (first + idx)) > (real)0)
+    if (seg_length(m->trim + TRIM_REALS * (first + idx)) > (real)0)
     {
       other = first + idx;
       break;
@@ -510,13 +505,13 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   real2 ta, tb;
   if (dir < 0)
   {
-    ta = seg_tangent(m->trim + 8 * other, (real)1);
+    ta = seg_tangent(m->trim + TRIM_REALS * other, (real)1);
     tb = seg_tangent(c, (real)0);
   }
   else
   {
     ta = seg_tangent(c, (real)1);
-    tb = seg_tangent(m->trim + 8 * other, (real)0);
+    tb = seg_tangent(m->trim + TRIM_REALS * other, (real)0);
   }
   const real sa = cross2(ta, q), sb = cross2(tb, q);
   if ((sa > (real)0) == (sb > (real)0))
@@ -746,7 +741,7 @@ int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, re
       if (m->trimEdge[s] != edge || T < lo || T > hi || hi <= lo)
         continue;
       real2 d1, d2;
-      const real2 p = seg_point(m->trim + 8 * s, (T - T0) / (T1 - T0), &d1, &d2);
+      const real2 p = seg_point(m->trim + TRIM_REALS * s, (T - T0) / (T1 - T0), &d1, &d2);
       const real len = length(d1);
       *u = p.x;
       *v = p.y;
@@ -1462,7 +1457,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
     else
     {
       real dist;
-      at = project_segment(m->trim + 8 * crossing, make_real2(cur.u, cur.v), &dist);
+      at = project_segment(m->trim + TRIM_REALS * crossing, make_real2(cur.u, cur.v), &dist);
     }
     const int edge = m->trimEdge[segment];
     if (edge < 0 || m->edgeInfo[4 * edge + 1] == 0)
@@ -1711,10 +1706,10 @@ int inside_by_crossings(const Model* m, int face, real u, real v)
     for (int s = first; s < first + count; ++s)
     {
       real2 d1, d2;
-      real2 a = seg_point(m->trim + 8 * s, (real)0, &d1, &d2);
+      real2 a = seg_point(m->trim + TRIM_REALS * s, (real)0, &d1, &d2);
       for (int k = 1; k <= 16; ++k)
       {
-        const real2 b = seg_point(m->trim + 8 * s, (real)k / (real)16, &d1, &d2);
+        const real2 b = seg_point(m->trim + TRIM_REALS * s, (real)k / (real)16, &d1, &d2);
         // Half-open in v, so that a vertex on the ray counts once.
         if ((a.y > v) != (b.y > v) && a.x + (v - a.y) * (b.x - a.x) / (b.y - a.y) > u)
           inside = !inside;

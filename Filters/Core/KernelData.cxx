@@ -1,5 +1,6 @@
 #include "KernelData.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -136,7 +137,18 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });
   for (const auto& s : m.TrimSegments)
   {
+    // The control points, then their box (u0, v0, u1, v1) in the same precision (TRIM_REALS).
+    const size_t at = k.Trim.size();
     k.Trim.insert(k.Trim.end(), s.ControlPoints.begin(), s.ControlPoints.end());
+    T box[4] = { k.Trim[at], k.Trim[at + 1], k.Trim[at], k.Trim[at + 1] };
+    for (size_t i = 1; i < 4; ++i)
+    {
+      box[0] = std::min(box[0], k.Trim[at + 2 * i]);
+      box[1] = std::min(box[1], k.Trim[at + 2 * i + 1]);
+      box[2] = std::max(box[2], k.Trim[at + 2 * i]);
+      box[3] = std::max(box[3], k.Trim[at + 2 * i + 1]);
+    }
+    k.Trim.insert(k.Trim.end(), box, box + 4);
     k.TrimEdge.push_back(s.Edge);
     k.TrimRange.insert(k.TrimRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
   }
