@@ -1829,7 +1829,7 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
   // own round, which the sphere touches along the arc, took all 8 steps on most of its patches);
   // the nearest of its points is kept.
   real last = REAL_MAX, nearU = u, nearV = v;
-  for (int it = 0; it < 8; ++it)
+  for (int it = 0;; ++it)
   {
     const PatchEval e = eval_patch(m, p, u, v);
     const real3 w = anchor + e.P - mr;
@@ -1839,7 +1839,7 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
       nearU = u;
       nearV = v;
     }
-    if (!(last - dist > (real)1e-3 * m->slack))
+    if (it == 8 || !(last - dist > (real)1e-3 * m->slack)) // 8 steps, the last one measured
       break;
     last = dist;
     const real g0 = dot(e.Du, w), g1 = dot(e.Dv, w);
@@ -1917,35 +1917,31 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
     dot(C, C) <= (real)16 * tol * tol)
     return;
   // The point counts whether or not a face's trim covers T (a file whose trims fall short of
-  // their edge); the restart's start is then the middle of the first face's domain.
+  // their edge); the restart's start is then the middle of the domain of a face with patches.
   int start = -1;
   real su = 0, sv = 0;
-  for (int k = 0; k < 2 && start < 0; ++k)
+  for (int k = 0; k < 2; ++k)
   {
     const int face = k == 0 ? f0 : f1;
-    if (face < 0)
+    if (face < 0 || m->faceInfo[FACE_INTS * face + 1] * m->faceInfo[FACE_INTS * face + 2] == 0)
       continue;
-    __global const int* fi = m->faceInfo + FACE_INTS * face;
     __global const real* fd = m->faceDomain + FACE_REALS * face;
     real u, v, nu, nv;
-    if (fi[1] * fi[2] == 0)
-      continue;
-    if (!edge_point_into_face(m, face, edge, T, &u, &v, &nu, &nv))
+    if (edge_point_into_face(m, face, edge, T, &u, &v, &nu, &nv))
     {
-      if (k == 0)
-      {
-        su = (real)0.5 * (fd[0] + fd[1]);
-        sv = (real)0.5 * (fd[2] + fd[3]);
-      }
-      continue;
+      const real hair = (real)1e-6 * (fd[1] - fd[0] + fd[3] - fd[2]);
+      start = face;
+      su = u + hair * nu;
+      sv = v + hair * nv;
+      break;
     }
-    const real hair = (real)1e-6 * (fd[1] - fd[0] + fd[3] - fd[2]);
-    start = face;
-    su = u + hair * nu;
-    sv = v + hair * nv;
+    if (start < 0)
+    {
+      start = face;
+      su = (real)0.5 * (fd[0] + fd[1]);
+      sv = (real)0.5 * (fd[2] + fd[3]);
+    }
   }
-  if (start < 0)
-    start = f0 >= 0 && m->faceInfo[FACE_INTS * f0 + 1] * m->faceInfo[FACE_INTS * f0 + 2] > 0 ? f0 : -1;
   if (start < 0)
     return;
   st->best = dist;
