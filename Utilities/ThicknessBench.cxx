@@ -126,23 +126,15 @@ int main(int argc, char** argv)
     return help ? 0 : 2;
   }
 #ifdef BRT_HAVE_OPENCL
-  // The OpenCL device is opened for its own timings only: PoCL's worker threads, alive as long
-  // as its context, took a third of the native device's rate on this 2-core machine.
   std::unique_ptr<brt::OpenCLSolver> cl;
-  const auto openDevice = [&]() {
-    cl = std::make_unique<brt::OpenCLSolver>(device, useDouble);
-    cl->SetFinishOnHost(finishOnHost);
-  };
-  bool haveDevice = false;
   if (device != "none")
   {
     try
     {
-      openDevice();
-      haveDevice = true;
+      cl = std::make_unique<brt::OpenCLSolver>(device, useDouble);
+      cl->SetFinishOnHost(finishOnHost);
       std::printf("OpenCL device: %s (%s%s)\n", cl->DeviceName().c_str(), useDouble ? "double" : "float",
         useDouble ? "" : cl->FinishesOnDevice() ? ", finished on the device" : ", finished on the host");
-      cl.reset();
     }
     catch (const std::exception& e)
     {
@@ -204,9 +196,8 @@ int main(int argc, char** argv)
         refFail = FailedPercent(results, "native");
       }
 #ifdef BRT_HAVE_OPENCL
-      if (haveDevice)
+      if (cl)
       {
-        openDevice();
         cl->Upload(model, data);
         std::vector<brt::SampleResult> clResults;
         cl->Solve(model, data, options, samples, clResults); // warm-up (kernel build, transfers)
@@ -232,7 +223,6 @@ int main(int argc, char** argv)
           }
           agree = 100.0 * same / n;
         }
-        cl.reset();
       }
 #endif
       std::printf("%-32s %8zu %8zu %8d %12.0f %7.3f%% %12.0f %7.3f%% %7.2f%% %9.1f %9.1f\n", name,
