@@ -2707,9 +2707,24 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const int solid = scope_solid(m, ownFace);
+  // O on a cylinder, sphere or torus, on its convex side: its own face's points give no start.
+  // Such a face touches a sphere tangent at O nowhere else below the sphere across its axis,
+  // centre or core circle, which the closed form gives after the solve (self_contact_radius);
+  // eq. 4 from them wanders and stops unconverged (a third of the ExpansionCard's samples did,
+  // before the best start on another face was tried). The verification and the certification
+  // still count the face's points.
+  int notStart = -1;
+  if (!(m->mode & MODE_EXTERIOR))
+  {
+    __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
+    real tc;
+    if (self_contact_radius(faceInfo[FACE_INTS * ownFace + 8], e, -anchor_minus(e, Ohi, Olo), d,
+          m->slack, &tc))
+      notStart = ownFace;
+  }
   real t;
-  int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, -1, scale,
-    REAL_MAX, m->delta, 0, &t);
+  int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, notStart,
+    scale, REAL_MAX, m->delta, 0, &t);
   Result r = no_result();
   // The gap: where no s1 point lies in front of O, or even the first sphere (eq. 1 over s1, an
   // upper bound of the maximal one) is wider than the model's diagonal, and the sphere of that
