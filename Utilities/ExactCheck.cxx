@@ -64,7 +64,8 @@ const char* const Usage =
   "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
   "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n"
   "--indices I,J,...: those samples (indices into every mesh vertex, as brt_thickness_bench\n"
-  "--counts 0 numbers them) instead of a random draw.\n";
+  "--counts 0 numbers them) instead of a random draw; with --thickness, each failed one also\n"
+  "gets its exact thickness.\n";
 }
 
 int main(int argc, char** argv)
@@ -362,10 +363,13 @@ int main(int argc, char** argv)
       for (size_t k = 0; k < samples.size() && checked < exactCount; ++k)
       {
         const brt::SampleResult& r = res[k];
-        if (r.Type == brt::ContactType::Failed || r.Type == brt::ContactType::OtherSolid)
+        const bool failedHere = r.Type == brt::ContactType::Failed;
+        if (r.Type == brt::ContactType::OtherSolid || (failedHere && indices.empty()))
           continue;
         const TopoDS_Shape& own = bounding(samples[k]);
         double lo = 0.0, hi = std::max(2.0 * r.Radius, 1e-6);
+        if (failedHere)
+          hi = 1e-3 * data.Scale;
         while (nearest(own, samples[k], hi, nullptr) >= -delta && hi < 1e4)
           hi *= 2.0;
         for (int it = 0; it < 60 && hi - lo > 1e-10 * hi; ++it)
@@ -415,6 +419,15 @@ int main(int argc, char** argv)
         // ball (what the exact finish reports on analytic faces). They differ by up to
         // delta^2 / (2 t) and, where a file's faces step by about 1e-4 along a flat arc, more:
         // a sample agrees when it matches either.
+        if (failedHere)
+        {
+          // A failed sample: what it should have been (--indices only).
+          std::printf("    sample %zu (face %d at %.6g %.6g %.6g): failed (%s), exact 2t = %.6g "
+                      "(clearance's sphere %.6g)\n",
+            pick[k], samples[k].Face, samples[k].Point[0], samples[k].Point[1],
+            samples[k].Point[2], brt::FailReasonName(r.Reason), exact, clearanceValue[k]);
+          continue;
+        }
         const double relC = std::fabs(r.Thickness - clearanceValue[k]) / std::max(clearanceValue[k], 1e-12);
         const double relS = std::fabs(r.Thickness - exact) / std::max(exact, 1e-12);
         ++checked;
