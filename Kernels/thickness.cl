@@ -2761,6 +2761,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     return r;
   }
   const int fromCertification = best < 0;
+  const real firstT = t;
   r = solve_from(m, ownFace, Ohi, Olo, d, startFace, startU, startV, t, scale, stepTol, newtonTol,
     maxIterations, maxEdgeIterations, iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
@@ -2789,12 +2790,15 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       r = b;
     else if (a.type != CONTACT_FAILED)
       r = a;
-    if (r.type == CONTACT_FAILED && fromCertification)
+    if (r.type == CONTACT_FAILED)
     {
-      // The gap's start came from the certification (no s1 point in front): the shrinking ball
-      // instead, from the sphere of the model's diagonal that found it.
+      // No Newton or descent converged (a wall touched along an arc, a start the Newtons cycle
+      // around): the shrinking ball instead, from eq. 1's sphere over s1 (an upper bound of the
+      // maximal one: it holds no s1 point deeper than the clearance), or for the gap whose start
+      // came from the certification (no s1 point in front), from the sphere of the model's
+      // diagonal that found it.
       Result s = no_result();
-      s.t = scale;
+      s.t = fromCertification ? scale : firstT;
       if (shrink_ball(m, ownFace, Ohi, Olo, d, fmax(m->delta, m->slack), &s))
         r = s;
     }
