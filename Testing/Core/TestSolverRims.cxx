@@ -238,4 +238,48 @@ TEST(SolverExact, CornerNarrowerThanTheGrid)
     EXPECT_LE(overlap, allowed) << k;
   }
 }
+/// Five samples of the FRAMEWORK tile at a pin's root, where the drafted top face reaches 1.5 um
+/// past the pin's round (an edge of file tolerance 2.2e-3): the surface Newton's contact lies on
+/// the round's outer side and every descent fails, so the sample was flagged LeftModel. The
+/// shrinking ball from eq. 1's first sphere solves it (docs/Solver.md, items 8 and 14). Against
+/// OpenCASCADE: the sphere holds no exact face deeper than the allowance, and one half as wide
+/// again (plus five tolerances) does: it is the maximal sphere at the tolerance's scale, not a
+/// small empty one.
+TEST(SolverExact, ShrinkingBallWhereNothingConverges)
+{
+  std::vector<TopoDS_Face> faces;
+  const BRepModel m = ConvertStepFile(
+    test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
+  TopoDS_Compound all;
+  BRep_Builder b;
+  b.MakeCompound(all);
+  for (const TopoDS_Face& f : faces)
+    b.Add(all, f);
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> mesh = SamplesFromMesh(m, data);
+  ASSERT_EQ(mesh.size(), 54779u); // the sample numbering this test was written for
+  const std::vector<size_t> ids{ 47116, 47117, 47118, 47131, 47132 };
+  std::vector<Sample> samples;
+  for (size_t i : ids)
+    samples.push_back(mesh[i]);
+  std::vector<SampleResult> res;
+  SolveReference(m, data, options, samples, res);
+  const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
+  for (size_t k = 0; k < samples.size(); ++k)
+  {
+    ASSERT_NE(res[k].Type, ContactType::Failed) << ids[k] << ": " << FailReasonName(res[k].Reason);
+    const double overlap = res[k].Radius - BoundaryDistance(all, res[k].Center);
+    const double wider = 1.5 * res[k].Radius + 5.0 * m.Tolerance;
+    std::array<double, 3> c;
+    for (int i = 0; i < 3; ++i)
+      c[i] = samples[k].Point[i] + wider * samples[k].Direction[i];
+    const double overlapWider = wider - BoundaryDistance(all, c);
+    std::printf("[shrink] sample %zu: 2t = %.6g, %.3g into the exact faces; 2t = %.6g: %.3g\n",
+      ids[k], res[k].Thickness, overlap, 2.0 * wider, overlapWider);
+    EXPECT_LE(overlap, allowed) << ids[k];
+    EXPECT_GT(overlapWider, allowed) << ids[k];
+  }
+}
+
 } // namespace
