@@ -207,27 +207,44 @@ TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
   }
 }
 
+/// The FRAMEWORK tile at the default settings: the model, its exact faces in one compound, the
+/// solver's data and the mesh samples (every vertex, the numbering the tests below use).
+struct Tile
+{
+  BRepModel Model;
+  TopoDS_Compound Faces;
+  SolverData Data;
+  std::vector<Sample> Mesh;
+};
+
+Tile LoadTile()
+{
+  Tile tile;
+  std::vector<TopoDS_Face> faces;
+  tile.Model = ConvertStepFile(
+    test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
+  BRep_Builder b;
+  b.MakeCompound(tile.Faces);
+  for (const TopoDS_Face& f : faces)
+    b.Add(tile.Faces, f);
+  tile.Data = PrepareSolver(tile.Model, SolverOptions());
+  tile.Mesh = SamplesFromMesh(tile.Model, tile.Data);
+  return tile;
+}
+
 /// Two samples of the FRAMEWORK tile whose spheres (2t = 0.726 and 1.221) cut 0.009 and 0.011 mm
 /// into a convex corner of the part over less than one s1 spacing, between the patch grid's
 /// points, so the verification passed them (the exact spheres are 2t = 0.596 and 1.210, touching
 /// that corner's edge). The points along the edges (brt::AddEdgePoints) expose such corners.
 TEST(SolverExact, CornerNarrowerThanTheGrid)
 {
-  std::vector<TopoDS_Face> faces;
-  const BRepModel m = ConvertStepFile(
-    test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
-  TopoDS_Compound all;
-  BRep_Builder b;
-  b.MakeCompound(all);
-  for (const TopoDS_Face& f : faces)
-    b.Add(all, f);
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> mesh = SamplesFromMesh(m, data);
-  ASSERT_EQ(mesh.size(), 54779u); // the sample numbering this test was written for
-  const std::vector<Sample> samples{ mesh[37264], mesh[38352] };
+  const Tile tile = LoadTile();
+  const BRepModel& m = tile.Model;
+  const TopoDS_Compound& all = tile.Faces;
+  ASSERT_EQ(tile.Mesh.size(), 54779u); // the sample numbering this test was written for
+  const std::vector<Sample> samples{ tile.Mesh[37264], tile.Mesh[38352] };
   std::vector<SampleResult> res;
-  SolveReference(m, data, options, samples, res);
+  SolveReference(m, tile.Data, SolverOptions(), samples, res);
   const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
   for (size_t k = 0; k < samples.size(); ++k)
   {
@@ -247,24 +264,16 @@ TEST(SolverExact, CornerNarrowerThanTheGrid)
 /// small empty one.
 TEST(SolverExact, ShrinkingBallWhereNothingConverges)
 {
-  std::vector<TopoDS_Face> faces;
-  const BRepModel m = ConvertStepFile(
-    test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions(), &faces);
-  TopoDS_Compound all;
-  BRep_Builder b;
-  b.MakeCompound(all);
-  for (const TopoDS_Face& f : faces)
-    b.Add(all, f);
-  SolverOptions options;
-  const SolverData data = PrepareSolver(m, options);
-  const std::vector<Sample> mesh = SamplesFromMesh(m, data);
-  ASSERT_EQ(mesh.size(), 54779u); // the sample numbering this test was written for
+  const Tile tile = LoadTile();
+  const BRepModel& m = tile.Model;
+  const TopoDS_Compound& all = tile.Faces;
+  ASSERT_EQ(tile.Mesh.size(), 54779u); // the sample numbering this test was written for
   const std::vector<size_t> ids{ 47116, 47117, 47118, 47131, 47132 };
   std::vector<Sample> samples;
   for (size_t i : ids)
-    samples.push_back(mesh[i]);
+    samples.push_back(tile.Mesh[i]);
   std::vector<SampleResult> res;
-  SolveReference(m, data, options, samples, res);
+  SolveReference(m, tile.Data, SolverOptions(), samples, res);
   const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
   for (size_t k = 0; k < samples.size(); ++k)
   {
