@@ -16,7 +16,8 @@
 // exact faces enters deeper than the clearance, by bisection on t with OpenCASCADE's distance
 // from the centre to the solid's faces (as Testing/Core/TestSolverRims.cxx does), reported as
 // eq. 1's radius through the exact foot point; printed: the share of them within 1e-4 relative
-// of ours, and the largest differences. With --gap the same for the exterior gap (the sphere from
+// of ours, and the largest differences. With --indices, a failed sample gets its exact thickness
+// too (what it should have been). With --gap the same for the exterior gap (the sphere from
 // the outward normal, in the air; --all-solids: bounded by every solid's faces): the overlap is
 // measured against the faces that bound it, --thickness M checks M gaps by the same bisection,
 // and every sample the solver finds facing nothing (an infinite gap) is checked: its exact
