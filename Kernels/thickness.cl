@@ -1274,10 +1274,15 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
       const real un = wrap_param(cur.u + f * s0, fd[0], fd[4]);
       const real vn = wrap_param(cur.v + f * s1, fd[2], fd[5]);
       const real uc = clamp(un, fd[0], fd[1]), vc = clamp(vn, fd[2], fd[3]);
+      const int outsideDomain = uc != un || vc != vn;
+      // A step past the domain is halved again; the trim test only names the first crossing
+      // (most steps of a descent along the domain's border end here, each a trim test before).
+      if (outsideDomain && *crossing >= 0)
+        continue;
       int seg;
       real param, dist;
       const int inside = classify(m, face, make_real2(uc, vc), &seg, &param, &dist);
-      if (!(inside || dist <= fd[6]) || uc != un || vc != vn)
+      if (!(inside || dist <= fd[6]) || outsideDomain)
       {
         if (*crossing < 0)
           *crossing = seg; // the first (longest) step that left the face
