@@ -1757,6 +1757,12 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
   const real dist = length(w - mr);
   if (!(dist < st->best))
     return;
+  // The cheap tests first, then the trim test.
+  const real dn = dot(d, w);
+  const real tol = (real)0.5 * m->slack;
+  if (!(dn > depth) || (face == ownFace && !(dist < reach - (real)2 * tol)) ||
+    dot(w, w) <= (real)16 * tol * tol)
+    return;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
   int seg;
   real param, trimDist;
@@ -1764,11 +1770,6 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
   // misjudge a point equidistant from several parts of a loop (seen at a face's UV corner).
   if (!classify(m, face, make_real2(u, v), &seg, &param, &trimDist) ||
     (trimDist > (real)1e-3 * (fd[1] - fd[0] + fd[3] - fd[2]) && !inside_by_crossings(m, face, u, v)))
-    return;
-  const real dn = dot(d, w);
-  const real tol = (real)0.5 * m->slack;
-  if (!(dn > depth) || (face == ownFace && !(dist < reach - (real)2 * tol)) ||
-    dot(w, w) <= (real)16 * tol * tol)
     return;
   st->best = dist;
   st->found = 1;
