@@ -2106,13 +2106,18 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   const real3 mr = t * d;               // M - O
   const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
   st->best = reach;
+  // Each entry keeps its box's squared gap from M (M does not move during the query; only the
+  // best distance shrinks): tested again when popped, without computing it twice.
   int stack[64];
+  real stackGap[64];
   int top = 0;
-  stack[top++] = 0;
+  stack[top] = 0;
+  stackGap[top++] = box_gap2(m->boxNodeBox, M);
   while (top > 0)
   {
-    const int node = stack[--top];
-    if (box_gap2(m->boxNodeBox + 6 * node, M) >= st->best * st->best)
+    --top;
+    const int node = stack[top];
+    if (stackGap[top] >= st->best * st->best)
       continue;
     __global const int* ni = m->boxNodeInfo + 3 * node;
     if (ni[1] > 0)
@@ -2156,10 +2161,12 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
     if (top + 2 > 64)
       continue; // cannot happen for a balanced tree
     const int left = node + 1, right = ni[2];
-    const int leftFirst =
-      box_gap2(m->boxNodeBox + 6 * left, M) <= box_gap2(m->boxNodeBox + 6 * right, M);
-    stack[top++] = leftFirst ? right : left;
-    stack[top++] = leftFirst ? left : right;
+    const real gl = box_gap2(m->boxNodeBox + 6 * left, M), gr = box_gap2(m->boxNodeBox + 6 * right, M);
+    const int leftFirst = gl <= gr;
+    stack[top] = leftFirst ? right : left;
+    stackGap[top++] = leftFirst ? gr : gl;
+    stack[top] = leftFirst ? left : right;
+    stackGap[top++] = leftFirst ? gl : gr;
   }
   return st->found;
 }
