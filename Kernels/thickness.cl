@@ -2107,9 +2107,10 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   const real3 M = Ohi + Olo + mr;       // M relative to the model's centre, for the boxes
   st->best = reach;
   // Each entry keeps its box's squared gap from M (M does not move during the query; only the
-  // best distance shrinks): tested again when popped, without computing it twice.
-  int stack[64];
-  real stackGap[64];
+  // best distance shrinks): tested again when popped, without computing it twice. The tree is
+  // balanced (median splits), so 32 entries hold a walk over up to 2^31 leaves.
+  int stack[32];
+  real stackGap[32];
   int top = 0;
   stack[top] = 0;
   stackGap[top++] = box_gap2(m->boxNodeBox, M);
@@ -2158,7 +2159,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
       }
       continue;
     }
-    if (top + 2 > 64)
+    if (top + 2 > 32)
       continue; // cannot happen for a balanced tree
     const int left = node + 1, right = ni[2];
     const real gl = box_gap2(m->boxNodeBox + 6 * left, M), gr = box_gap2(m->boxNodeBox + 6 * right, M);
