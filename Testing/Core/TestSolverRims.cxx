@@ -255,6 +255,7 @@ TEST(SolverExact, CornerNarrowerThanTheGrid)
     EXPECT_LE(overlap, allowed) << k;
   }
 }
+
 /// Five samples of the FRAMEWORK tile at a pin's root, where the drafted top face reaches 1.5 um
 /// past the pin's round (an edge of file tolerance 2.2e-3): the surface Newton's contact lies on
 /// the round's outer side and every descent fails, so the sample was flagged LeftModel. The
@@ -290,5 +291,4 @@ TEST(SolverExact, ShrinkingBallWhereNothingConverges)
     EXPECT_GT(overlapWider, allowed) << ids[k];
   }
 }
-
 } // namespace
