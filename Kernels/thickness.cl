@@ -2694,8 +2694,12 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
         c.param = make_real2(last.u, last.v);
       }
       // A contact on O's own face next to O is the trivial or an osculating solution, not a
-      // wall (as for Newton's contacts).
-      if (shallow_own_face_contact(m, ownFace, c.face, c.foot, d, sphere_radius(d, c.foot, (real)0)))
+      // wall (as for Newton's contacts). On an edge only O itself is (as for eq. 7's contacts):
+      // an edge of O's own face that rises into the sphere, however shallow, is its curve
+      // standing off the face (the file's tolerance), geometry the sphere must not hold.
+      if (c.edge >= 0 ? edge_at_sample(m, ownFace, c.edge, c.foot)
+                      : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
+                          sphere_radius(d, c.foot, (real)0)))
         return 0;
       *r = c;
       return 1;
@@ -2705,6 +2709,64 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
     step = t - st.t;
     t = st.t;
     last = st;
+  }
+  return 0;
+}
+
+// The last resort of a sphere no restart shrinks: the shrinking ball through the deepest point
+// of the faces, then through the edges' s1 points still inside it. Such a point lies on an edge
+// near O where the certification counts nothing (an edge whose curve the file lets stray from
+// its face by more than the conversion tolerance, up to 1.5e-3 mm on the ExpansionCard), and no
+// Newton from a face reaches it: the sphere is then bounded by the edge's curve itself, at the
+// minimum of eq. 1 along the edge from that point (eq. 7's contact where it converges).
+// Each sphere lies inside the one before (tangent at O, smaller), so what the certification
+// cleared stays clear. 1 with r the settled sphere; 0 where it does not settle (NotMaximal).
+int settle_on_edge_points(const Model* m, __global const real* s1Point,
+  __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
+  __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  real newtonTol, int maxEdgeIterations, int* iterations, Result* r)
+{
+  const real depth = fmax(m->delta, m->slack);
+  const int solid = scope_solid(m, ownFace);
+  PointInside inside;
+  if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
+    !shrink_ball(m, ownFace, Ohi, Olo, d, depth, r))
+    return 0;
+  for (int k = 0; k < 4; ++k)
+  {
+    real t;
+    const int best = verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, Ohi + Olo, d, solid, scale,
+      r->t, depth, &t);
+    if (best < 0)
+      return 1;
+    if (s1Face[best] >= 0)
+      return 0; // a face's point: the certification's to find, not this rescue's
+    const int face = ~s1Face[best];
+    int seg;
+    real param, dist;
+    classify(m, face, make_real2(s1UV[2 * best], s1UV[2 * best + 1]), &seg, &param, &dist);
+    if (seg < 0 || m->trimEdge[seg] < 0)
+      return 0;
+    const int edge = m->trimEdge[seg];
+    const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+    const EdgeMinimum em = minimise_on_edge(m, edge, T, Ohi, Olo, d, scale, maxEdgeIterations,
+      iterations);
+    if (!(em.t < r->t) || !(em.t > (real)0))
+      return 0;
+    Result c = edge_contact(m, ownFace, face, edge, &em, d, newtonTol);
+    if (c.type == CONTACT_FAILED)
+    {
+      // Not converged or next to O: the minimum is still a point of the edge on the sphere.
+      c = no_result();
+      c.type = em.atEnd || at_edge_end(m, edge, em.T) ? CONTACT_SURFACE_VERTEX
+                                                      : CONTACT_SURFACE_EDGE;
+      c.face = face;
+      c.edge = edge;
+      c.t = em.t;
+      c.foot = em.C;
+      c.param = make_real2(em.T, 0);
+    }
+    *r = c;
   }
   return 0;
 }
@@ -2870,8 +2932,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     {
       // No Newton or descent shrinks the sphere from the point inside: shrink it through the
       // deepest point of the faces instead (the shrinking ball), then check s1 once more.
-      if (shrink_ball(m, ownFace, Ohi, Olo, d, depth, &r) &&
-        verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, O, d, solid, scale, r.t, depth, &t) < 0)
+      if (settle_on_edge_points(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, Ohi, Olo,
+            d, scale, newtonTol, maxEdgeIterations, iterations, &r))
         break;
       r.type = CONTACT_FAILED;
       r.reason = FAIL_NOT_MAXIMAL;
