@@ -2714,24 +2714,37 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
 }
 
 // The last resort of a sphere no restart shrinks: the shrinking ball through the deepest point
-// of the faces, then through the edges' s1 points still inside it. Such a point lies on an edge
+// of the faces (where it ends on a shallow point of O's own face, item 10's osculating case, the
+// descent on that face from the first point inside instead, as the descent fallback would),
+// then through the edges' s1 points still inside it. Such a point lies on an edge
 // near O where the certification counts nothing (an edge whose curve the file lets stray from
 // its face by more than the conversion tolerance, up to 1.5e-3 mm on the ExpansionCard), and no
 // Newton from a face reaches it: the sphere is then bounded by the edge's curve itself, at the
 // minimum of eq. 1 along the edge from that point (eq. 7's contact where it converges).
 // Each sphere lies inside the one before (tangent at O, smaller), so what the certification
 // cleared stays clear. 1 with r the settled sphere; 0 where it does not settle (NotMaximal).
-int settle_on_edge_points(const Model* m, __global const real* s1Point,
+int settle_not_maximal(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
-  real newtonTol, int maxEdgeIterations, int* iterations, Result* r)
+  real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
   const real depth = fmax(m->delta, m->slack);
   const int solid = scope_solid(m, ownFace);
   PointInside inside;
   if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
     !shrink_ball(m, ownFace, Ohi, Olo, d, depth, r))
-    return 0;
+  {
+    if (inside.edge >= 0 || inside.face != ownFace)
+      return 0;
+    const Result dr = descend(m, ownFace, ownFace, Ohi, Olo, d, inside.u, inside.v, scale,
+      newtonTol, maxIterations, maxEdgeIterations, iterations);
+    if (dr.type == CONTACT_FAILED || !(dr.t < r->t))
+      return 0;
+    PointInside again;
+    if (find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again))
+      return 0;
+    *r = dr;
+  }
   for (int k = 0; k < 4; ++k)
   {
     real t;
@@ -2932,8 +2945,8 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     {
       // No Newton or descent shrinks the sphere from the point inside: shrink it through the
       // deepest point of the faces instead (the shrinking ball), then check s1 once more.
-      if (settle_on_edge_points(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, Ohi, Olo,
-            d, scale, newtonTol, maxEdgeIterations, iterations, &r))
+      if (settle_not_maximal(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, Ohi, Olo,
+            d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations, &r))
         break;
       r.type = CONTACT_FAILED;
       r.reason = FAIL_NOT_MAXIMAL;
