@@ -242,8 +242,10 @@ struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
   bool Double = false; ///< the precision asked for
-  /// The model's buffers (kernel arguments 0..27), per precision: [0] float, [1] double.
-  static constexpr int ModelBuffers = 28;
+  /// The model's buffers (kernel arguments 0..30), per precision: [0] float, [1] double; the
+  /// launch's arguments follow them (LAUNCH_PARAMS in thickness.cl), then the outputs.
+  static constexpr int ModelBuffers = 31;
+  static constexpr int LaunchArg = ModelBuffers, OutArg = ModelBuffers + 13;
   Buffer Model[2][ModelBuffers];
   int PatchCount = 0;
   bool HasBoxes = false;
@@ -398,6 +400,9 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   b[25].Write(ctx, q, k.BoxNodeBox);
   b[26].Write(ctx, q, k.BoxNodeInfo);
   b[27].Write(ctx, q, k.BoxItems);
+  b[28].Write(ctx, q, k.TrimNodeBox);
+  b[29].Write(ctx, q, k.TrimNodeInfo);
+  b[30].Write(ctx, q, k.TrimItems);
   PatchCount = static_cast<int>(m.Patches.size());
   HasBoxes = k.HasBoxes();
   Check(clFinish(q), "clFinish");
@@ -410,31 +415,31 @@ void OpenCLSolver::Impl::SetArgs(cl_kernel k, int set, const Buffer& samples, in
     Check(clSetKernelArg(k, a, sizeof(cl_mem), &Model[set][a].Mem), "clSetKernelArg");
   const cl_int n = count, maxIt = ks.MaxIterations, maxEdgeIt = ks.MaxEdgeIterations,
                patchCount = PatchCount, mode = ks.Mode(HasBoxes);
-  Check(clSetKernelArg(k, 28, sizeof(cl_mem), &samples.Mem), "clSetKernelArg");
-  Check(clSetKernelArg(k, 29, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
-  Check(clSetKernelArg(k, 30, sizeof(cl_int), &n), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg, sizeof(cl_mem), &samples.Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 1, sizeof(cl_mem), &SampleFace.Mem), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 2, sizeof(cl_int), &n), "clSetKernelArg");
   const double reals[] = { ks.Scale, ks.StepTol, ks.NewtonTol, ks.Slack, ks.Clearance };
   for (cl_uint a = 0; a < 5; ++a)
   {
     if (asDouble)
-      Check(clSetKernelArg(k, 31 + a, sizeof(double), &reals[a]), "clSetKernelArg");
+      Check(clSetKernelArg(k, LaunchArg + 3 + a, sizeof(double), &reals[a]), "clSetKernelArg");
     else
     {
       const float f = static_cast<float>(reals[a]);
-      Check(clSetKernelArg(k, 31 + a, sizeof(float), &f), "clSetKernelArg");
+      Check(clSetKernelArg(k, LaunchArg + 3 + a, sizeof(float), &f), "clSetKernelArg");
     }
   }
-  Check(clSetKernelArg(k, 36, sizeof(cl_int), &maxIt), "clSetKernelArg");
-  Check(clSetKernelArg(k, 37, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 8, sizeof(cl_int), &maxIt), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 9, sizeof(cl_int), &maxEdgeIt), "clSetKernelArg");
   if (asDouble)
-    Check(clSetKernelArg(k, 38, sizeof(double), &ks.S1Spacing), "clSetKernelArg");
+    Check(clSetKernelArg(k, LaunchArg + 10, sizeof(double), &ks.S1Spacing), "clSetKernelArg");
   else
   {
     const float f = static_cast<float>(ks.S1Spacing);
-    Check(clSetKernelArg(k, 38, sizeof(float), &f), "clSetKernelArg");
+    Check(clSetKernelArg(k, LaunchArg + 10, sizeof(float), &f), "clSetKernelArg");
   }
-  Check(clSetKernelArg(k, 39, sizeof(cl_int), &patchCount), "clSetKernelArg");
-  Check(clSetKernelArg(k, 40, sizeof(cl_int), &mode), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 11, sizeof(cl_int), &patchCount), "clSetKernelArg");
+  Check(clSetKernelArg(k, LaunchArg + 12, sizeof(cl_int), &mode), "clSetKernelArg");
 }
 
 template <class T>
@@ -516,8 +521,8 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
-    Check(clSetKernelArg(k, 41, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 42, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg + 1, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
       "clEnqueueNDRangeKernel");
     if (finish)
@@ -526,11 +531,11 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
       Check(clEnqueueWriteBuffer(q, Samples[1].Mem, CL_FALSE, 0, n * SampleReals * sizeof(double), in64.data(), 0, nullptr, nullptr),
         "clEnqueueWriteBuffer");
       SetArgs(f, 1, Samples[1], static_cast<int>(n), ks64, true);
-      Check(clSetKernelArg(f, 41, sizeof(cl_mem), &OutReal[0].Mem), "clSetKernelArg");
-      Check(clSetKernelArg(f, 42, sizeof(cl_mem), &OutInt[0].Mem), "clSetKernelArg");
-      Check(clSetKernelArg(f, 43, sizeof(cl_mem), &OutReal[1].Mem), "clSetKernelArg");
-      Check(clSetKernelArg(f, 44, sizeof(cl_mem), &OutInt[1].Mem), "clSetKernelArg");
-      Check(clSetKernelArg(f, 45, sizeof(cl_mem), &Redo.Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, OutArg, sizeof(cl_mem), &OutReal[0].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, OutArg + 1, sizeof(cl_mem), &OutInt[0].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, OutArg + 2, sizeof(cl_mem), &OutReal[1].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, OutArg + 3, sizeof(cl_mem), &OutInt[1].Mem), "clSetKernelArg");
+      Check(clSetKernelArg(f, OutArg + 4, sizeof(cl_mem), &Redo.Mem), "clSetKernelArg");
       Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &global, &local, 0, nullptr, nullptr),
         "clEnqueueNDRangeKernel");
       Check(clEnqueueReadBuffer(q, OutReal[1].Mem, CL_FALSE, 0, n * OutReals * sizeof(double), outR64.data(), 0, nullptr, nullptr),
@@ -595,8 +600,8 @@ void OpenCLSolver::Impl::RayAs(const BRepModel& model, const SolverData& data,
     const size_t n = std::min(chunk, samples.size() - first);
     WriteChunk(data, samples, [first](size_t i) { return first + i; }, n, in, faces);
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
-    Check(clSetKernelArg(k, 41, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
-    Check(clSetKernelArg(k, 42, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg + 1, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),

@@ -53,8 +53,9 @@ typedef float3 real3;
 
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid, the
-// kind of its exact surface (EXACT_*).
-#define FACE_INTS 9
+// kind of its exact surface (EXACT_*), the root of its trimming segments' tree (-1: none;
+// brt::PackTrimTrees).
+#define FACE_INTS 10
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
@@ -82,7 +83,7 @@ typedef float3 real3;
 // Per result: type, reason, face, patch, edge, iterations, exact pass (0 or 1).
 #define OUT_INTS 7
 
-// Model::mode, the launch argument 40 (brt::KernelScalars).
+// Model::mode, the launch argument 43 (brt::KernelScalars).
 #define MODE_CERTIFY 1    // certify every sphere against the patches (needs a box node)
 #define MODE_EXTERIOR 2   // the gap: d is the outward normal, the sphere lies in the air and
                           // touches faces from their outer side (brt::SolverOptions::Exterior)
@@ -106,6 +107,12 @@ typedef struct
   __global const real* trim;        // TRIM_REALS per trimming segment
   __global const int* trimEdge;     // edge per trimming segment (-1: degenerated)
   __global const real* trimRange;   // T0, T1 per trimming segment
+  // Per face with many trimming segments, their BVH in (u, v) (FACE_INTS slot 9 its root): the
+  // boxes (u0, v0, u1, v1 per node), (first, count, right) per node (the left child next to its
+  // parent), and the leaves' (segment, loop) pairs from first.
+  __global const real* trimNodeBox;
+  __global const int* trimNodeInfo;
+  __global const int* trimItems;
   __global const int* edgeInfo;     // first segment, count, face 0, face 1 per edge
   __global const real* edgeRange;   // T0, T1 per edge
   __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
@@ -407,15 +414,20 @@ inline real2 seg_tangent(__global const real* c, real t)
   return make_real2(c[6] - c[0], c[7] - c[1]);
 }
 
+// Squared distance from P to the box b (u0, v0, u1, v1).
+inline real uv_box_gap2(__global const real* b, real2 P)
+{
+  const real du = P.x < b[0] ? b[0] - P.x : (P.x > b[2] ? P.x - b[2] : (real)0);
+  const real dv = P.y < b[1] ? b[1] - P.y : (P.y > b[3] ? P.y - b[3] : (real)0);
+  return du * du + dv * dv;
+}
+
 // Squared distance from P to the box of a segment's control points: a lower bound on the
-// squared distance to the curve (convex hull property).
+// squared distance to the curve (convex hull property). The box is packed after the control
+// points (TRIM_REALS).
 inline real box_distance2(__global const real* c, real2 P)
 {
-  // The segment's control box, packed after its control points (TRIM_REALS).
-  const real u0 = c[8], v0 = c[9], u1 = c[10], v1 = c[11];
-  const real du = P.x < u0 ? u0 - P.x : (P.x > u1 ? P.x - u1 : (real)0);
-  const real dv = P.y < v0 ? v0 - P.y : (P.y > v1 ? P.y - v1 : (real)0);
-  return du * du + dv * dv;
+  return uv_box_gap2(c + 8, P);
 }
 
 inline real cross2(real2 a, real2 b)
@@ -450,9 +462,44 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   int bestSeg = -1, bestLoop = -1;
   real bestT = 0;
   // Nearest segment, ties to the lowest index; a segment whose control box is farther than the
-  // best distance so far is not projected: first the nearest box, then the others in order.
+  // best distance so far is not projected (rounding must not drop a tie: the bound is a little
+  // wider). A face with a tree walks it nearest box first; the others take the nearest box
+  // first, then the rest in order. Either way the same segment comes out.
   int firstSeg = -1, firstLoop = -1;
   real firstBound = REAL_MAX;
+  if (fi[9] >= 0)
+  {
+    int stack[32];
+    int top = 0;
+    stack[top++] = fi[9];
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      const real bound = bestD * (real)(1 + 1e-6);
+      if (uv_box_gap2(m->trimNodeBox + 4 * n, P) > bound * bound)
+        continue;
+      __global const int* ni = m->trimNodeInfo + 3 * n;
+      if (ni[1] > 0)
+      {
+        for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
+        {
+          const int s = m->trimItems[2 * i];
+          const real b = bestD * (real)(1 + 1e-6);
+          if (!(box_distance2(m->trim + TRIM_REALS * s, P) > b * b))
+            nearer_segment(m, m->trimItems[2 * i + 1], s, P, &bestD, &bestSeg, &bestT, &bestLoop);
+        }
+        continue;
+      }
+      const int left = n + 1, right = ni[2];
+      const int leftFirst = uv_box_gap2(m->trimNodeBox + 4 * left, P) <=
+        uv_box_gap2(m->trimNodeBox + 4 * right, P);
+      if (top + 2 > 32)
+        continue; // never: the tree is balanced (depth 31 holds 2^31 leaves)
+      stack[top++] = leftFirst ? right : left;
+      stack[top++] = leftFirst ? left : right;
+    }
+  }
+  else
   for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
   {
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
@@ -3150,7 +3197,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
 }
 
 #ifdef __OPENCL_VERSION__
-// The model's buffers, kernel arguments 0..27 of every kernel (brt::KernelModel, in this order).
+// The model's buffers, kernel arguments 0..30 of every kernel (brt::KernelModel, in this order).
 #define MODEL_PARAMS                                                                             \
   __global const real *patches, __global const real *patchAnchor,                                \
     __global const real *patchDomain, __global const int *faceInfo,                             \
@@ -3162,9 +3209,10 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     __global const real *nodeBox, __global const int *nodeInfo, __global const int *vertexInfo,  \
     __global const int *patchFace, __global const int *edgeSegEdge,                              \
     __global const real *patchBoxes, __global const real *edgeBoxes,                             \
-    __global const real *boxNodeBox, __global const int *boxNodeInfo, __global const int *boxItems
+    __global const real *boxNodeBox, __global const int *boxNodeInfo, __global const int *boxItems, \
+    __global const real *trimNodeBox, __global const int *trimNodeInfo, __global const int *trimItems
 // Then the launch's: the samples (SAMPLE_REALS each) and their faces, the count, the scalars
-// (brt::KernelScalars), arguments 28..40.
+// (brt::KernelScalars), arguments 31..43.
 #define LAUNCH_PARAMS                                                                            \
   __global const real *samples, __global const int *sampleFace, const int count,                \
     const real scale, const real stepTol, const real newtonTol, const real slack,                \
@@ -3172,12 +3220,12 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     const real s1Spacing, const int patchCount, const int mode
 #define MODEL_INIT                                                                               \
   { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim, trimEdge,      \
-    trimRange, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,        \
+    trimRange, trimNodeBox, trimNodeInfo, trimItems, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,        \
     clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox,            \
     boxNodeInfo, boxItems, patchCount, mode }
 
 // The solve: one work-item per sample; results in OUT_REALS and OUT_INTS per sample (arguments
-// 41, 42).
+// 44, 45).
 __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __global int* outInt)
 {
   const int gid = get_global_id(0);
@@ -3190,7 +3238,7 @@ __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __g
 }
 
 // The ray thickness (ray_thickness): one work-item per sample; the distance in outRay (REAL_MAX
-// where the ray meets nothing) and the face hit in outFace (-1) (arguments 41, 42). Needs the
+// where the ray meets nothing) and the face hit in outFace (-1) (arguments 44, 45). Needs the
 // certification's boxes (MODE_CERTIFY).
 __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __global int* outFace)
 {
@@ -3209,7 +3257,7 @@ __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __glob
 // The float solve's finish on the device, in double (built in the double program of a device
 // with cl_khr_fp64): each float contact polished (polish_result) and certified again; the
 // results in double in outReal/outInt, and redo[gid] = 1 where the sample must be solved again
-// in double (the float solve failed it, or its sphere holds boundary). Arguments 41..45.
+// in double (the float solve failed it, or its sphere holds boundary). Arguments 44..48.
 __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floatReal,
   __global const int* floatInt, __global real* outReal, __global int* outInt, __global int* redo)
 {

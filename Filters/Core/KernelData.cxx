@@ -33,6 +33,86 @@ void PushNodes(const std::vector<BVHNode>& nodes, const std::array<double, 3>& c
   }
 }
 
+/// Per face with more than LinearTrims trimming segments, a BVH over its segments' control
+/// boxes in (u, v), for the kernel's nearest-segment search (classify): nodes as boxes (u0, v0,
+/// u1, v1: the union of their segments' boxes as packed, so in T they still hold them) and
+/// (First, Count, Right) triples, left child next to its parent, leaves of up to 4 segments
+/// given as (segment, loop) pairs from First; its root in the face's FACE_INTS record (slot 9;
+/// -1: the face's segments are scanned in turn). Median split of the box centres along the
+/// longer side.
+template <class T>
+void PackTrimTrees(const BRepModel& m, KernelModel<T>& k)
+{
+  constexpr int LinearTrims = 8, Leaf = 4, FaceInts = 10;
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const Face& F = m.Faces[f];
+    std::vector<std::pair<int, int>> items; // segment, loop
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+      for (int s = m.Loops[l].FirstSegment;
+           s < m.Loops[l].FirstSegment + m.Loops[l].SegmentCount; ++s)
+        items.emplace_back(s, l);
+    if (static_cast<int>(items.size()) <= LinearTrims)
+    {
+      k.FaceInfo[FaceInts * f + 9] = -1;
+      continue;
+    }
+    k.FaceInfo[FaceInts * f + 9] = static_cast<int>(k.TrimNodeInfo.size() / 3);
+    const int itemBase = static_cast<int>(k.TrimItems.size() / 2);
+    const T* box = k.Trim.data() + 8; // segment s's box at box + TrimReals * s
+    constexpr size_t TrimReals = 12;
+    auto centre = [&](const std::pair<int, int>& it, int axis) {
+      const T* b = box + TrimReals * static_cast<size_t>(it.first);
+      return static_cast<double>(b[axis]) + static_cast<double>(b[2 + axis]);
+    };
+    // Depth-first, so that a node's left child is the next node.
+    struct Task
+    {
+      int First, Count, Parent;
+    };
+    std::vector<Task> tasks{ { 0, static_cast<int>(items.size()), -1 } };
+    while (!tasks.empty())
+    {
+      const Task t = tasks.back();
+      tasks.pop_back();
+      const int node = static_cast<int>(k.TrimNodeInfo.size() / 3);
+      if (t.Parent >= 0)
+        k.TrimNodeInfo[3 * static_cast<size_t>(t.Parent) + 2] = node;
+      T lo[2], hi[2];
+      for (int a = 0; a < 2; ++a)
+      {
+        lo[a] = box[TrimReals * static_cast<size_t>(items[t.First].first) + a];
+        hi[a] = box[TrimReals * static_cast<size_t>(items[t.First].first) + 2 + a];
+      }
+      for (int i = t.First + 1; i < t.First + t.Count; ++i)
+        for (int a = 0; a < 2; ++a)
+        {
+          lo[a] = std::min(lo[a], box[TrimReals * static_cast<size_t>(items[i].first) + a]);
+          hi[a] = std::max(hi[a], box[TrimReals * static_cast<size_t>(items[i].first) + 2 + a]);
+        }
+      k.TrimNodeBox.insert(k.TrimNodeBox.end(), { lo[0], lo[1], hi[0], hi[1] });
+      if (t.Count <= Leaf)
+      {
+        k.TrimNodeInfo.insert(k.TrimNodeInfo.end(), { itemBase + t.First, t.Count, -1 });
+        continue;
+      }
+      k.TrimNodeInfo.insert(k.TrimNodeInfo.end(), { 0, 0, -1 });
+      const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+      const int half = t.Count / 2;
+      auto first = items.begin() + t.First;
+      std::nth_element(first, first + half, first + t.Count,
+        [&](const std::pair<int, int>& a, const std::pair<int, int>& b) {
+          const double ca = centre(a, axis), cb = centre(b, axis);
+          return ca < cb || (ca == cb && a.first < b.first);
+        });
+      tasks.push_back({ t.First + half, t.Count - half, node }); // right, after the left subtree
+      tasks.push_back({ t.First, half, -1 });                   // left: the next node
+    }
+    for (const auto& it : items)
+      k.TrimItems.insert(k.TrimItems.end(), { it.first, it.second });
+  }
+}
+
 /// Boxes stored as (min x, y, z, max x, y, z) in absolute coordinates, relative to c.
 template <class T>
 std::vector<T> RelativeBoxes(const std::vector<double>& boxes, const std::array<double, 3>& c)
@@ -124,7 +204,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     const int kind = PackExactSurface(m, static_cast<int>(f), c, exact);
     k.FaceInfo.insert(k.FaceInfo.end(),
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
-        F.Reversed ? 1 : 0, F.Solid, kind });
+        F.Reversed ? 1 : 0, F.Solid, kind, -1 });
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });
@@ -152,6 +232,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     k.TrimEdge.push_back(s.Edge);
     k.TrimRange.insert(k.TrimRange.end(), { static_cast<T>(s.T0), static_cast<T>(s.T1) });
   }
+  PackTrimTrees(m, k);
   for (const auto& e : m.Edges)
   {
     k.EdgeInfo.insert(k.EdgeInfo.end(), { e.FirstSegment, e.SegmentCount, e.Faces[0], e.Faces[1] });

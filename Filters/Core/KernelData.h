@@ -27,6 +27,10 @@ struct KernelModel
     EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox;
   std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, PatchFace,
     EdgeSegEdge, BoxNodeInfo, BoxItems;
+  /// The faces' trimming-segment trees (PackTrimTrees in KernelData.cxx): node boxes (4 per
+  /// node), (First, Count, Right) per node, (segment, loop) per leaf item.
+  std::vector<T> TrimNodeBox;
+  std::vector<int> TrimNodeInfo, TrimItems;
   /// Whether the boxes for the certification are there (BuildPatchBoxes ran).
   bool HasBoxes() const { return !BoxNodeInfo.empty(); }
 };

@@ -33,7 +33,8 @@ struct NativeSolver::Impl
   {
     return kernel::Model{ K.Patches.data(), K.PatchAnchor.data(), K.PatchDomain.data(),
       K.FaceInfo.data(), K.FaceDomain.data(), K.Breaks.data(), K.Loops.data(), K.Trim.data(),
-      K.TrimEdge.data(), K.TrimRange.data(), K.EdgeInfo.data(), K.EdgeRange.data(),
+      K.TrimEdge.data(), K.TrimRange.data(), K.TrimNodeBox.data(), K.TrimNodeInfo.data(),
+      K.TrimItems.data(), K.EdgeInfo.data(), K.EdgeRange.data(),
       K.EdgeSeg.data(), K.EdgeAnchor.data(), K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack,
       s.Clearance, s.S1Spacing, K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(),
       K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
@@ -119,6 +120,13 @@ bool NativeSolver::HoldsBoundary(
   kernel::PointInside inside;
   return kernel::find_point_inside(&view, sample.Face, Ohi, Olo, d, r.Radius,
            std::max(s.Clearance, s.Slack), &inside) != 0;
+}
+
+void NativeSolver::Classify(int face, double u, double v, bool& inside, int& segment,
+  double& parameter, double& distance) const
+{
+  const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
+  inside = kernel::classify(&view, face, kernel::real2{ u, v }, &segment, &parameter, &distance) != 0;
 }
 
 void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const

@@ -35,6 +35,13 @@ public:
   /// float kernels). False for a failed result.
   bool HoldsBoundary(const SolverOptions& options, const Sample& sample, const SampleResult& r) const;
 
+  /// The kernel's point-in-face test at (u, v) on `face` (classify in Kernels/thickness.cl, the
+  /// per-face segment tree included): inside, and the nearest trimming segment (-1: none), the
+  /// local parameter on it and the distance. The same steps as brt::ClassifyPoint (the reader's),
+  /// so the two must agree; for tests.
+  void Classify(int face, double u, double v, bool& inside, int& segment, double& parameter,
+    double& distance) const;
+
   /// Refines in double a contact found in lower precision (the float kernels), `options` being
   /// those it was found with (the clearance of its pass): the same contact's Newton from its foot
   /// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the

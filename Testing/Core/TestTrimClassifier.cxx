@@ -1,6 +1,9 @@
 // The trim test (eq. 6 and the corner rule) on hand-made loops whose inside is known exactly.
 #include "TrimClassifier.h"
 
+#include "NativeSolver.h"
+#include "Solver.h"
+
 #include "BRepConverter.h"
 #include "TestHelpers.h"
 
@@ -157,5 +160,54 @@ TEST(TrimClassifier, BoxCullingFindsTheNearestSegment)
     }
   }
   EXPECT_GT(points, 1000u);
+  EXPECT_EQ(mismatches, 0u);
+}
+
+// The kernel's trim test walks a tree over the segments of a face with more than 8 of them
+// (brt::PackTrimTrees); it must find what the reader's ClassifyPoint (a scan of every segment,
+// checked against brute force above) finds: the same nearest segment, parameter, distance and
+// side. Random points over every such face's domain of the FRAMEWORK tile (faces of up to 178
+// segments), inside and outside its trims.
+TEST(TrimClassifier, KernelSegmentTreeFindsWhatTheScanFinds)
+{
+  const BRepModel m =
+    ConvertStepFile(test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const NativeSolver native(m, data);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-0.1, 1.1);
+  size_t faces = 0, points = 0, mismatches = 0;
+  for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
+  {
+    const Face& F = m.Faces[f];
+    int segments = 0;
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+      segments += m.Loops[l].SegmentCount;
+    if (segments <= 8)
+      continue;
+    ++faces;
+    for (int k = 0; k < 60; ++k)
+    {
+      const double u = F.Domain[0] + unit(rng) * (F.Domain[1] - F.Domain[0]);
+      const double v = F.Domain[2] + unit(rng) * (F.Domain[3] - F.Domain[2]);
+      const TrimProjection host = ClassifyPoint(m, f, u, v);
+      bool inside = false;
+      int segment = -1;
+      double parameter = 0.0, distance = 0.0;
+      native.Classify(f, u, v, inside, segment, parameter, distance);
+      ++points;
+      if (segment != host.Segment || inside != host.Inside ||
+        std::fabs(distance - host.Distance) > 1e-12 * (1.0 + host.Distance) ||
+        std::fabs(parameter - host.Parameter) > 1e-9)
+      {
+        ++mismatches;
+        ADD_FAILURE() << "face " << f << " (" << u << ", " << v << "): kernel segment " << segment
+                      << " at " << distance << " (t " << parameter << ", inside " << inside
+                      << "), ClassifyPoint " << host.Segment << " at " << host.Distance << " (t "
+                      << host.Parameter << ", inside " << host.Inside << ")";
+      }
+    }
+  }
+  EXPECT_GT(faces, 50u);
   EXPECT_EQ(mismatches, 0u);
 }
