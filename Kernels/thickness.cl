@@ -481,12 +481,30 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
       __global const int* ni = m->trimNodeInfo + 3 * n;
       if (ni[1] > 0)
       {
-        for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
+        // A leaf's segments (up to 4), nearest box first: the first projection bounds the rest.
+        real gap[4];
+        int order[4];
+        const int cnt = ni[1] < 4 ? ni[1] : 4;
+        for (int j = 0; j < cnt; ++j)
         {
-          const int s = m->trimItems[2 * i];
+          const real g = box_distance2(m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)], P);
+          int at = j;
+          for (; at > 0 && gap[at - 1] > g; --at)
+          {
+            gap[at] = gap[at - 1];
+            order[at] = order[at - 1];
+          }
+          gap[at] = g;
+          order[at] = j;
+        }
+        for (int j = 0; j < cnt; ++j)
+        {
           const real b = bestD * (real)(1 + 1e-6);
-          if (!(box_distance2(m->trim + TRIM_REALS * s, P) > b * b))
-            nearer_segment(m, m->trimItems[2 * i + 1], s, P, &bestD, &bestSeg, &bestT, &bestLoop);
+          if (gap[j] > b * b)
+            break;
+          const int i = ni[0] + order[j];
+          nearer_segment(m, m->trimItems[2 * i + 1], m->trimItems[2 * i], P, &bestD, &bestSeg,
+            &bestT, &bestLoop);
         }
         continue;
       }

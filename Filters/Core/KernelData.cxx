@@ -43,6 +43,7 @@ void PushNodes(const std::vector<BVHNode>& nodes, const std::array<double, 3>& c
 template <class T>
 void PackTrimTrees(const BRepModel& m, KernelModel<T>& k)
 {
+  // Leaf: the kernel's classify orders a leaf's segments in 4 slots.
   constexpr int LinearTrims = 8, Leaf = 4, FaceInts = 10;
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
