@@ -924,11 +924,17 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       __global const real* rb = nodeBox + 6 * right;
       const real3 el = fmax(fmax(make_real3(lb[0], lb[1], lb[2]) - ref, splat_real3(0)), ref - make_real3(lb[3], lb[4], lb[5]));
       const real3 er = fmax(fmax(make_real3(rb[0], rb[1], rb[2]) - ref, splat_real3(0)), ref - make_real3(rb[3], rb[4], rb[5]));
-      const int leftFirst = dot(el, el) <= dot(er, er);
+      const real dl = dot(el, el), dr = dot(er, er);
+      const int leftFirst = dl <= dr;
       if (top + 2 > 64)
         continue;
-      stack[top++] = leftFirst ? right : left;
-      stack[top++] = leftFirst ? left : right;
+      // A child the ball already misses is not pushed (the ball only shrinks, inside itself).
+      const real reach2 = (best >= 0 || bounded) ? (t - delta) * (t - delta) : REAL_MAX;
+      const real dFar = leftFirst ? dr : dl;
+      if (dFar < reach2)
+        stack[top++] = leftFirst ? right : left;
+      if ((leftFirst ? dl : dr) < reach2)
+        stack[top++] = leftFirst ? left : right;
     }
   *tOut = t;
   return best;
