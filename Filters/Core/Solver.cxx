@@ -57,10 +57,6 @@ inline double Dot(const Vec3& a, const Vec3& b)
 {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
-inline Vec3 Axpy(const Vec3& o, double t, const Vec3& d)
-{
-  return { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
-}
 
 // --- BVH -------------------------------------------------------------------------------------
 // Over several solids the first splits separate the solids (at the solid boundary nearest the
