@@ -404,15 +404,55 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
       data.BoxNodes.push_back(node);
       continue;
     }
-    int axis = 0;
+    // The median split of the box centres along the axis whose halves' boxes hold the least
+    // volume (sides widened by 1e-3 of the node's diagonal, so that flat halves still compare;
+    // ties to the longest axis). A thin wall's two faces then part high in the tree: a sphere
+    // between them meets neither half's box (the longest axis alone kept both faces in every
+    // node down to the leaves).
+    int longest = 0;
     for (int k = 1; k < 3; ++k)
-      if (node.Max[k] - node.Min[k] > node.Max[axis] - node.Min[axis])
-        axis = k;
+      if (node.Max[k] - node.Min[k] > node.Max[longest] - node.Min[longest])
+        longest = k;
     const int half = task.Count / 2;
     auto first = data.BoxItems.begin() + task.First;
-    std::nth_element(first, first + half, first + task.Count, [&](int a, int b) {
-      return boxOf(a)[axis] + boxOf(a)[3 + axis] < boxOf(b)[axis] + boxOf(b)[3 + axis];
-    });
+    auto split = [&](int axis) {
+      std::nth_element(first, first + half, first + task.Count, [&](int a, int b) {
+        const double ca = boxOf(a)[axis] + boxOf(a)[3 + axis], cb = boxOf(b)[axis] + boxOf(b)[3 + axis];
+        return ca < cb || (ca == cb && a < b);
+      });
+    };
+    double widen = 0.0;
+    for (int k = 0; k < 3; ++k)
+      widen += (node.Max[k] - node.Min[k]) * (node.Max[k] - node.Min[k]);
+    widen = 1e-3 * std::sqrt(widen);
+    auto volume = [&](int from, int to) {
+      double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+      for (int i = from; i < to; ++i)
+      {
+        const double* b = boxOf(data.BoxItems[static_cast<size_t>(i)]);
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], b[k]);
+          hi[k] = std::max(hi[k], b[3 + k]);
+        }
+      }
+      return (hi[0] - lo[0] + widen) * (hi[1] - lo[1] + widen) * (hi[2] - lo[2] + widen);
+    };
+    int axis = longest;
+    double bestCost = std::numeric_limits<double>::max();
+    for (int j = 0; j < 3; ++j)
+    {
+      const int k = (longest + j) % 3;
+      split(k);
+      const double cost = volume(task.First, task.First + half) +
+        volume(task.First + half, task.First + task.Count);
+      if (cost < bestCost * (1.0 - 1e-9))
+      {
+        bestCost = cost;
+        axis = k;
+      }
+    }
+    split(axis);
     data.BoxNodes.push_back(node);
     // Depth first, left child next: the right child is pushed first and popped last; its index
     // is patched into this node when it is built.
