@@ -231,6 +231,18 @@ Part LoadPart(const char* file)
   return tile;
 }
 
+/// The part's mesh samples `ids` (into samples), solved by the reference at the defaults.
+std::vector<SampleResult> SolveAt(
+  const Part& part, const std::vector<size_t>& ids, std::vector<Sample>& samples)
+{
+  samples.clear();
+  for (size_t i : ids)
+    samples.push_back(part.Mesh[i]);
+  std::vector<SampleResult> res;
+  SolveReference(part.Model, part.Data, SolverOptions(), samples, res);
+  return res;
+}
+
 /// Two samples of the FRAMEWORK tile whose spheres (2t = 0.726 and 1.221) cut 0.009 and 0.011 mm
 /// into a convex corner of the part over less than one s1 spacing, between the patch grid's
 /// points, so the verification passed them (the exact spheres are 2t = 0.596 and 1.210, touching
@@ -270,10 +282,7 @@ TEST(SolverExact, ShrinkingBallWhereNothingConverges)
   ASSERT_EQ(tile.Mesh.size(), 54779u); // the sample numbering this test was written for
   const std::vector<size_t> ids{ 47116, 47117, 47118, 47131, 47132 };
   std::vector<Sample> samples;
-  for (size_t i : ids)
-    samples.push_back(tile.Mesh[i]);
-  std::vector<SampleResult> res;
-  SolveReference(m, tile.Data, SolverOptions(), samples, res);
+  const std::vector<SampleResult> res = SolveAt(tile, ids, samples);
   const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
   for (size_t k = 0; k < samples.size(); ++k)
   {
@@ -309,10 +318,7 @@ TEST(SolverExact, EdgeCurveOffItsFace)
   const std::vector<size_t> ids{ 53951, 53967, 53968, 53969, 55376, 55379, 55380, 56949, 56952,
     56953, 56968, 56969, 57675, 57676, 57677 };
   std::vector<Sample> samples;
-  for (size_t i : ids)
-    samples.push_back(card.Mesh[i]);
-  std::vector<SampleResult> res;
-  SolveReference(m, card.Data, SolverOptions(), samples, res);
+  const std::vector<SampleResult> res = SolveAt(card, ids, samples);
   const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
   for (size_t k = 0; k < samples.size(); ++k)
   {
