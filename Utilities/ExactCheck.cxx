@@ -16,8 +16,8 @@
 // solved, failed (per reason) and overlapping shares, the largest overlap and the K worst
 // samples. With --thickness M, the first M solved samples also get an independent exact
 // thickness by the solver's definition: the largest sphere tangent at O that no point of the
-// exact faces enters deeper than the clearance, by bisection on t with OpenCASCADE's distance
-// from the centre to the solid's faces (as Testing/Core/TestSolverRims.cxx does), reported as
+// exact faces enters deeper than the clearance, by bisection on t with the same two distances
+// from the centre to the solid's faces (Testing/Core/TestSolverRims.cxx uses BRepExtrema), reported as
 // eq. 1's radius through the exact foot point; printed: the share of them within 1e-4 relative
 // of ours, and the largest differences. With --indices, a failed sample gets its exact thickness
 // too (what it should have been). With --gap the same for the exterior gap (the sphere from
@@ -441,16 +441,28 @@ int main(int argc, char** argv)
       // does), then eq. 1's radius through the exact foot point P nearest to that centre,
       // |P - O|^2 / (2 d.(P - O)), which is what the solver reports.
       const double delta = 2.0 * m.Tolerance;
+      // The distance from O + t d to the faces, less t: BRepExtrema's, or the second distance's
+      // where that is nearer (as for the overlaps above).
       auto nearest = [&](const TopoDS_Shape& own, const brt::Sample& s, double t, gp_Pnt* foot) {
-        BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(s.Point[0] +
-                                          t * s.Direction[0], s.Point[1] + t * s.Direction[1],
-                                          s.Point[2] + t * s.Direction[2])).Vertex(),
-          own, Extrema_ExtFlag_MIN);
+        const gp_Pnt X(s.Point[0] + t * s.Direction[0], s.Point[1] + t * s.Direction[1],
+          s.Point[2] + t * s.Direction[2]);
+        BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(X).Vertex(), own,
+          Extrema_ExtFlag_MIN);
         if (!dist.IsDone() || dist.NbSolution() == 0)
           return -1.0;
+        gp_Pnt at = dist.PointOnShape2(1);
+        double value = dist.Value();
+        gp_Pnt secondAt;
+        int secondFace = -1;
+        const double second = secondDistance(s, X, value, secondAt, secondFace);
+        if (second < value)
+        {
+          value = second;
+          at = secondAt;
+        }
         if (foot)
-          *foot = dist.PointOnShape2(1);
-        return dist.Value() - t;
+          *foot = at;
+        return value - t;
       };
       size_t checked = 0, agree = 0;
       std::vector<std::pair<double, size_t>> diffs;
