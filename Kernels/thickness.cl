@@ -1803,6 +1803,7 @@ typedef struct
 {
   real best; // its distance from the centre M
   int found, face, edge;
+  int onTrim; // a face's point on its trim (within rounding), not inside it: where the face ends
   real u, v, t, T;
   real3 w; // the point, relative to O
 } PointInside;
@@ -1838,14 +1839,20 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
   int seg;
   real param, trimDist;
   // A point far from the loops also passes the crossing test: the nearest-segment test can
-  // misjudge a point equidistant from several parts of a loop (seen at a face's UV corner).
-  if (!classify(m, face, make_real2(u, v), &seg, &param, &trimDist) ||
-    (trimDist > (real)1e-3 * (fd[1] - fd[0] + fd[3] - fd[2]) && !inside_by_crossings(m, face, u, v)))
+  // misjudge a point equidistant from several parts of a loop (seen at a face's UV corner). A
+  // point on the trim within rounding (1e-9 of the domain) is on the face (its boundary belongs
+  // to it): the nearest point of a face often lies on its trim, where the side test is a coin
+  // flip.
+  const real size = fd[1] - fd[0] + fd[3] - fd[2];
+  const int inTrim = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
+  if (!(inTrim || trimDist <= (real)1e-9 * size) ||
+    (trimDist > (real)1e-3 * size && !inside_by_crossings(m, face, u, v)))
     return;
   st->best = dist;
   st->found = 1;
   st->face = face;
   st->edge = -1;
+  st->onTrim = !inTrim;
   st->u = u;
   st->v = v;
   st->t = (real)0.5 * (dot(w, w) - depth * depth) / (dn - depth);
@@ -2025,6 +2032,7 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
   st->found = 1;
   st->face = start;
   st->edge = edge;
+  st->onTrim = 0;
   st->u = su;
   st->v = sv;
   st->T = T;
@@ -2170,6 +2178,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
 {
   st->found = 0;
   st->edge = -1;
+  st->onTrim = 0;
   const real reach = t - depth - (real)0.25 * m->slack;
   if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
     return 0;
@@ -2739,6 +2748,9 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
   real t = r->t, step = 0;
   PointInside st, last;
   last.found = 0;
+  last.edge = -1;
+  last.onTrim = 0;
+  last.u = last.v = 0;
   for (int k = 0; k < 32; ++k)
   {
     if (!find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &st))
@@ -2767,10 +2779,13 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
       // A contact on O's own face next to O is the trivial or an osculating solution, not a
       // wall (as for Newton's contacts). On an edge only O itself is (as for eq. 7's contacts):
       // an edge of O's own face that rises into the sphere, however shallow, is its curve
-      // standing off the face (the file's tolerance), geometry the sphere must not hold.
+      // standing off the face (the file's tolerance), geometry the sphere must not hold; so is
+      // a point where O's own face ends (on its trim), whose place the trim fixes, not the
+      // face's curvature.
       if (c.edge >= 0 ? edge_at_sample(m, ownFace, c.edge, c.foot)
-                      : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
-                          sphere_radius(d, c.foot, (real)0)))
+          : (last.onTrim ? at_sample(m, ownFace, c.face, c.foot)
+                         : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
+                             sphere_radius(d, c.foot, (real)0))))
         return 0;
       *r = c;
       return 1;
