@@ -63,6 +63,8 @@ typedef float3 real3;
 #define FACE_REALS 20
 // Per trimming segment: its four (u, v) control points, then their box (u0, v0, u1, v1).
 #define TRIM_REALS 12
+// Segments per leaf of a face's trim tree at most (brt::PackTrimTrees).
+#define TRIM_LEAF 4
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
@@ -481,10 +483,11 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
       __global const int* ni = m->trimNodeInfo + 3 * n;
       if (ni[1] > 0)
       {
-        // A leaf's segments (up to 4), nearest box first: the first projection bounds the rest.
-        real gap[4];
-        int order[4];
-        const int cnt = ni[1] < 4 ? ni[1] : 4;
+        // A leaf's segments (up to TRIM_LEAF), nearest box first: the first projection bounds
+        // the rest.
+        real gap[TRIM_LEAF];
+        int order[TRIM_LEAF];
+        const int cnt = ni[1] < TRIM_LEAF ? ni[1] : TRIM_LEAF;
         for (int j = 0; j < cnt; ++j)
         {
           const real g = box_distance2(m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)], P);
@@ -3248,8 +3251,9 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     __global const real *nodeBox, __global const int *nodeInfo, __global const int *vertexInfo,  \
     __global const int *patchFace, __global const int *edgeSegEdge,                              \
     __global const real *patchBoxes, __global const real *edgeBoxes,                             \
-    __global const real *boxNodeBox, __global const int *boxNodeInfo, __global const int *boxItems, \
-    __global const real *trimNodeBox, __global const int *trimNodeInfo, __global const int *trimItems
+    __global const real *boxNodeBox, __global const int *boxNodeInfo,                           \
+    __global const int *boxItems, __global const real *trimNodeBox,                              \
+    __global const int *trimNodeInfo, __global const int *trimItems
 // Then the launch's: the samples (SAMPLE_REALS each) and their faces, the count, the scalars
 // (brt::KernelScalars), arguments 31..43.
 #define LAUNCH_PARAMS                                                                            \
@@ -3259,7 +3263,8 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     const real s1Spacing, const int patchCount, const int mode
 #define MODEL_INIT                                                                               \
   { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim, trimEdge,      \
-    trimRange, trimNodeBox, trimNodeInfo, trimItems, edgeInfo, edgeRange, edgeSeg, edgeAnchor, edgeSegRange, vertexInfo, slack,        \
+    trimRange, trimNodeBox, trimNodeInfo, trimItems, edgeInfo, edgeRange, edgeSeg, edgeAnchor,   \
+    edgeSegRange, vertexInfo, slack,                                                             \
     clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox,            \
     boxNodeInfo, boxItems, patchCount, mode }
 

@@ -33,18 +33,16 @@ void PushNodes(const std::vector<BVHNode>& nodes, const std::array<double, 3>& c
   }
 }
 
-/// Per face with more than LinearTrims trimming segments, a BVH over its segments' control
+/// Per face with more than KernelLinearTrims trimming segments, a BVH over its segments' control
 /// boxes in (u, v), for the kernel's nearest-segment search (classify): nodes as boxes (u0, v0,
 /// u1, v1: the union of their segments' boxes as packed, so in T they still hold them) and
-/// (First, Count, Right) triples, left child next to its parent, leaves of up to 4 segments
-/// given as (segment, loop) pairs from First; its root in the face's FACE_INTS record (slot 9;
+/// (First, Count, Right) triples, left child next to its parent, leaves of up to KernelTrimLeaf
+/// segments given as (segment, loop) pairs from First; its root in the face's FACE_INTS record (slot 9;
 /// -1: the face's segments are scanned in turn). Median split of the box centres along the
 /// longer side.
 template <class T>
 void PackTrimTrees(const BRepModel& m, KernelModel<T>& k)
 {
-  // Leaf: the kernel's classify orders a leaf's segments in 4 slots.
-  constexpr int LinearTrims = 8, Leaf = 4, FaceInts = 10;
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
     const Face& F = m.Faces[f];
@@ -53,17 +51,13 @@ void PackTrimTrees(const BRepModel& m, KernelModel<T>& k)
       for (int s = m.Loops[l].FirstSegment;
            s < m.Loops[l].FirstSegment + m.Loops[l].SegmentCount; ++s)
         items.emplace_back(s, l);
-    if (static_cast<int>(items.size()) <= LinearTrims)
-    {
-      k.FaceInfo[FaceInts * f + 9] = -1;
-      continue;
-    }
-    k.FaceInfo[FaceInts * f + 9] = static_cast<int>(k.TrimNodeInfo.size() / 3);
+    if (static_cast<int>(items.size()) <= KernelLinearTrims)
+      continue; // its FaceInfo slot 9 stays -1
+    k.FaceInfo[KernelFaceInts * f + 9] = static_cast<int>(k.TrimNodeInfo.size() / 3);
     const int itemBase = static_cast<int>(k.TrimItems.size() / 2);
-    const T* box = k.Trim.data() + 8; // segment s's box at box + TrimReals * s
-    constexpr size_t TrimReals = 12;
+    const T* box = k.Trim.data() + 8; // segment s's box at box + KernelTrimReals * s
     auto centre = [&](const std::pair<int, int>& it, int axis) {
-      const T* b = box + TrimReals * static_cast<size_t>(it.first);
+      const T* b = box + KernelTrimReals * static_cast<size_t>(it.first);
       return static_cast<double>(b[axis]) + static_cast<double>(b[2 + axis]);
     };
     // Depth-first, so that a node's left child is the next node.
@@ -82,17 +76,17 @@ void PackTrimTrees(const BRepModel& m, KernelModel<T>& k)
       T lo[2], hi[2];
       for (int a = 0; a < 2; ++a)
       {
-        lo[a] = box[TrimReals * static_cast<size_t>(items[t.First].first) + a];
-        hi[a] = box[TrimReals * static_cast<size_t>(items[t.First].first) + 2 + a];
+        lo[a] = box[KernelTrimReals * static_cast<size_t>(items[t.First].first) + a];
+        hi[a] = box[KernelTrimReals * static_cast<size_t>(items[t.First].first) + 2 + a];
       }
       for (int i = t.First + 1; i < t.First + t.Count; ++i)
         for (int a = 0; a < 2; ++a)
         {
-          lo[a] = std::min(lo[a], box[TrimReals * static_cast<size_t>(items[i].first) + a]);
-          hi[a] = std::max(hi[a], box[TrimReals * static_cast<size_t>(items[i].first) + 2 + a]);
+          lo[a] = std::min(lo[a], box[KernelTrimReals * static_cast<size_t>(items[i].first) + a]);
+          hi[a] = std::max(hi[a], box[KernelTrimReals * static_cast<size_t>(items[i].first) + 2 + a]);
         }
       k.TrimNodeBox.insert(k.TrimNodeBox.end(), { lo[0], lo[1], hi[0], hi[1] });
-      if (t.Count <= Leaf)
+      if (t.Count <= KernelTrimLeaf)
       {
         k.TrimNodeInfo.insert(k.TrimNodeInfo.end(), { itemBase + t.First, t.Count, -1 });
         continue;

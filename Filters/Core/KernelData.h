@@ -19,6 +19,13 @@ constexpr size_t KernelSampleReals = 11;
 constexpr size_t KernelOutReals = 7;
 /// Ints per result (OUT_INTS): type, reason, face, patch, edge, iterations, exact pass.
 constexpr size_t KernelOutInts = 7;
+/// Ints per face (FACE_INTS): its grid, loops, orientation, solid, exact kind, trim tree root.
+constexpr size_t KernelFaceInts = 10;
+/// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
+constexpr size_t KernelTrimReals = 12;
+/// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
+/// those with more than KernelLinearTrims segments.
+constexpr int KernelTrimLeaf = 4, KernelLinearTrims = 8;
 
 template <class T>
 struct KernelModel

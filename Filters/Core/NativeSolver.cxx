@@ -15,6 +15,11 @@ namespace kernel
 #include "thickness.cl"
 } // namespace kernel
 static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker differs from Solver.h");
+// The packing (KernelData.h) and the kernel source agree on their records' sizes.
+static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &&
+    OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts && TRIM_REALS == KernelTrimReals &&
+    TRIM_LEAF == KernelTrimLeaf,
+  "the kernel's record sizes differ from KernelData.h");
 
 struct NativeSolver::Impl
 {
