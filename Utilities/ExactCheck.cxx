@@ -337,8 +337,7 @@ int main(int argc, char** argv)
       }
       else if (dist.NbSolution() > 0)
       {
-        const gp_Pnt P = dist.PointOnShape2(1);
-        deepestFromO[k] = P.Distance(gp_Pnt(samples[k].Point[0], samples[k].Point[1], samples[k].Point[2]));
+        deepestFromO[k] = dist.PointOnShape2(1).Distance(O);
         if (dist.SupportTypeShape2(1) == BRepExtrema_IsInFace)
           for (size_t f = 0; f < faces.size(); ++f)
             if (faces[f].IsSame(dist.SupportOnShape2(1)))
