@@ -80,6 +80,12 @@ inline double fmax(double a, double b) { return (b > a || a != a) ? b : a; }
 inline double fmin(double a, double b) { return (b < a || a != a) ? b : a; }
 inline real3 fmax(real3 a, real3 b) { return { fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z) }; }
 inline real3 fmin(real3 a, real3 b) { return { fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z) }; }
+// OpenCL's max/min for reals (y where x < y, resp. y < x; undefined for a NaN): one instruction,
+// where fmax/fmin need a NaN test. The kernel uses them in bounds only (boxes, hulls).
+inline double max(double x, double y) { return x < y ? y : x; }
+inline double min(double x, double y) { return y < x ? y : x; }
+inline real3 max(real3 a, real3 b) { return { max(a.x, b.x), max(a.y, b.y), max(a.z, b.z) }; }
+inline real3 min(real3 a, real3 b) { return { min(a.x, b.x), min(a.y, b.y), min(a.z, b.z) }; }
 inline double clamp(double x, double lo, double hi) { return fmin(fmax(x, lo), hi); }
 inline int clamp(int x, int lo, int hi) { return std::min(std::max(x, lo), hi); }
 } // namespace kernel

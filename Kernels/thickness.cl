@@ -877,14 +877,14 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       // and |P - O| is at least the node's distance from O). Without this a sample that no wall
       // faces (an exterior gap to infinity) visits every s1 point.
       const real3 ahead = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
-      const real3 gapToBox = fmax(fmax(lo - O, splat_real3(0)), O - hi);
+      const real3 gapToBox = max(max(lo - O, splat_real3(0)), O - hi);
       const real lead = dot(d, ahead - O) - delta; // against max(1e-6 |gap|, noise), squared
       if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
         continue;
       if (best >= 0 || bounded)
       {
         const real3 M = O + t * d;
-        const real3 e = fmax(fmax(lo - M, splat_real3(0)), M - hi);
+        const real3 e = max(max(lo - M, splat_real3(0)), M - hi);
         if (dot(e, e) >= (t - delta) * (t - delta))
           continue;
       }
@@ -925,8 +925,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       const real3 ref = (best >= 0 || bounded) ? O + t * d : O;
       __global const real* lb = nodeBox + 6 * left;
       __global const real* rb = nodeBox + 6 * right;
-      const real3 el = fmax(fmax(make_real3(lb[0], lb[1], lb[2]) - ref, splat_real3(0)), ref - make_real3(lb[3], lb[4], lb[5]));
-      const real3 er = fmax(fmax(make_real3(rb[0], rb[1], rb[2]) - ref, splat_real3(0)), ref - make_real3(rb[3], rb[4], rb[5]));
+      const real3 el = max(max(make_real3(lb[0], lb[1], lb[2]) - ref, splat_real3(0)), ref - make_real3(lb[3], lb[4], lb[5]));
+      const real3 er = max(max(make_real3(rb[0], rb[1], rb[2]) - ref, splat_real3(0)), ref - make_real3(rb[3], rb[4], rb[5]));
       const real dl = dot(el, el), dr = dot(er, er);
       const int leftFirst = dl <= dr;
       if (top + 2 > 64)
@@ -1815,7 +1815,7 @@ typedef struct
 // model's centre.
 inline real box_gap2(__global const real* b, real3 p)
 {
-  const real3 e = fmax(fmax(make_real3(b[0], b[1], b[2]) - p, splat_real3(0)),
+  const real3 e = max(max(make_real3(b[0], b[1], b[2]) - p, splat_real3(0)),
     p - make_real3(b[3], b[4], b[5]));
   return dot(e, e);
 }
@@ -2052,7 +2052,7 @@ inline real hull_gap(__global const real* c, int n, real3 a, real3 u)
 {
   real g = REAL_MAX;
   for (int i = 0; i < n; ++i)
-    g = fmin(g, dot(a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]), u));
+    g = min(g, dot(a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]), u));
   return g;
 }
 
@@ -2080,7 +2080,7 @@ inline real patch_gap(const Model* m, int p, real3 a, real3 mr, real3 d, real* a
   {
     const real3 q = make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
     mean += q;
-    far = fmax(far, dot(a + mr + q, d));
+    far = max(far, dot(a + mr + q, d));
   }
   *ahead = far;
   mean = a + mean / (real)16;
@@ -2097,10 +2097,10 @@ inline real patch_gap(const Model* m, int p, real3 a, real3 mr, real3 d, real* a
   for (int i = 0; i < 16; ++i)
   {
     const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
-    gu = fmin(gu, dot(q, u));
-    gn = fmin(gn, dot(q, n));
+    gu = min(gu, dot(q, u));
+    gn = min(gn, dot(q, n));
   }
-  return ln > (real)0 ? fmax(gu, gn) : gu;
+  return ln > (real)0 ? max(gu, gn) : gu;
 }
 
 // Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
