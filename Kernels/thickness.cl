@@ -2204,6 +2204,10 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
     if (stackGap[top] >= st->best * st->best)
       continue;
     __global const int* ni = m->boxNodeInfo + 3 * node;
+    // An inner node whose subtree lies on one solid has Count = -(solid + 1) (BuildPatchBoxes):
+    // another solid's subtree holds nothing in scope.
+    if (ni[1] < 0 && solid >= 0 && -ni[1] - 1 != solid)
+      continue;
     if (ni[1] > 0)
     {
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
@@ -2649,6 +2653,8 @@ real ray_first_hit(const Model* m, int solid, int others, real3 Ohi, real3 Olo, 
     if (lo > hi + pad || hi < sMin - pad || lo > best + pad)
       continue;
     __global const int* ni = m->boxNodeInfo + 3 * node;
+    if (ni[1] < 0 && (-ni[1] - 1 == solid) == (others != 0))
+      continue; // a subtree on one solid (BuildPatchBoxes), not the one asked for
     if (ni[1] > 0)
     {
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
