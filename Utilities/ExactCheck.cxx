@@ -48,6 +48,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <gp_Pnt2d.hxx>
 #include <limits>
 #include <BRep_Builder.hxx>
@@ -303,6 +304,7 @@ int main(int argc, char** argv)
     std::vector<std::pair<double, size_t>> worst;
     std::vector<double> deepestFromO(samples.size(), 0.0); // |P - O| of the deepest point
     std::vector<int> deepestFace(samples.size(), -1);      // the face it lies on (-1: an edge or vertex)
+    std::vector<gp_Pnt> deepestAt(samples.size());          // the deepest point itself
     for (size_t k = 0; k < samples.size(); ++k)
     {
       const brt::SampleResult& r = res[k];
@@ -334,10 +336,12 @@ int main(int argc, char** argv)
         overlap = r.Radius - second;
         deepestFromO[k] = secondAt.Distance(O);
         deepestFace[k] = secondFace;
+        deepestAt[k] = secondAt;
       }
       else if (dist.NbSolution() > 0)
       {
         deepestFromO[k] = dist.PointOnShape2(1).Distance(O);
+        deepestAt[k] = dist.PointOnShape2(1);
         if (dist.SupportTypeShape2(1) == BRepExtrema_IsInFace)
           for (size_t f = 0; f < faces.size(); ++f)
             if (faces[f].IsSame(dist.SupportOnShape2(1)))
@@ -419,16 +423,60 @@ int main(int argc, char** argv)
     std::printf("    second distance (every extremum on the faces and edges near the centre): "
                 "nearer than BRepExtrema's on %zu solved samples; overlaps it alone finds: %zu "
                 "(counted above)\n", secondNearer, secondOnly);
+    // The file's own tolerance at a point: the largest tolerance of a face, edge or vertex of
+    // the bounding faces whose tolerance zone holds it. A STEP file places a boundary only
+    // within those tolerances (an edge of tolerance 2e-3 may lie that far off the faces it
+    // joins); an overlap within the allowance plus the tolerance at the deepest point or at O is
+    // counted apart, as one the file itself leaves undecided (docs/Solver.md, item 14).
+    auto fileTolerance = [&](const TopoDS_Shape& own, const gp_Pnt& X) {
+      double tol = 0.0;
+      const TopoDS_Vertex V = BRepBuilderAPI_MakeVertex(X).Vertex();
+      for (const TopAbs_ShapeEnum kind : { TopAbs_FACE, TopAbs_EDGE, TopAbs_VERTEX })
+        for (TopExp_Explorer ex(own, kind); ex.More(); ex.Next())
+        {
+          const TopoDS_Shape& sub = ex.Current();
+          const double t = kind == TopAbs_FACE ? BRep_Tool::Tolerance(TopoDS::Face(sub))
+            : kind == TopAbs_EDGE              ? BRep_Tool::Tolerance(TopoDS::Edge(sub))
+                                               : BRep_Tool::Tolerance(TopoDS::Vertex(sub));
+          if (!(t > tol))
+            continue;
+          Bnd_Box bb;
+          BRepBndLib::Add(sub, bb);
+          bb.Enlarge(t);
+          if (bb.IsOut(X))
+            continue;
+          BRepExtrema_DistShapeShape d(V, sub, Extrema_ExtFlag_MIN);
+          if (d.IsDone() && d.NbSolution() > 0 && d.Value() <= t)
+            tol = t;
+        }
+      return tol;
+    };
     std::sort(worst.rbegin(), worst.rend());
+    size_t beyondFile = 0;
+    std::vector<double> tolThere(samples.size(), 0.0);
+    for (const auto& w : worst)
+    {
+      const size_t k = w.second;
+      const TopoDS_Shape& own = bounding(samples[k]);
+      const gp_Pnt O(samples[k].Point[0], samples[k].Point[1], samples[k].Point[2]);
+      tolThere[k] = std::max(fileTolerance(own, deepestAt[k]), fileTolerance(own, O));
+      if (w.first > allowed + tolThere[k])
+        ++beyondFile;
+    }
+    if (!worst.empty())
+      std::printf("    overlaps beyond the allowance plus the file's own tolerance at the deepest "
+                  "point or at O (the largest face, edge or vertex tolerance whose zone holds "
+                  "it): %zu of %zu\n", beyondFile, worst.size());
     for (size_t w = 0; w < worst.size() && static_cast<int>(w) < list; ++w)
     {
       const size_t k = worst[w].second;
       const brt::SampleResult& r = res[k];
       std::printf("    sample %zu (face %d at %.4f %.4f %.4f): 2t = %.6g, %s, sphere %.3g into "
-                  "the exact faces (%s %d), %.3g from O\n",
+                  "the exact faces (%s %d), %.3g from O; the file's tolerance there %.3g\n",
         pick[k], samples[k].Face, samples[k].Point[0], samples[k].Point[1], samples[k].Point[2],
         r.Thickness, brt::ContactTypeName(r.Type), worst[w].first,
-        deepestFace[k] >= 0 ? "face" : "edge or vertex", deepestFace[k], deepestFromO[k]);
+        deepestFace[k] >= 0 ? "face" : "edge or vertex", deepestFace[k], deepestFromO[k],
+        tolThere[k]);
     }
     if (exactCount > 0)
     {
