@@ -80,7 +80,11 @@ int main(int argc, char** argv)
         s.MeshSeconds);
       std::map<std::string, int> kinds;
       for (const auto& f : m.Faces)
-        ++kinds[std::string(brt::SurfaceKindName(f.Kind)) + (f.Rational ? "(rational)" : "")];
+        ++kinds[std::string(brt::SurfaceKindName(f.Kind)) +
+          // an analytic kind with the file's B-spline degrees: found in a B-spline or Bezier
+          (f.Kind <= brt::SurfaceKind::Torus && f.DegreeU > 0 ? "(in a bspline)"
+            : f.Rational                                    ? "(rational)"
+                                                            : "")];
       std::printf("  surfaces:");
       for (const auto& k : kinds)
         std::printf(" %s=%d", k.first.c_str(), k.second);

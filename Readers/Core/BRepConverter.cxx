@@ -38,6 +38,7 @@
 #include <Geom_TrimmedCurve.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
+#include <ShapeCustom_Surface.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <Standard_Failure.hxx>
 #include <TColGeom_Array2OfBezierSurface.hxx>
@@ -53,6 +54,7 @@
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax3.hxx>
+#include <gp_Lin.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
@@ -61,6 +63,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -168,6 +171,125 @@ void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double
     face.Kind = SurfaceKind::OffsetSurface;
   else
     face.Kind = SurfaceKind::Other;
+}
+
+/// Distance from P to an analytic surface (plane, cylinder, cone, sphere, torus; the same
+/// implicit forms as the kernel's exact_distance), NaN for any other surface.
+double AnalyticDistance(const Handle(Geom_Surface)& s, const gp_Pnt& P)
+{
+  if (auto pl = Handle(Geom_Plane)::DownCast(s))
+    return pl->Pln().Distance(P);
+  if (auto sp = Handle(Geom_SphericalSurface)::DownCast(s))
+    return std::fabs(P.Distance(sp->Location()) - sp->Radius());
+  if (auto cy = Handle(Geom_CylindricalSurface)::DownCast(s))
+    return std::fabs(gp_Lin(cy->Axis()).Distance(P) - cy->Radius());
+  auto axial = [&](const gp_Ax3& ax, double& z, double& rho) {
+    const gp_Vec v(ax.Location(), P);
+    z = v.Dot(gp_Vec(ax.Direction()));
+    rho = std::sqrt(std::max(0.0, v.SquareMagnitude() - z * z));
+  };
+  double z = 0.0, rho = 0.0;
+  if (auto co = Handle(Geom_ConicalSurface)::DownCast(s))
+  {
+    axial(co->Position(), z, rho);
+    return std::fabs((rho - co->RefRadius()) * std::cos(co->SemiAngle()) -
+      z * std::sin(co->SemiAngle()));
+  }
+  if (auto to = Handle(Geom_ToroidalSurface)::DownCast(s))
+  {
+    axial(to->Position(), z, rho);
+    return std::fabs(std::hypot(rho - to->MajorRadius(), z) - to->MinorRadius());
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// The sphere through the surface's points on a 5 x 5 grid of the domain, by least squares on
+/// x^2 + y^2 + z^2 + D x + E y + F z + G = 0 (relative to the first point); null where they are
+/// (nearly) coplanar. OpenCASCADE 7.6's ShapeCustom_Surface finds no sphere in a B-spline.
+Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::array<double, 4>& d)
+{
+  std::vector<gp_XYZ> pts;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+      pts.push_back(
+        surface->Value(d[0] + (d[1] - d[0]) * i / 4.0, d[2] + (d[3] - d[2]) * j / 4.0).XYZ());
+  const gp_XYZ o = pts[0];
+  double A[4][5] = {};
+  for (const gp_XYZ& q : pts)
+  {
+    const gp_XYZ p = q - o;
+    const double row[4] = { p.X(), p.Y(), p.Z(), 1.0 }, rhs = -p.SquareModulus();
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = 0; b < 4; ++b)
+        A[a][b] += row[a] * row[b];
+      A[a][4] += row[a] * rhs;
+    }
+  }
+  // Gaussian elimination with partial pivoting.
+  double scale = 0.0;
+  for (int a = 0; a < 4; ++a)
+    scale = std::max(scale, std::fabs(A[a][a]));
+  for (int c = 0; c < 4; ++c)
+  {
+    int piv = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::fabs(A[r][c]) > std::fabs(A[piv][c]))
+        piv = r;
+    if (!(std::fabs(A[piv][c]) > 1e-12 * scale))
+      return nullptr;
+    for (int k = 0; k < 5; ++k)
+      std::swap(A[c][k], A[piv][k]);
+    for (int r = 0; r < 4; ++r)
+      if (r != c)
+      {
+        const double f = A[r][c] / A[c][c];
+        for (int k = c; k < 5; ++k)
+          A[r][k] -= f * A[c][k];
+      }
+  }
+  const gp_XYZ centre = o - 0.5 * gp_XYZ(A[0][4] / A[0][0], A[1][4] / A[1][1], A[2][4] / A[2][2]);
+  const double r2 = (centre - o).SquareModulus() - A[3][4] / A[3][3];
+  if (!(r2 > 0.0))
+    return nullptr;
+  return new Geom_SphericalSurface(gp_Ax3(gp_Pnt(centre), gp_Dir(0, 0, 1)), std::sqrt(r2));
+}
+
+/// A B-spline or Bezier surface that is a plane, cylinder, cone, sphere or torus within
+/// `tolerance` over the face's domain (some CAD systems write every round or hole as a rational
+/// B-spline): that surface, found by OpenCASCADE's ShapeCustom_Surface (or, for a sphere, which
+/// it does not find, fitted to the surface's points) and confirmed here on a 33 x 33 grid of the
+/// domain by the implicit distance (*gap: the largest); null otherwise.
+Handle(Geom_Surface) RecogniseAnalytic(
+  const Handle(Geom_Surface)& surface, const std::array<double, 4>& d, double tolerance, double* gap)
+{
+  Handle(Geom_Surface) analytic;
+  try
+  {
+    ShapeCustom_Surface sc(surface);
+    analytic = sc.ConvertToAnalytical(tolerance, Standard_False);
+    if (analytic.IsNull() || !(sc.Gap() <= tolerance))
+      analytic = FitSphere(surface, d);
+    if (analytic.IsNull())
+      return nullptr;
+    double worst = 0.0;
+    for (int i = 0; i <= 32; ++i)
+      for (int j = 0; j <= 32; ++j)
+      {
+        const gp_Pnt P =
+          surface->Value(d[0] + (d[1] - d[0]) * i / 32.0, d[2] + (d[3] - d[2]) * j / 32.0);
+        const double e = AnalyticDistance(analytic, P);
+        if (!(e <= tolerance))
+          return nullptr; // NaN too: not a kind the solver describes
+        worst = std::max(worst, e);
+      }
+    *gap = worst;
+  }
+  catch (const Standard_Failure&)
+  {
+    return nullptr;
+  }
+  return analytic;
 }
 
 /// A face's patches before they are appended to the model: a nu x nv grid, u fastest.
@@ -1066,6 +1188,29 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       warn(w.str());
     }
     F.MaxDeviation = deviation;
+    // A B-spline or Bezier face that is an analytic surface within a thousandth of the
+    // tolerance takes that surface as its exact one (Face::Kind; the degrees stay the file's):
+    // the solver's exact finish and bounds then work on it as on a face written as a cylinder
+    // or torus. Its patches stay those of the file's surface.
+    if ((F.Kind == SurfaceKind::BSplineSurface || F.Kind == SurfaceKind::BezierSurface) &&
+      !grid.Patches.empty())
+    {
+      double gap = 0.0;
+      const Handle(Geom_Surface) analytic =
+        RecogniseAnalytic(Unwrap(surface), F.Domain, 1e-3 * tol, &gap);
+      if (!analytic.IsNull())
+      {
+        Face recognised;
+        std::array<double, 8> exact{};
+        Classify(analytic, recognised, exact);
+        if (recognised.Kind <= SurfaceKind::Torus)
+        {
+          F.Kind = recognised.Kind;
+          model.FaceExact[fi] = exact;
+          ++stats.AnalyticFromSpline;
+        }
+      }
+    }
     F.FirstPatch = static_cast<int>(model.Patches.size());
     F.PatchCount = static_cast<int>(grid.Patches.size());
     F.PatchesU = grid.NU;

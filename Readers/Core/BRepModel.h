@@ -34,6 +34,9 @@ struct Face
 {
   int Solid = -1;         ///< index of the solid (or free shell) the face belongs to
   bool Reversed = false;  ///< true: outward normal = -(Su x Sv); false: +(Su x Sv)
+  /// The kind of the face's surface; a B-spline or Bezier face that is a plane, cylinder, cone,
+  /// sphere or torus within a thousandth of the tolerance gets that kind and its FaceExact row
+  /// (ConversionStatistics::AnalyticFromSpline; DegreeU/V, non-zero, still tell the file's).
   SurfaceKind Kind = SurfaceKind::Other;
   bool Rational = false;        ///< original surface is rational (NURBS)
   int DegreeU = 0, DegreeV = 0; ///< original degrees (B-spline/Bezier only, else 0)
@@ -128,6 +131,9 @@ struct ConversionStatistics
   double MaxLoopGap = 0.0;        ///< max over loops of TrimLoop::RawGap (UV units)
   double MaxLoopGap3D = 0.0;      ///< max over loops of TrimLoop::RawGap3D (model units)
   int OpenLoops = 0;              ///< loops left open (gap beyond the vertex tolerance)
+  /// B-spline or Bezier faces found to be a plane, cylinder, cone, sphere or torus within a
+  /// thousandth of the tolerance (their Face::Kind says which; DegreeU/V stay the file's)
+  int AnalyticFromSpline = 0;
   double ReadSeconds = 0.0;
   double HealSeconds = 0.0;
   double ConvertSeconds = 0.0;
