@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_NurbsConvert.hxx>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -423,7 +425,11 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
     { "toroidal shell", analytic::ToroidalShell(40, 10, 6), 4 },
     { "conical shell", analytic::ConicalShell(30, 15, 40, 3), 3 },
     { "rod", analytic::Rod(5, 60), 10 }, { "ball", analytic::Ball(10), 20 },
-    { "ring", analytic::Ring(30, 4), 8 } };
+    { "ring", analytic::Ring(30, 4), 8 },
+    // Written as rational B-splines: the reader finds the analytic surfaces in them.
+    { "tube as NURBS", BRepBuilderAPI_NurbsConvert(analytic::Tube(20, 15, 80)).Shape(), 5 },
+    { "spherical shell as NURBS",
+      BRepBuilderAPI_NurbsConvert(analytic::SphericalShell(25, 20)).Shape(), 5 } };
   for (const auto& s : shapes)
   {
     const BRepModel m = ConvertShape(s.S, ConversionOptions()); // the reader's defaults
