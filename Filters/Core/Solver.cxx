@@ -361,7 +361,8 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
     box(model.EdgeSegments[e].ControlPoints.data(), 4, &data.EdgeBoxes[6 * e]);
-  // BVH: the solids apart first, then median splits of the box centres (below), leaves of up to 8 boxes.
+  // BVH: the solids apart first, then median splits of the box centres (below), leaves of up to
+  // 8 boxes.
   const int np = static_cast<int>(model.Patches.size());
   const int n = np + static_cast<int>(model.EdgeSegments.size());
   auto boxOf = [&](int item) {
@@ -370,9 +371,15 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
   };
   // An item's solid: its face's, an edge segment's first face's (-1: none).
   auto solidOf = [&](int item) {
-    const int face = item < np ? model.Patches[static_cast<size_t>(item)].Face
-                               : model.Edges[static_cast<size_t>(
-                                   model.EdgeSegments[static_cast<size_t>(item - np)].Edge)].Faces[0];
+    int face = -1;
+    if (item < np)
+      face = model.Patches[static_cast<size_t>(item)].Face;
+    else
+    {
+      const int edge = model.EdgeSegments[static_cast<size_t>(item - np)].Edge;
+      if (edge >= 0 && edge < static_cast<int>(model.Edges.size()))
+        face = model.Edges[static_cast<size_t>(edge)].Faces[0];
+    }
     return face >= 0 && face < static_cast<int>(model.Faces.size())
       ? model.Faces[static_cast<size_t>(face)].Solid
       : -1;
