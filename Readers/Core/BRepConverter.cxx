@@ -18,6 +18,7 @@
 #include <Geom2d_BezierCurve.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <GeomConvert_ApproxCurve.hxx>
 #include <GeomConvert_BSplineCurveToBezierCurve.hxx>
 #include <GeomConvert_BSplineSurfaceToBezierSurface.hxx>
@@ -54,7 +55,6 @@
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax3.hxx>
-#include <gp_Lin.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
@@ -63,7 +63,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -173,36 +172,6 @@ void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double
     face.Kind = SurfaceKind::Other;
 }
 
-/// Distance from P to an analytic surface (plane, cylinder, cone, sphere, torus; the same
-/// implicit forms as the kernel's exact_distance), NaN for any other surface.
-double AnalyticDistance(const Handle(Geom_Surface)& s, const gp_Pnt& P)
-{
-  if (auto pl = Handle(Geom_Plane)::DownCast(s))
-    return pl->Pln().Distance(P);
-  if (auto sp = Handle(Geom_SphericalSurface)::DownCast(s))
-    return std::fabs(P.Distance(sp->Location()) - sp->Radius());
-  if (auto cy = Handle(Geom_CylindricalSurface)::DownCast(s))
-    return std::fabs(gp_Lin(cy->Axis()).Distance(P) - cy->Radius());
-  auto axial = [&](const gp_Ax3& ax, double& z, double& rho) {
-    const gp_Vec v(ax.Location(), P);
-    z = v.Dot(gp_Vec(ax.Direction()));
-    rho = std::sqrt(std::max(0.0, v.SquareMagnitude() - z * z));
-  };
-  double z = 0.0, rho = 0.0;
-  if (auto co = Handle(Geom_ConicalSurface)::DownCast(s))
-  {
-    axial(co->Position(), z, rho);
-    return std::fabs((rho - co->RefRadius()) * std::cos(co->SemiAngle()) -
-      z * std::sin(co->SemiAngle()));
-  }
-  if (auto to = Handle(Geom_ToroidalSurface)::DownCast(s))
-  {
-    axial(to->Position(), z, rho);
-    return std::fabs(std::hypot(rho - to->MajorRadius(), z) - to->MinorRadius());
-  }
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 /// The sphere through the surface's points on a 5 x 5 grid of the domain, by least squares on
 /// x^2 + y^2 + z^2 + D x + E y + F z + G = 0 (relative to the first point); null where they are
 /// (nearly) coplanar. OpenCASCADE 7.6's ShapeCustom_Surface finds no sphere in a B-spline.
@@ -259,9 +228,9 @@ Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::a
 /// `tolerance` over the face's domain (some CAD systems write every round or hole as a rational
 /// B-spline): that surface, found by OpenCASCADE's ShapeCustom_Surface (or, for a sphere, which
 /// it does not find, fitted to the surface's points) and confirmed here on a 33 x 33 grid of the
-/// domain by the implicit distance (*gap: the largest); null otherwise.
+/// domain: each of those points of the surface lies within `tolerance` of it; null otherwise.
 Handle(Geom_Surface) RecogniseAnalytic(
-  const Handle(Geom_Surface)& surface, const std::array<double, 4>& d, double tolerance, double* gap)
+  const Handle(Geom_Surface)& surface, const std::array<double, 4>& d, double tolerance)
 {
   Handle(Geom_Surface) analytic;
   try
@@ -272,18 +241,17 @@ Handle(Geom_Surface) RecogniseAnalytic(
       analytic = FitSphere(surface, d);
     if (analytic.IsNull())
       return nullptr;
-    double worst = 0.0;
     for (int i = 0; i <= 32; ++i)
       for (int j = 0; j <= 32; ++j)
       {
         const gp_Pnt P =
           surface->Value(d[0] + (d[1] - d[0]) * i / 32.0, d[2] + (d[3] - d[2]) * j / 32.0);
-        const double e = AnalyticDistance(analytic, P);
-        if (!(e <= tolerance))
-          return nullptr; // NaN too: not a kind the solver describes
-        worst = std::max(worst, e);
+        // OpenCASCADE's projection, in closed form on these surfaces (Extrema_ExtPElS).
+        GeomAPI_ProjectPointOnSurf proj(P, analytic);
+        const double e = proj.NbPoints() > 0 ? proj.LowerDistance() : -1.0;
+        if (!(e >= 0.0 && e <= tolerance))
+          return nullptr;
       }
-    *gap = worst;
   }
   catch (const Standard_Failure&)
   {
@@ -1195,9 +1163,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     if ((F.Kind == SurfaceKind::BSplineSurface || F.Kind == SurfaceKind::BezierSurface) &&
       !grid.Patches.empty())
     {
-      double gap = 0.0;
       const Handle(Geom_Surface) analytic =
-        RecogniseAnalytic(Unwrap(surface), F.Domain, 1e-3 * tol, &gap);
+        RecogniseAnalytic(Unwrap(surface), F.Domain, 1e-3 * tol);
       if (!analytic.IsNull())
       {
         Face recognised;
