@@ -26,6 +26,7 @@
 // and every sample the solver finds facing nothing (an infinite gap) is checked: its exact
 // sphere must stay empty up to a radius of the model's bounding-box diagonal.
 #include "BRepConverter.h"
+#include "ExactDistance.h"
 #include "Solver.h"
 #ifdef BRT_HAVE_OPENCL
 #include "OpenCLSolver.h"
@@ -36,21 +37,12 @@
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <BRepBndLib.hxx>
-#include <BRepClass_FaceClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
-#include <GeomAPI_ProjectPointOnCurve.hxx>
-#include <GeomAPI_ProjectPointOnSurf.hxx>
-#include <Geom_Curve.hxx>
-#include <Geom_Surface.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
-#include <TopoDS_Edge.hxx>
 #include <TopoDS_Vertex.hxx>
-#include <gp_Pnt2d.hxx>
-#include <limits>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
@@ -184,62 +176,13 @@ int main(int argc, char** argv)
       b.Add(allFaces, faces[f]);
     }
     // A second distance, apart from BRepExtrema_DistShapeShape (which can miss the nearest
-    // point of a face: docs/Solver.md, item 14): every local extremum of the distance from X to
-    // each face's surface (GeomAPI_ProjectPointOnSurf over the face's parameter box) that the
-    // face's classifier puts on the face, and every extremum along each of its edges' curves
-    // and their ends, for the faces whose box comes within `reach` of X.
-    std::vector<Bnd_Box> faceBox(faces.size());
-    for (size_t f = 0; f < faces.size(); ++f)
-      BRepBndLib::Add(faces[f], faceBox[f]);
+    // point of a face: docs/Solver.md, item 14), over the faces that bound the sample's sphere.
+    const std::vector<Bnd_Box> faceBox = brt::exact::FaceBoxes(faces);
     auto secondDistance = [&](const brt::Sample& s, const gp_Pnt& X, double reach, gp_Pnt& at,
                             int& atFace) {
-      double best = std::numeric_limits<double>::max();
-      auto keep = [&](double dist, const gp_Pnt& P, int face) {
-        if (dist < best)
-        {
-          best = dist;
-          at = P;
-          atFace = face;
-        }
-      };
       const int solid = m.Faces[static_cast<size_t>(s.Face)].Solid;
-      for (size_t f = 0; f < faces.size(); ++f)
-      {
-        if (!(gap && allSolids) && m.Faces[f].Solid != solid)
-          continue;
-        if (faceBox[f].IsVoid() || faceBox[f].Distance(Bnd_Box(X, X)) > reach)
-          continue;
-        const TopoDS_Face& F = faces[f];
-        double u0, u1, v0, v1;
-        BRepTools::UVBounds(F, u0, u1, v0, v1);
-        const Handle(Geom_Surface) S = BRep_Tool::Surface(F);
-        if (!S.IsNull())
-        {
-          GeomAPI_ProjectPointOnSurf proj(X, S, u0, u1, v0, v1);
-          for (int i = 1; i <= proj.NbPoints(); ++i)
-          {
-            double u, v;
-            proj.Parameters(i, u, v);
-            BRepClass_FaceClassifier in(F, gp_Pnt2d(u, v), BRep_Tool::Tolerance(F));
-            if (in.State() == TopAbs_IN || in.State() == TopAbs_ON)
-              keep(proj.Distance(i), proj.Point(i), static_cast<int>(f));
-          }
-        }
-        for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
-        {
-          const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
-          double t0, t1;
-          const Handle(Geom_Curve) C = BRep_Tool::Curve(E, t0, t1);
-          if (C.IsNull())
-            continue;
-          keep(X.Distance(C->Value(t0)), C->Value(t0), -1);
-          keep(X.Distance(C->Value(t1)), C->Value(t1), -1);
-          GeomAPI_ProjectPointOnCurve proj(X, C, t0, t1);
-          for (int i = 1; i <= proj.NbPoints(); ++i)
-            keep(proj.Distance(i), proj.Point(i), -1);
-        }
-      }
-      return best;
+      return brt::exact::ExtremaDistance(faces, faceBox, X, reach,
+        [&](size_t f) { return (gap && allSolids) || m.Faces[f].Solid == solid; }, &at, &atFace);
     };
     // The faces that bound a sample's sphere: its solid's, or every solid's (--gap --all-solids).
     auto bounding = [&](const brt::Sample& s) -> const TopoDS_Shape& {

@@ -2,19 +2,13 @@
 // the ball of radius t centred at M = O + t d stays inside the solid, found by bisection on t
 // with OpenCASCADE's exact distance (BRepExtrema) from M to the solid's boundary.
 #include "AnalyticShapes.h"
+#include "ExactDistance.h"
 #include "SolverTestHelpers.h"
 
 #include <gtest/gtest.h>
 
-#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
-#include <BRepClass_FaceClassifier.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
-#include <GeomAPI_ProjectPointOnSurf.hxx>
-#include <Geom_Surface.hxx>
-#include <gp_Pnt2d.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
 #include <TopExp_Explorer.hxx>
@@ -30,7 +24,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <map>
 #include <vector>
 
@@ -357,37 +350,6 @@ TEST(SolverExact, EdgeCurveOffItsFace)
   }
 }
 
-/// The distance from X to the part's faces by a second way, for where BRepExtrema_DistShapeShape
-/// misses a face's nearest point (docs/Solver.md, item 14): on every face whose box comes within
-/// `reach` of X, each local extremum of the distance to its surface (GeomAPI_ProjectPointOnSurf
-/// over the face's parameter box) that the face's classifier puts on the face.
-double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const gp_Pnt& X, double reach)
-{
-  double best = std::numeric_limits<double>::max();
-  for (const TopoDS_Face& F : faces)
-  {
-    Bnd_Box box;
-    BRepBndLib::Add(F, box);
-    if (box.IsVoid() || box.Distance(Bnd_Box(X, X)) > reach)
-      continue;
-    double u0, u1, v0, v1;
-    BRepTools::UVBounds(F, u0, u1, v0, v1);
-    const Handle(Geom_Surface) S = BRep_Tool::Surface(F);
-    if (S.IsNull())
-      continue;
-    GeomAPI_ProjectPointOnSurf proj(X, S, u0, u1, v0, v1);
-    for (int i = 1; i <= proj.NbPoints(); ++i)
-    {
-      double u, v;
-      proj.Parameters(i, u, v);
-      const BRepClass_FaceClassifier in(F, gp_Pnt2d(u, v), BRep_Tool::Tolerance(F));
-      if (in.State() == TopAbs_IN || in.State() == TopAbs_ON)
-        best = std::min(best, proj.Distance(i));
-    }
-  }
-  return best;
-}
-
 /// The moulded cover (Data/unseen/; traced in the seventh session, so no longer unseen): its long
 /// extrusions (faces 24, 27 and 484) cross the faces next to them by about the edge's tolerance
 /// in the file (2.3e-3 mm), up to 2.6e-3 mm above O. The deepest point of the extrusion in these
@@ -407,13 +369,14 @@ TEST(SolverExact, PointOnTheTrimCounts)
   std::vector<Sample> samples;
   const std::vector<SampleResult> res = SolveAt(cover, ids, samples);
   const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
+  const std::vector<Bnd_Box> boxes = exact::FaceBoxes(cover.FaceList);
   double worst = 0.0;
   for (size_t k = 0; k < samples.size(); ++k)
   {
     ASSERT_NE(res[k].Type, ContactType::Failed) << ids[k] << ": " << FailReasonName(res[k].Reason);
     const gp_Pnt M(res[k].Center[0], res[k].Center[1], res[k].Center[2]);
     const double dist = std::min(BoundaryDistance(cover.Faces, res[k].Center),
-      ExtremaDistance(cover.FaceList, M, res[k].Radius));
+      exact::ExtremaDistance(cover.FaceList, boxes, M, res[k].Radius));
     const double overlap = res[k].Radius - dist;
     worst = std::max(worst, overlap);
     EXPECT_LE(overlap, allowed) << ids[k] << ": 2t = " << res[k].Thickness;
