@@ -144,7 +144,7 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
     std::copy(&domain[4 * f], &domain[4 * f] + 4, F.Domain.begin());
     F.Period = { period[2 * f], period[2 * f + 1] };
     F.UVTolerance = uvTol[f];
-    F.MaxDeviation = dev.empty() ? 0.0 : dev[f];
+    F.MaxDeviation = dev.empty() ? -1.0 : dev[f];
   }
   // Optional: without it (a file saved before it existed) the solver keeps the patches' contacts.
   const auto exact = Get(fd, "FaceExactSurface", 8, nf, false);

@@ -2153,12 +2153,19 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
 
 // A lower bound of the distance from the centre M (O + mr) to `face`, from its exact surface
 // (plane, cylinder, cone, sphere, torus): no point of the face is nearer to M than M's distance
-// from the whole surface. Its patches lie within their deviation of it (measured at samples; the
-// conversion tolerance, half the slack, where none was measured), which the bound gives up, so
-// that a point of the patches more than that deviation inside the sphere still counts. Tight where
-// the sphere touches a round or a boss, where the control points' hull is not; negative where the
-// face has no exact surface (or M lies on its axis, where exact_distance gives 0).
-inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr)
+// from the whole surface. Its patches lie within their deviation of it, which the bound gives up,
+// so that a point of the patches more than that deviation inside the sphere still counts. Tight
+// where the sphere touches a round or a boss, where the control points' hull is not; negative
+// where the face has no exact surface (or M lies on its axis, where exact_distance gives 0).
+// The deviation in double: the reader's measure (FACE_DEVIATION: random points of the face and a
+// grid on every patch; a grid four times as fine found at most 1% more on ten parts) and half as
+// much again, plus the tolerance within which a B-spline face was recognised as analytic (1e-3 of
+// the conversion tolerance, taken twice) and rounding. The contact face of a sphere solved with
+// the clearance lies a quarter slack outside the certification's reach: the conversion tolerance
+// (half the slack) in place of the measure had every such patch searched (docs/Solver.md).
+// In float, and where no measure came (negative), the larger of the measure and the conversion
+// tolerance, as before.
+inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, real t)
 {
   const int kind = m->faceInfo[FACE_INTS * face + 8];
   if (kind == EXACT_NONE)
@@ -2167,8 +2174,17 @@ inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr)
   __global const real* e = fd + FACE_EXACT;
   real3 g;
   int ok;
-  const real f = exact_distance(kind, e, mr - anchor_minus(e, Ohi, Olo), &g, &ok);
-  return fabs(f) - fmax((real)0.5 * m->slack, fd[FACE_DEVIATION]);
+  const real3 X = mr - anchor_minus(e, Ohi, Olo);
+  const real f = exact_distance(kind, e, X, &g, &ok);
+  const real measured = fd[FACE_DEVIATION];
+#ifdef BRT_DOUBLE
+  if (measured >= (real)0)
+    return fabs(f) - ((real)1.5 * measured + (real)1e-3 * m->slack +
+                       (real)64 * REAL_EPS * (length(X) + t));
+#else
+  (void)t;
+#endif
+  return fabs(f) - fmax((real)0.5 * m->slack, measured);
 }
 
 // The certification of the sphere of radius t tangent at O: the deepest
@@ -2224,7 +2240,7 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
           real ahead;
           if (in_scope(m->faceInfo, face, solid) &&
             box_gap2(m->patchBoxes + 6 * item, M) < need * need &&
-            exact_gap(m, face, Ohi, Olo, mr) < need &&
+            exact_gap(m, face, Ohi, Olo, mr, t) < need &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
             ahead > depth)

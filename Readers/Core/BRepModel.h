@@ -44,7 +44,9 @@ struct Face
   int FirstPatch = 0, PatchCount = 0;
   int PatchesU = 0, PatchesV = 0; ///< patches form a PatchesU x PatchesV grid, u fastest
   int FirstLoop = 0, LoopCount = 0;
-  double MaxDeviation = 0.0; ///< measured max |Bezier(u,v) - S(u,v)| on this face
+  /// Measured max |Bezier(u,v) - S(u,v)| on this face (random points and a grid on every patch);
+  /// negative: not measured (a model built by hand, a field without FaceMaxDeviation).
+  double MaxDeviation = -1.0;
   double UVTolerance = 0.0;  ///< parametric tolerance used for the trimming curves
   /// Period of the surface in u and v when the face closes on itself across a seam in that
   /// direction (its domain spans the whole period), else 0. The solver wraps across seams.
