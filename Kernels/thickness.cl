@@ -2151,40 +2151,126 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   return l - e[10];
 }
 
+// How far an analytic face's patches may lie from its exact surface, for the bounds below (X: the
+// centre relative to the surface's origin, t the radius, for the rounding). In double: the
+// reader's measure (FACE_DEVIATION: random points of the face and a grid on every patch; a grid
+// four times as fine found at most 1% more on ten parts) and half as much again, plus the
+// tolerance within which a B-spline face was recognised as analytic (1e-3 of the conversion
+// tolerance, taken twice) and rounding. The contact face of a sphere solved with the clearance
+// lies a quarter slack outside the certification's reach: the conversion tolerance (half the
+// slack) in place of the measure had every such patch searched (docs/Solver.md). In float, and
+// where no measure came (negative), the larger of the measure and the conversion tolerance.
+inline real deviation_allowance(const Model* m, int face, real3 X, real t)
+{
+  const real measured = m->faceDomain[FACE_REALS * face + FACE_DEVIATION];
+#ifdef BRT_DOUBLE
+  if (measured >= (real)0)
+    return (real)1.5 * measured + (real)1e-3 * m->slack + (real)64 * REAL_EPS * (length(X) + t);
+#else
+  (void)X;
+  (void)t;
+#endif
+  return fmax((real)0.5 * m->slack, measured);
+}
+
 // A lower bound of the distance from the centre M (O + mr) to `face`, from its exact surface
 // (plane, cylinder, cone, sphere, torus): no point of the face is nearer to M than M's distance
-// from the whole surface. Its patches lie within their deviation of it, which the bound gives up,
-// so that a point of the patches more than that deviation inside the sphere still counts. Tight
-// where the sphere touches a round or a boss, where the control points' hull is not; negative
-// where the face has no exact surface (or M lies on its axis, where exact_distance gives 0).
-// The deviation in double: the reader's measure (FACE_DEVIATION: random points of the face and a
-// grid on every patch; a grid four times as fine found at most 1% more on ten parts) and half as
-// much again, plus the tolerance within which a B-spline face was recognised as analytic (1e-3 of
-// the conversion tolerance, taken twice) and rounding. The contact face of a sphere solved with
-// the clearance lies a quarter slack outside the certification's reach: the conversion tolerance
-// (half the slack) in place of the measure had every such patch searched (docs/Solver.md).
-// In float, and where no measure came (negative), the larger of the measure and the conversion
-// tolerance, as before.
+// from the whole surface. Its patches lie within their deviation of it (deviation_allowance),
+// which the bound gives up, so that a point of the patches more than that deviation inside the
+// sphere still counts. Tight where the sphere touches a round or a boss, where the control
+// points' hull is not; negative where the face has no exact surface (or M lies on its axis, where
+// exact_distance gives 0).
 inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, real t)
 {
   const int kind = m->faceInfo[FACE_INTS * face + 8];
   if (kind == EXACT_NONE)
     return (real)-1;
-  __global const real* fd = m->faceDomain + FACE_REALS * face;
-  __global const real* e = fd + FACE_EXACT;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
   real3 g;
   int ok;
   const real3 X = mr - anchor_minus(e, Ohi, Olo);
   const real f = exact_distance(kind, e, X, &g, &ok);
-  const real measured = fd[FACE_DEVIATION];
+  return fabs(f) - deviation_allowance(m, face, X, t);
+}
+
+// A lower bound of the distance from M to patch p of a cylindrical face, tighter than exact_gap
+// where the sphere's centre lies near the axis (a rod or boss of radius about t: the whole
+// cylinder is then about t from M, and exact_gap lets every patch through). The patch lies in the
+// hull of its control points, so within the sector (around the axis) and the height range that
+// hold them all; a point of it within the deviation of the cylinder has its nearest cylinder
+// point in that sector and range too. The bound is M's distance from that piece of the cylinder
+// (its nearest point: M's direction around the axis turned into the sector, M's height clamped),
+// less the deviation. Negative (no bound) where the sector is not narrower than a half-turn.
+// Double only: in float the angles carry too much rounding.
+inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
+  real t)
+{
 #ifdef BRT_DOUBLE
-  if (measured >= (real)0)
-    return fabs(f) - ((real)1.5 * measured + (real)1e-3 * m->slack +
-                       (real)64 * REAL_EPS * (length(X) + t));
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real3 ax = make_real3(e[6], e[7], e[8]);
+  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - origin
+  // The patch's anchor relative to the cylinder's origin (anchor - O - (origin - O)).
+  const real3 a = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo) - anchor_minus(e, Ohi, Olo);
+  __global const real* c = m->patches + 48 * p;
+  real3 mean = splat_real3(0);
+  real z0 = REAL_MAX, z1 = -REAL_MAX;
+  for (int i = 0; i < 16; ++i)
+  {
+    const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    const real z = dot(q, ax);
+    z0 = min(z0, z);
+    z1 = max(z1, z);
+    mean += q - z * ax;
+  }
+  const real lm = length(mean);
+  if (!(lm > (real)0))
+    return (real)-1;
+  const real3 mid = mean / lm;
+  real cosA = (real)1;
+  for (int i = 0; i < 16; ++i)
+  {
+    const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    const real3 r = q - dot(q, ax) * ax;
+    const real lr = length(r);
+    if (!(lr > (real)0))
+      return (real)-1;
+    cosA = min(cosA, dot(r, mid) / lr);
+  }
+  if (!(cosA > (real)0))
+    return (real)-1;
+  const real sinA = sqrt(fmax((real)0, (real)1 - cosA * cosA));
+  const real zM = dot(X, ax);
+  const real3 rM = X - zM * ax;
+  const real rho = length(rM);
+  // The direction of the nearest point around the axis: M's own where it lies in the sector (or
+  // any where M is on the axis), else the sector's side towards M.
+  real3 w = mid;
+  if (rho > (real)0)
+  {
+    const real3 u = rM / rho;
+    const real cosT = dot(u, mid);
+    if (cosT >= cosA)
+      w = u;
+    else
+    {
+      const real3 side = u - cosT * mid;
+      const real ls = length(side);
+      w = ls > (real)0 ? cosA * mid + sinA * (side / ls) : mid;
+    }
+  }
+  const real dz = zM - clamp(zM, z0, z1);
+  const real3 gap = rM - e[9] * w;
+  return sqrt(dot(gap, gap) + dz * dz) - deviation_allowance(m, face, X, t);
 #else
+  (void)m;
+  (void)p;
+  (void)face;
+  (void)Ohi;
+  (void)Olo;
+  (void)mr;
   (void)t;
+  return (real)-1;
 #endif
-  return fabs(f) - fmax((real)0.5 * m->slack, measured);
 }
 
 // The certification of the sphere of radius t tangent at O: the deepest
@@ -2243,7 +2329,9 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
             exact_gap(m, face, Ohi, Olo, mr, t) < need &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
-            ahead > depth)
+            ahead > depth &&
+            (m->faceInfo[FACE_INTS * face + 8] != EXACT_CYLINDER ||
+              cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
         else
