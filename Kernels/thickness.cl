@@ -2243,19 +2243,19 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
   const real3 rM = X - zM * ax;
   const real rho = length(rM);
   // The direction of the nearest point around the axis: M's own where it lies in the sector (or
-  // any where M is on the axis), else the sector's side towards M.
+  // any where M is on the axis), else the sector's side towards M (either where M lies straight
+  // across from the sector's middle: the side is taken from the axis, not from M's direction,
+  // which is then all rounding).
   real3 w = mid;
   if (rho > (real)0)
   {
     const real3 u = rM / rho;
-    const real cosT = dot(u, mid);
-    if (cosT >= cosA)
+    if (dot(u, mid) >= cosA)
       w = u;
     else
     {
-      const real3 side = u - cosT * mid;
-      const real ls = length(side);
-      w = ls > (real)0 ? cosA * mid + sinA * (side / ls) : mid;
+      const real3 perp = cross(ax, mid);
+      w = cosA * mid + (dot(u, perp) < (real)0 ? -sinA : sinA) * perp;
     }
   }
   const real dz = zM - clamp(zM, z0, z1);

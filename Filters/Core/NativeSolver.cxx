@@ -127,6 +127,22 @@ bool NativeSolver::HoldsBoundary(
            std::max(s.Clearance, s.Slack), &inside) != 0;
 }
 
+void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
+  double& patchBound) const
+{
+  const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
+  double in[KernelSampleReals];
+  PackSample(P->Data, sample, in);
+  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
+    d{ in[6], in[7], in[8] };
+  const kernel::real3 mr = t * d;
+  const int face = view.patchFace[patch];
+  faceBound = kernel::exact_gap(&view, face, Ohi, Olo, mr, t);
+  patchBound = view.faceInfo[FACE_INTS * face + 8] == EXACT_CYLINDER
+    ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
+    : -1.0;
+}
+
 void NativeSolver::Classify(int face, double u, double v, bool& inside, int& segment,
   double& parameter, double& distance) const
 {

@@ -35,6 +35,14 @@ public:
   /// float kernels). False for a failed result.
   bool HoldsBoundary(const SolverOptions& options, const Sample& sample, const SampleResult& r) const;
 
+  /// The certification's lower bounds of the distance from the centre of the sphere of radius t
+  /// tangent at the sample to `patch` (find_point_inside in Kernels/thickness.cl): faceBound from
+  /// its face's exact surface (exact_gap), patchBound from the patch's piece of a cylinder
+  /// (cylinder_patch_gap); -1 where one does not apply. For tests against OpenCASCADE's distance
+  /// to the patch.
+  void PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
+    double& patchBound) const;
+
   /// The kernel's point-in-face test at (u, v) on `face` (classify in Kernels/thickness.cl, the
   /// per-face segment tree included): inside, and the nearest trimming segment (-1: none), the
   /// local parameter on it and the distance. The same steps as brt::ClassifyPoint (the reader's),

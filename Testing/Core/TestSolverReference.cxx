@@ -6,7 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include "NativeSolver.h"
+
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -91,6 +97,90 @@ TEST(SolverReference, ClosedForms)
           << SurfaceKindName(f.Kind) << ", degree " << f.DegreeU;
       EXPECT_EQ(s.Model.Stats.AnalyticFromSpline, static_cast<int>(s.Model.Faces.size()));
     }
+  }
+}
+/// OpenCASCADE's distance from M to a patch: every extremum inside it, along its four edges, and
+/// its corners (the nearest point of a patch often lies on its edge, where the surface's own
+/// extrema miss it).
+double DistanceToPatch(const BezierPatch& patch, const gp_Pnt& M)
+{
+  TColgp_Array2OfPnt poles(1, 4, 1, 4);
+  for (int a = 0; a < 4; ++a)
+    for (int j = 0; j < 4; ++j)
+    {
+      const double* c = &patch.ControlPoints[(4 * a + j) * 3];
+      poles(a + 1, j + 1) = gp_Pnt(c[0], c[1], c[2]);
+    }
+  Handle(Geom_BezierSurface) s = new Geom_BezierSurface(poles);
+  double best = 1e300;
+  GeomAPI_ProjectPointOnSurf onSurface(M, s);
+  for (int i = 1; i <= onSurface.NbPoints(); ++i)
+    best = std::min(best, onSurface.Distance(i));
+  for (int k = 0; k < 4; ++k)
+  {
+    const Handle(Geom_Curve) edge = k < 2 ? s->UIso(k) : s->VIso(k - 2);
+    best = std::min({ best, M.Distance(edge->Value(0.0)), M.Distance(edge->Value(1.0)) });
+    GeomAPI_ProjectPointOnCurve onEdge(M, edge, 0.0, 1.0);
+    for (int i = 1; i <= onEdge.NbPoints(); ++i)
+      best = std::min(best, onEdge.Distance(i));
+  }
+  return best;
+}
+
+/// The certification skips a patch on the strength of two lower bounds of its distance from the
+/// sphere's centre (find_point_inside): from its face's exact surface less the patches' measured
+/// deviation, and on a cylinder from the patch's piece of it. Both must stay at or below
+/// OpenCASCADE's distance to the patch itself, for centres of spheres near the solved ones (the
+/// solved radius, a clearance and a few more wider, half as wide); and the patch's bound must
+/// do its work: on a rod the solved sphere's centre lies near the axis, where the face's bound
+/// is about the rod's radius for every patch.
+TEST(SolverBounds, BelowTheDistanceToThePatch)
+{
+  const std::vector<ClosedForm> shapes = {
+    { "rod R5 L60", analytic::Rod(5, 60), 10.0 },
+    { "tube R20 r15", analytic::Tube(20, 15, 80), 5.0 },
+    { "tube R20 r15 as NURBS", BRepBuilderAPI_NurbsConvert(analytic::Tube(20, 15, 80)).Shape(),
+      5.0 },
+  };
+  for (const ClosedForm& c : shapes)
+  {
+    SCOPED_TRACE(c.Name);
+    const test::Solved s = test::SolveShape(c.Shape, ConversionOptions().Tolerance);
+    const NativeSolver solver(s.Model, s.Data);
+    size_t checked = 0, patchTighter = 0;
+    double worst = -1e300;
+    const size_t stride = std::max<size_t>(1, s.Samples.size() / 8);
+    for (size_t i = 0; i < s.Samples.size(); i += stride)
+    {
+      const Sample& smp = s.Samples[i];
+      const double t0 = s.Results[i].Radius;
+      ASSERT_GT(t0, 0.0);
+      for (const double t : { t0, t0 + 2e-4, t0 + 2e-3, 0.5 * t0 })
+      {
+        const gp_Pnt M(smp.Point[0] + t * smp.Direction[0], smp.Point[1] + t * smp.Direction[1],
+          smp.Point[2] + t * smp.Direction[2]);
+        for (size_t p = 0; p < s.Model.Patches.size(); ++p)
+        {
+          double faceBound, patchBound;
+          solver.PatchBounds(smp, t, static_cast<int>(p), faceBound, patchBound);
+          const double bound = std::max(faceBound, patchBound);
+          if (!(bound > 0.0))
+            continue; // no claim
+          const double truth = DistanceToPatch(s.Model.Patches[p], M);
+          ++checked;
+          patchTighter += patchBound > faceBound + 1e-3;
+          worst = std::max(worst, bound - truth);
+          EXPECT_LE(bound, truth + 1e-9) << "sample " << i << ", t " << t << ", patch " << p
+                                         << ": face bound " << faceBound << ", patch bound "
+                                         << patchBound << ", distance " << truth;
+        }
+      }
+    }
+    std::printf("[bounds] %s: %zu bounds against the distance, the patch's tighter by 1e-3 on "
+                "%zu, max bound - distance %.3g\n",
+      c.Name.c_str(), checked, patchTighter, worst);
+    EXPECT_GT(checked, 100u);
+    EXPECT_GT(patchTighter, 0u);
   }
 }
 } // namespace
