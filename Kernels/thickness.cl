@@ -2208,9 +2208,10 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
 #ifdef BRT_DOUBLE
   __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
   const real3 ax = make_real3(e[6], e[7], e[8]);
-  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - origin
-  // The patch's anchor relative to the cylinder's origin (anchor - O - (origin - O)).
-  const real3 a = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo) - anchor_minus(e, Ohi, Olo);
+  const real3 origin = anchor_minus(e, Ohi, Olo); // the cylinder's origin - O
+  const real3 X = mr - origin;                     // M - origin
+  // The patch's anchor relative to the cylinder's origin.
+  const real3 a = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo) - origin;
   __global const real* c = m->patches + 48 * p;
   real3 mean = splat_real3(0);
   real z0 = REAL_MAX, z1 = -REAL_MAX;
