@@ -115,11 +115,30 @@ TrimCheck CheckTrims(const BRepModel& m, const std::vector<TopoDS_Face>& faces, 
   }
   return r;
 }
+namespace
+{
+/// The folders TempDir made, removed with their content when the test process exits normally.
+struct TempDirs
+{
+  std::vector<std::filesystem::path> Made;
+  ~TempDirs()
+  {
+    for (const auto& d : Made)
+    {
+      std::error_code ec;
+      std::filesystem::remove_all(d, ec);
+    }
+  }
+};
+}
+
 std::string TempDir(const std::string& prefix)
 {
+  static TempDirs dirs;
   const std::filesystem::path d =
     std::filesystem::temp_directory_path() / (prefix + "-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(d);
+  if (std::filesystem::create_directories(d))
+    dirs.Made.push_back(d);
   return d.string();
 }
 

@@ -14,7 +14,8 @@ namespace brt::test
 /// All STEP files in Data/, sorted.
 std::vector<std::string> DataModels();
 std::string DataFile(const std::string& name);
-/// A folder of this test process's own under the system's temporary folder (made once).
+/// A folder of this test process's own under the system's temporary folder (made once, removed
+/// with its content when the process exits normally).
 std::string TempDir(const std::string& prefix);
 /// The whole content of a file.
 std::string ReadAll(const std::string& path);
