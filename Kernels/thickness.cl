@@ -1342,6 +1342,9 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
     if (len * f < tiny || !(slope < (real)0))
       break; // stationary: a minimum of t on the face
     const real res0 = tangential_residual(&cur, d);
+    const real stepUV = sqrt(s0 * s0 + s1 * s1);
+    // Steps longer than this end outside the face for certain, without a trim test (below).
+    real outsideAbove = REAL_MAX;
     int accepted = 0;
     for (int k = 0; k < 40; ++k, f *= (real)0.5)
     {
@@ -1351,7 +1354,7 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
       const int outsideDomain = uc != un || vc != vn;
       // A step past the domain is halved again; the trim test only names the first crossing
       // (most steps of a descent along the domain's border end here, each a trim test before).
-      if (outsideDomain && *crossing >= 0)
+      if ((outsideDomain && *crossing >= 0) || f > outsideAbove)
         continue;
       int seg;
       real param, dist;
@@ -1360,6 +1363,13 @@ DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, rea
       {
         if (*crossing < 0)
           *crossing = seg; // the first (longest) step that left the face
+        // A point outside the trim by dist - fd[6] has no trim within that distance: the steps
+        // that end closer to it (a shorter step along the same line, without a wrap) are
+        // outside too. Most halvings of a descent towards its face's border end outside; this
+        // skips their trim tests (a thousandth of the distance kept as margin).
+        if (!inside && !outsideDomain && un == cur.u + f * s0 && vn == cur.v + f * s1 &&
+          stepUV > (real)0 && dist > fd[6])
+          outsideAbove = f - (real)0.999 * (dist - fd[6]) / stepUV;
         continue;
       }
       DescentState next;
