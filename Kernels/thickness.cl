@@ -337,12 +337,39 @@ inline real seg_length(__global const real* c)
     length(make_real2(c[6] - c[4], c[7] - c[5]));
 }
 
+// Control points within this (squared, relative to the chord's length) of a line's evenly spaced
+// ones make a straight segment (project_segment).
+#ifdef BRT_DOUBLE
+#define LINEAR_SEGMENT_TOL2 ((real)1e-24)
+#else
+#define LINEAR_SEGMENT_TOL2 ((real)1e-12)
+#endif
+
 // Nearest point on a cubic 2D segment: eq. 6 from the polyline c(0), c(1/3), c(2/3), c(1).
 real project_segment(__global const real* c, real2 P, real* dist)
 {
+  // A straight segment with evenly spaced control points (a line's, most of a planar face's
+  // trim) is c0 + t (c3 - c0): its nearest point in closed form.
+  {
+    const real2 c0 = make_real2(c[0], c[1]), a = make_real2(c[6], c[7]) - c0;
+    const real2 e1 = make_real2(c[2], c[3]) - c0 - a / (real)3;
+    const real2 e2 = make_real2(c[4], c[5]) - c0 - (real)2 * a / (real)3;
+    const real len2 = dot(a, a);
+    if (len2 > (real)0 && dot(e1, e1) + dot(e2, e2) <= LINEAR_SEGMENT_TOL2 * len2)
+    {
+      const real t = clamp(dot(P - c0, a) / len2, (real)0, (real)1);
+      // (At an end, the end control point itself: corners' ties stay exact.)
+      const real2 q = t == (real)1 ? make_real2(c[6], c[7]) : c0 + t * a;
+      *dist = length(q - P);
+      return t;
+    }
+  }
   real2 d1, d2, poly[4];
-  for (int i = 0; i < 4; ++i)
-    poly[i] = seg_point(c, (real)i / (real)3, &d1, &d2);
+  // (The curve's ends are its end control points, exactly.)
+  poly[0] = make_real2(c[0], c[1]);
+  poly[1] = seg_point(c, (real)1 / (real)3, &d1, &d2);
+  poly[2] = seg_point(c, (real)2 / (real)3, &d1, &d2);
+  poly[3] = make_real2(c[6], c[7]);
   real bestT = 0, bestD2 = REAL_MAX;
   for (int i = 0; i < 3; ++i)
   {
@@ -373,16 +400,18 @@ real project_segment(__global const real* c, real2 P, real* dist)
     if (step < (real)1e-15)
       break;
   }
-  real best = REAL_MAX, bestParam = t;
-  const real cands[3] = { t, (real)0, (real)1 };
-  for (int k = 0; k < 3; ++k)
+  // The best of the Newton's point and the two ends (in this order: ties keep the first).
+  real best = length(seg_point(c, t, &d1, &d2) - P), bestParam = t;
+  const real d0 = length(poly[0] - P), d3 = length(poly[3] - P);
+  if (d0 < best)
   {
-    const real dd = length(seg_point(c, cands[k], &d1, &d2) - P);
-    if (dd < best)
-    {
-      best = dd;
-      bestParam = cands[k];
-    }
+    best = d0;
+    bestParam = 0;
+  }
+  if (d3 < best)
+  {
+    best = d3;
+    bestParam = 1;
   }
   *dist = best;
   return bestParam;
