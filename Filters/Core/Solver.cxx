@@ -342,6 +342,126 @@ void BuildS1Tree(const BRepModel& model, SolverData& data)
   data.Nodes[0] = root;
 }
 
+namespace
+{
+/// The cubic Bezier curve of control points c[0], c[stride], c[2 stride], c[3 stride] (3
+/// coordinates each) restricted to [a, b] of its parameter (0 <= a < b <= 1), by de Casteljau.
+void RestrictCubic(double* c, int stride, double a, double b)
+{
+  auto split = [&](double t, bool keepLeft) {
+    for (int k = 0; k < 3; ++k)
+    {
+      double p[4];
+      for (int i = 0; i < 4; ++i)
+        p[i] = c[i * stride + k];
+      const double q01 = p[0] + t * (p[1] - p[0]), q12 = p[1] + t * (p[2] - p[1]),
+                   q23 = p[2] + t * (p[3] - p[2]);
+      const double r0 = q01 + t * (q12 - q01), r1 = q12 + t * (q23 - q12);
+      const double m = r0 + t * (r1 - r0);
+      const double left[4] = { p[0], q01, r0, m }, right[4] = { m, r1, q23, p[3] };
+      for (int i = 0; i < 4; ++i)
+        c[i * stride + k] = keepLeft ? left[i] : right[i];
+    }
+  };
+  if (b < 1.0)
+    split(b, true);
+  if (a > 0.0)
+    split(a / b, false);
+}
+
+/// Patch p's box narrowed to the part of it inside its face's trim (b: its control points' box,
+/// narrowed in place). That part lies in the UV box of the trimming segments' pieces within the
+/// patch's domain (their control points' boxes, clipped to it) and of the domain's corners
+/// inside the face: the boundary of the face within the domain is made of those pieces and of
+/// the domain's sides between them and the corners. The box is that of the control points of
+/// the patch restricted to that UV box (de Casteljau). A plane's patch under a boss or across a
+/// hole is then boxed by its face alone. Returns false where no part of the patch is inside
+/// the face (the certification never searches it). The UV box is widened by the face's UV
+/// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding.
+bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch, double* b)
+{
+  if (patch.Face < 0 || patch.Face >= static_cast<int>(model.Faces.size()))
+    return true;
+  const Face& F = model.Faces[static_cast<size_t>(patch.Face)];
+  if (F.LoopCount <= 0)
+    return true;
+  const double u0 = patch.Domain[0], u1 = patch.Domain[1], v0 = patch.Domain[2],
+               v1 = patch.Domain[3];
+  if (!(u1 > u0) || !(v1 > v0))
+    return true;
+  const double size = (F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]);
+  const double band = 2.0 * F.UVTolerance + 1e-8 * size;
+  double lo[2] = { 1e300, 1e300 }, hi[2] = { -1e300, -1e300 };
+  auto add = [&](double u, double v) {
+    lo[0] = std::min(lo[0], u);
+    hi[0] = std::max(hi[0], u);
+    lo[1] = std::min(lo[1], v);
+    hi[1] = std::max(hi[1], v);
+  };
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    {
+      const auto& c = model.TrimSegments[static_cast<size_t>(s)].ControlPoints;
+      double sl[2] = { c[0], c[1] }, sh[2] = { c[0], c[1] };
+      for (int i = 1; i < 4; ++i)
+        for (int k = 0; k < 2; ++k)
+        {
+          sl[k] = std::min(sl[k], c[2 * i + k]);
+          sh[k] = std::max(sh[k], c[2 * i + k]);
+        }
+      const double cl[2] = { std::max(sl[0] - band, u0), std::max(sl[1] - band, v0) };
+      const double ch[2] = { std::min(sh[0] + band, u1), std::min(sh[1] + band, v1) };
+      if (cl[0] <= ch[0] && cl[1] <= ch[1])
+      {
+        add(cl[0], cl[1]);
+        add(ch[0], ch[1]);
+      }
+    }
+  }
+  for (const double u : { u0, u1 })
+    for (const double v : { v0, v1 })
+    {
+      const TrimProjection tp = ClassifyPoint(model, patch.Face, u, v);
+      if (tp.Inside || tp.Distance <= band || InsideByCrossings(model, patch.Face, u, v))
+        add(u, v);
+    }
+  if (!(lo[0] <= hi[0]))
+    return false;
+  const double a0 = std::clamp((lo[0] - u0) / (u1 - u0), 0.0, 1.0);
+  const double a1 = std::clamp((hi[0] - u0) / (u1 - u0), 0.0, 1.0);
+  const double c0 = std::clamp((lo[1] - v0) / (v1 - v0), 0.0, 1.0);
+  const double c1 = std::clamp((hi[1] - v0) / (v1 - v0), 0.0, 1.0);
+  if (a0 <= 0.0 && a1 >= 1.0 && c0 <= 0.0 && c1 >= 1.0)
+    return true;
+  if (!(a1 > a0) || !(c1 > c0))
+    return true; // a sliver: keep the whole patch's box
+  // Control point (i, j) at (4 i + j) * 3, i along u.
+  std::array<double, 48> cp = patch.ControlPoints;
+  for (int j = 0; j < 4; ++j)
+    RestrictCubic(cp.data() + 3 * j, 12, a0, a1);
+  for (int i = 0; i < 4; ++i)
+    RestrictCubic(cp.data() + 12 * i, 3, c0, c1);
+  double reach = 0.0;
+  for (int k = 0; k < 6; ++k)
+    reach = std::max(reach, std::fabs(b[k]));
+  const double pad = 1e-12 * reach;
+  for (int k = 0; k < 3; ++k)
+  {
+    double l = cp[k], h = cp[k];
+    for (int i = 1; i < 16; ++i)
+    {
+      l = std::min(l, cp[3 * i + k]);
+      h = std::max(h, cp[3 * i + k]);
+    }
+    b[k] = std::max(b[k], l - pad);
+    b[3 + k] = std::min(b[3 + k], h + pad);
+  }
+  return true;
+}
+} // namespace
+
 void BuildPatchBoxes(const BRepModel& model, SolverData& data)
 {
   auto box = [](const double* c, int points, double* b) {
@@ -356,8 +476,13 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
     }
   };
   data.PatchBoxes.assign(6 * model.Patches.size(), 0.0);
+  // Patches wholly outside their face's trim take no part in the certification's tree.
+  std::vector<char> trimmedAway(model.Patches.size(), 0);
   for (size_t p = 0; p < model.Patches.size(); ++p)
+  {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
+    trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], &data.PatchBoxes[6 * p]);
+  }
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
     box(model.EdgeSegments[e].ControlPoints.data(), 4, &data.EdgeBoxes[6 * e]);
@@ -384,16 +509,18 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
       ? model.Faces[static_cast<size_t>(face)].Solid
       : -1;
   };
-  data.BoxItems.resize(static_cast<size_t>(n));
-  std::iota(data.BoxItems.begin(), data.BoxItems.end(), 0);
+  data.BoxItems.clear();
+  for (int i = 0; i < n; ++i)
+    if (i >= np || !trimmedAway[static_cast<size_t>(i)])
+      data.BoxItems.push_back(i);
   data.BoxNodes.clear();
-  if (n == 0)
+  if (data.BoxItems.empty())
     return;
   struct Task
   {
     int First, Count, Parent;
   };
-  std::vector<Task> tasks{ { 0, n, -1 } };
+  std::vector<Task> tasks{ { 0, static_cast<int>(data.BoxItems.size()), -1 } };
   while (!tasks.empty())
   {
     const Task task = tasks.back();
