@@ -922,6 +922,10 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       // another solid's subtree holds no candidate.
       if (cnt < 0 && solid >= 0 && -cnt - 1 != solid)
         continue;
+      // An inner node whose points all lie on one face has that face as First (brt::BVHNode):
+      // the face left out leaves its subtree out.
+      if (cnt <= 0 && first >= 0 && first == excludeFace)
+        continue;
       if (cnt > 0)
       {
         // Walls of other solids don't count: a leaf's points lie on one solid (brt::BVHNode),
@@ -3048,6 +3052,15 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     real tc;
     if (self_contact_radius(faceInfo[FACE_INTS * ownFace + 8], e, -anchor_minus(e, Ohi, Olo), d,
           m->slack, &tc))
+      notStart = ownFace;
+  }
+  // O on a plane: its own face's points lie in O's tangent plane (to the patches' deviation from
+  // the plane, here below 1e-9 of the model's size), where no start counts (initialise); left
+  // out, the walk skips the face's subtrees around O whole.
+  if (faceInfo[FACE_INTS * ownFace + 8] == EXACT_PLANE)
+  {
+    const real dev = m->faceDomain[FACE_REALS * ownFace + FACE_DEVIATION];
+    if (dev >= (real)0 && dev <= (real)1e-9 * scale)
       notStart = ownFace;
   }
   real t;

@@ -115,7 +115,11 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
     std::nth_element(pts.begin() + first, pts.begin() + first + half, pts.begin() + first + count,
       [axis](const S1Point& a, const S1Point& b) { return a.Point[axis] < b.Point[axis]; });
   }
-  node.First = first;
+  // An inner node's First: the face all its points lie on, or -1.
+  node.First = pts[first].Face;
+  for (int i = first + 1; i < first + count && node.First >= 0; ++i)
+    if (pts[i].Face != node.First)
+      node.First = -1;
   node.Count = oneSolid && solid >= 0 ? -(solid + 1) : 0;
   Build(pts, nodes, first, half, faceSolid);
   node.Right = Build(pts, nodes, first + half, count - half, faceSolid);

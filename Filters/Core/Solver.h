@@ -122,7 +122,9 @@ struct S1Point
 /// Node of the AABB BVH over s1, flattened depth first: an inner node's left child follows it,
 /// its right child is at Right. A leaf holds the s1 points [First, First + Count), all on one
 /// solid's faces. The first splits separate the solids; an inner node whose subtree lies on one
-/// solid has Count = -(solid + 1), one over several solids Count = 0. Where s1 has points on
+/// solid has Count = -(solid + 1), one over several solids Count = 0. An inner node's First is
+/// the face all its points lie on (-1: several), so that a walk that leaves a face out skips
+/// its subtrees whole. Where s1 has points on
 /// faces and along edges, the root splits them first: its First is S1SplitRoot, its left subtree
 /// holds the faces' points (all eq. 1 starts from) and its right one the edges' (the verification
 /// next to the certification checks only those; thickness.cl, verify_s1).
