@@ -54,9 +54,9 @@ NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data)
 
 NativeSolver::~NativeSolver() = default;
 
-void NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>& samples,
+bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, const std::vector<size_t>* which, unsigned threads,
-  std::vector<unsigned char>* exactPass) const
+  std::vector<unsigned char>* exactPass, const std::function<bool(size_t)>& progress) const
 {
   if (!which)
     results.assign(samples.size(), SampleResult());
@@ -71,12 +71,14 @@ void NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
       r = SampleResult();
       r.Reason = FailReason::NoOppositePoint;
     }
-    return;
+    return true;
   }
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
   const KernelModel<double>& K = P->K;
-  ParallelFor(n, threads, [&](size_t j) {
+  // Blocks of 32 samples: neighbours in the samples' order (a face's mesh vertices) share the
+  // trees' nodes near them.
+  return ParallelForWithProgress(n, threads, 32, [&](size_t j) {
     const size_t i = which ? (*which)[j] : j;
     double in[KernelSampleReals], outR[KernelOutReals];
     int outI[KernelOutInts];
@@ -87,7 +89,7 @@ void NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
     const bool exact = UnpackResult(samples[i], outR, outI, results[i]);
     if (exactPass)
       (*exactPass)[i] = exact ? 1 : 0;
-  });
+  }, [&](size_t done) { return !progress || progress(done); });
 }
 
 namespace

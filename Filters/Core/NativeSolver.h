@@ -7,6 +7,7 @@
 #include "Solver.h"
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -23,11 +24,16 @@ public:
   NativeSolver& operator=(const NativeSolver&) = delete;
 
   /// Solves samples[i] into results[i] for every i in `which` (all samples when null; results
-  /// sized to the samples first), on `threads` threads (0: one per core). exactPass, when given,
-  /// gets 1 at i where the pass without clearance found the contact.
-  void Solve(const SolverOptions& options, const std::vector<Sample>& samples,
+  /// sized to the samples first), on `threads` threads (0: one per core), the calling thread one
+  /// of them, in blocks of samples taken in turn. exactPass, when given, gets 1 at i where the
+  /// pass without clearance found the contact. progress, when given, is called on the calling
+  /// thread between its blocks with the number of samples solved so far; returning false stops
+  /// the solve (the samples not yet taken keep their results as they were). Returns false where
+  /// stopped.
+  bool Solve(const SolverOptions& options, const std::vector<Sample>& samples,
     std::vector<SampleResult>& results, const std::vector<size_t>* which = nullptr,
-    unsigned threads = 0, std::vector<unsigned char>* exactPass = nullptr) const;
+    unsigned threads = 0, std::vector<unsigned char>* exactPass = nullptr,
+    const std::function<bool(size_t)>& progress = {}) const;
 
   /// True when a point of the trimmed faces of the sample's solid lies inside r's sphere deeper
   /// than the verification allows (the larger of `options`' clearance and twice the conversion

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <thread>
@@ -199,6 +200,46 @@ void ParallelFor(size_t n, unsigned threads, F&& f)
     });
   for (auto& t : pool)
     t.join();
+}
+
+/// Calls f(i) for i in [0, n) on `threads` threads (0: one per core), the calling thread one of
+/// them: each takes the next `block` indices in turn, so that no thread waits while another has
+/// work left. Between its blocks the calling thread calls progress(done), done the indices
+/// finished so far; progress returning false stops the loop (the indices not yet taken are left
+/// undone). Returns false where stopped.
+template <class F, class P>
+bool ParallelForWithProgress(size_t n, unsigned threads, size_t block, F&& f, P&& progress)
+{
+  if (threads == 0)
+    threads = std::max(1u, std::thread::hardware_concurrency());
+  block = std::max<size_t>(1, block);
+  threads = static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(threads, (n + block - 1) / block)));
+  std::atomic<size_t> next{ 0 }, done{ 0 };
+  std::atomic<bool> stop{ false };
+  auto work = [&](bool caller) {
+    while (!stop.load(std::memory_order_relaxed))
+    {
+      const size_t first = next.fetch_add(block);
+      if (first >= n)
+        return;
+      const size_t last = std::min(n, first + block);
+      for (size_t i = first; i < last; ++i)
+        f(i);
+      const size_t finished = done.fetch_add(last - first) + (last - first);
+      if (caller && !progress(finished))
+      {
+        stop = true;
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned k = 1; k < threads; ++k)
+    pool.emplace_back(work, false);
+  work(true);
+  for (auto& t : pool)
+    t.join();
+  return !stop;
 }
 
 /// Builds the BVH over s1 (data.Nodes, reordering data.S1; see BVHNode): PrepareSolver and
