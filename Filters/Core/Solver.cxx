@@ -263,9 +263,12 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
       F.PatchesV ? model.Patches[F.FirstPatch + (F.PatchesV - 1) * F.PatchesU].Domain[3] : 0);
   }
 
-  // s1: a grid on every patch, sized from the patch's control net, kept where inside the trim.
-  for (const BezierPatch& p : model.Patches)
-  {
+  // s1: a grid on every patch, sized from the patch's control net, kept where inside the trim;
+  // the patches on every core (the trim tests are most of the preparation), their points then
+  // joined in the patches' order.
+  std::vector<std::vector<S1Point>> perPatch(model.Patches.size());
+  ParallelFor(model.Patches.size(), 0, [&](size_t pi) {
+    const BezierPatch& p = model.Patches[pi];
     auto cp = [&](int i, int j) -> Vec3 {
       const double* c = &p.ControlPoints[(4 * i + j) * 3];
       return { c[0], c[1], c[2] };
@@ -293,9 +296,15 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         if (!ClassifyPoint(model, p.Face, u, v).Inside)
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
-        data.S1.push_back({ e.P, p.Face, false, u, v });
+        perPatch[pi].push_back({ e.P, p.Face, false, u, v });
       }
-  }
+  });
+  size_t total = 0;
+  for (const auto& v : perPatch)
+    total += v.size();
+  data.S1.reserve(total);
+  for (const auto& v : perPatch)
+    data.S1.insert(data.S1.end(), v.begin(), v.end());
   AddEdgePoints(model, spacing / 3.0, data.S1);
   BuildS1Tree(model, data);
   BuildVertices(model, data);
