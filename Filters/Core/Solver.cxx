@@ -9,7 +9,6 @@
 #include <limits>
 #include <numeric>
 #include <thread>
-#include <unordered_map>
 
 namespace brt
 {
@@ -712,27 +711,50 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
   // Vertices on a face's boundary: at a convex edge the sphere tangent there has radius 0 and
   // Newton would chase t -> 0. Move them 1e-2 of the way to an adjacent triangle's centroid
   // (in UV, on the patches), where the sphere is small but well defined, also in float.
-  std::unordered_map<std::uint64_t, int> uses;
+  // The triangles' edges, each under its lower vertex (counting sort): an edge used once lies
+  // on the boundary.
   const size_t nt = M.TriangleFace.size();
-  auto key = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
+  const size_t nv = out.size();
+  std::vector<int> start(nv + 1, 0);
+  auto edge = [&](size_t t, int k) {
+    const int a = M.Triangles[3 * t + k], b = M.Triangles[3 * t + (k + 1) % 3];
+    return std::make_pair(std::min(a, b), std::max(a, b));
+  };
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
-      ++uses[key(M.Triangles[3 * t + k], M.Triangles[3 * t + (k + 1) % 3])];
-  std::vector<int> adjacent(out.size(), -1);
+      ++start[static_cast<size_t>(edge(t, k).first) + 1];
+  for (size_t v = 0; v < nv; ++v)
+    start[v + 1] += start[v];
+  std::vector<int> other(static_cast<size_t>(start[nv]));
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (size_t t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k)
+      {
+        const auto e = edge(t, k);
+        other[static_cast<size_t>(fill[static_cast<size_t>(e.first)]++)] = e.second;
+      }
+  }
+  auto uses = [&](int lo, int hi) {
+    return std::count(other.begin() + start[static_cast<size_t>(lo)],
+      other.begin() + start[static_cast<size_t>(lo) + 1], hi);
+  };
+  std::vector<int> adjacent(nv, -1);
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
     {
-      const int a = M.Triangles[3 * t + k], b = M.Triangles[3 * t + (k + 1) % 3];
-      if (uses[key(a, b)] == 1)
-        adjacent[a] = adjacent[b] = static_cast<int>(t);
+      const auto e = edge(t, k);
+      if (uses(e.first, e.second) == 1)
+        adjacent[static_cast<size_t>(e.first)] = adjacent[static_cast<size_t>(e.second)] =
+          static_cast<int>(t);
     }
-  for (size_t i = 0; i < out.size(); ++i)
-  {
+  // Every core: each sample on its own.
+  ParallelFor(nv, 0, [&](size_t i) {
     const int t = adjacent[i];
     Sample& s = out[i];
     const Face& F = model.Faces[s.Face];
     if (t < 0 || F.PatchCount == 0)
-      continue;
+      return;
     double cu = 0.0, cv = 0.0;
     for (int k = 0; k < 3; ++k)
     {
@@ -747,13 +769,13 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
       e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
     const double len = std::sqrt(Dot(n, n));
     if (!(len > 0.0))
-      continue; // singular point of the patch: keep the exact sample
+      return; // singular point of the patch: keep the exact sample
     const double sign = F.Reversed ? 1.0 : -1.0; // inward = -outward
     s.Point = e.P;
     s.Direction = { sign * n[0] / len, sign * n[1] / len, sign * n[2] / len };
     // On an analytic face, back onto the exact surface (the patches lie up to the tolerance off).
     ProjectOnExactSurface(model, s.Face, s.Point, s.Direction, 2.0 * model.Tolerance);
-  }
+  });
   return out;
 }
 
