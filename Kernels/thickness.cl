@@ -996,6 +996,12 @@ typedef struct
   real3 foot; // relative to O
   real2 param; // (u, v) on face for surface/surface, (T, 0) on edge for edge contacts
   int type, reason, face, patch, edge;
+  // The trim test at (face, trimUV) where the surface Newton made it (its nearest segment and
+  // the parameter on it; trimSeg -2: none kept): the second look takes it instead of testing
+  // the same point again.
+  int trimSeg;
+  real trimParam;
+  real2 trimUV;
 } Result;
 
 // T within 1e-9 of the edge's parameter range of one of its ends: that vertex
@@ -1078,6 +1084,9 @@ inline Result no_result(void)
   r.face = -1;
   r.patch = -1;
   r.edge = -1;
+  r.trimSeg = -2;
+  r.trimParam = 0;
+  r.trimUV = splat_real2(0);
   return r;
 }
 
@@ -1105,6 +1114,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   __global const real* trimRange = m->trimRange;
   __global const real* edgeRange = m->edgeRange;
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
+  int trimSeg = -2;
+  real trimParam = 0;
   real edgeT = 0;
   real res = 0;
   real3 foot = splat_real3(0);
@@ -1145,6 +1156,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       oppPatch = ss.patch;
       foot = ss.foot;
       footParam = make_real2(ss.u, ss.v);
+      trimSeg = ss.seg;
+      trimParam = ss.param;
       goto out;
     }
     const int seg = ss.seg;
@@ -1280,6 +1293,9 @@ out:;
   r.face = oppFace;
   r.patch = oppPatch;
   r.edge = oppEdge;
+  r.trimSeg = trimSeg;
+  r.trimParam = trimParam;
+  r.trimUV = footParam;
   type_tangent_edge_contact(m, edgeT, d, &r);
   return r;
 }
@@ -1768,7 +1784,13 @@ void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   {
     int seg;
     real param, dist;
-    classify(m, r->face, r->param, &seg, &param, &dist);
+    if (r->trimSeg != -2 && r->trimUV.x == r->param.x && r->trimUV.y == r->param.y)
+    {
+      seg = r->trimSeg;
+      param = r->trimParam;
+    }
+    else
+      classify(m, r->face, r->param, &seg, &param, &dist);
     if (seg >= 0 && m->trimEdge[seg] >= 0)
     {
       const int edge = m->trimEdge[seg];
