@@ -287,12 +287,39 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
       }
     const int nu = std::clamp(static_cast<int>(std::ceil(3.0 * lu / spacing)), 2, options.S1MaxPerPatch);
     const int nv = std::clamp(static_cast<int>(std::ceil(3.0 * lv / spacing)), 2, options.S1MaxPerPatch);
+    // A patch whose domain no trimming segment's control box comes near (within the face's UV
+    // tolerance) lies wholly inside its face or wholly outside: its centre's trim test decides
+    // for all its points (on a box or a plate most patches; the trim tests were half the
+    // preparation).
+    int wholly = -1; // 1 inside, 0 outside, -1 each point tested
+    {
+      const Face& F = model.Faces[static_cast<size_t>(p.Face)];
+      const double band = F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
+      bool near = false;
+      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount && !near; ++l)
+      {
+        const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
+        for (int sg = loop.FirstSegment; sg < loop.FirstSegment + loop.SegmentCount && !near; ++sg)
+        {
+          const auto& c = model.TrimSegments[static_cast<size_t>(sg)].ControlPoints;
+          const double ul = std::min({ c[0], c[2], c[4], c[6] }), uh = std::max({ c[0], c[2], c[4], c[6] });
+          const double vl = std::min({ c[1], c[3], c[5], c[7] }), vh = std::max({ c[1], c[3], c[5], c[7] });
+          near = ul - band <= p.Domain[1] && uh + band >= p.Domain[0] && vl - band <= p.Domain[3] &&
+            vh + band >= p.Domain[2];
+        }
+      }
+      if (!near)
+        wholly = ClassifyPoint(model, p.Face, 0.5 * (p.Domain[0] + p.Domain[1]),
+                   0.5 * (p.Domain[2] + p.Domain[3])).Inside ? 1 : 0;
+    }
+    if (wholly == 0)
+      return;
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j)
       {
         const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
         const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
-        if (!ClassifyPoint(model, p.Face, u, v).Inside)
+        if (wholly < 0 && !ClassifyPoint(model, p.Face, u, v).Inside)
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
         perPatch[pi].push_back({ e.P, p.Face, false, u, v });
