@@ -792,10 +792,11 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const bool gapOnly = this->Measure == GAP;
   const bool rayOnly = this->Method == RAY && !gapOnly;
   const bool withGap = this->Measure != MEASURE_THICKNESS;
-  // Progress steps of a fiftieth on the native device; an OpenCL device solves in chunks of at
-  // least 16,384 samples (each chunk a launch with its transfers: chunks of 2,048 cost PoCL a
-  // third of its rate on NIST_MBE_PMI_11's 10,644 samples).
-  const size_t step = std::max<size_t>(2048, (n + 49) / 50);
+  // Progress steps of a fiftieth (at least 512 samples) on the native device, where only the
+  // calling thread reports, between its blocks; an OpenCL device solves in chunks of at least
+  // 16,384 samples (each chunk a launch with its transfers: chunks of 2,048 cost PoCL a third of
+  // its rate on NIST_MBE_PMI_11's 10,644 samples).
+  const size_t step = std::max<size_t>(512, (n + 49) / 50);
   const size_t chunk = std::max<size_t>(16384, (n + 19) / 20);
   auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
                     std::vector<brt::SampleResult>& out, double from, double to, const char* what) {

@@ -287,39 +287,49 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
       }
     const int nu = std::clamp(static_cast<int>(std::ceil(3.0 * lu / spacing)), 2, options.S1MaxPerPatch);
     const int nv = std::clamp(static_cast<int>(std::ceil(3.0 * lv / spacing)), 2, options.S1MaxPerPatch);
-    // A patch whose domain no trimming segment's control box comes near (within the face's UV
-    // tolerance) lies wholly inside its face or wholly outside: its centre's trim test decides
-    // for all its points (on a box or a plate most patches; the trim tests were half the
-    // preparation).
-    int wholly = -1; // 1 inside, 0 outside, -1 each point tested
-    {
-      const Face& F = model.Faces[static_cast<size_t>(p.Face)];
-      const double band = F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
-      bool near = false;
-      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount && !near; ++l)
+    // A block of the patch's candidate points that no trimming segment's control box comes near
+    // (within the face's UV tolerance) lies wholly inside its face or wholly outside: the trim test
+    // at its middle decides for all its points. Blocks of 8 x 8 points: only those along the trim
+    // are tested point by point (the trim tests were half the preparation).
+    const Face& F = model.Faces[static_cast<size_t>(p.Face)];
+    const double band =
+      F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
+    auto wholly = [&](double ul, double uh, double vl, double vh) {
+      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
       {
         const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
-        for (int sg = loop.FirstSegment; sg < loop.FirstSegment + loop.SegmentCount && !near; ++sg)
+        for (int sg = loop.FirstSegment; sg < loop.FirstSegment + loop.SegmentCount; ++sg)
         {
           const auto& c = model.TrimSegments[static_cast<size_t>(sg)].ControlPoints;
-          const double ul = std::min({ c[0], c[2], c[4], c[6] }), uh = std::max({ c[0], c[2], c[4], c[6] });
-          const double vl = std::min({ c[1], c[3], c[5], c[7] }), vh = std::max({ c[1], c[3], c[5], c[7] });
-          near = ul - band <= p.Domain[1] && uh + band >= p.Domain[0] && vl - band <= p.Domain[3] &&
-            vh + band >= p.Domain[2];
+          if (std::min({ c[0], c[2], c[4], c[6] }) - band <= uh &&
+            std::max({ c[0], c[2], c[4], c[6] }) + band >= ul &&
+            std::min({ c[1], c[3], c[5], c[7] }) - band <= vh &&
+            std::max({ c[1], c[3], c[5], c[7] }) + band >= vl)
+            return -1; // near the trim: each point tested
         }
       }
-      if (!near)
-        wholly = ClassifyPoint(model, p.Face, 0.5 * (p.Domain[0] + p.Domain[1]),
-                   0.5 * (p.Domain[2] + p.Domain[3])).Inside ? 1 : 0;
-    }
-    if (wholly == 0)
-      return;
+      return ClassifyPoint(model, p.Face, 0.5 * (ul + uh), 0.5 * (vl + vh)).Inside ? 1 : 0;
+    };
+    auto at = [](int k, int count, double from, double to) { return from + (to - from) * (k + 0.5) / count; };
+    constexpr int blockSize = 8;
+    const int bu = (nu + blockSize - 1) / blockSize, bv = (nv + blockSize - 1) / blockSize;
+    std::vector<int> decided(static_cast<size_t>(bu * bv));
+    for (int a = 0; a < bu; ++a)
+      for (int b = 0; b < bv; ++b)
+      {
+        const int i0 = a * blockSize, i1 = std::min(nu, i0 + blockSize);
+        const int j0 = b * blockSize, j1 = std::min(nv, j0 + blockSize);
+        decided[static_cast<size_t>(a * bv + b)] = wholly(at(i0, nu, p.Domain[0], p.Domain[1]),
+          at(i1 - 1, nu, p.Domain[0], p.Domain[1]), at(j0, nv, p.Domain[2], p.Domain[3]),
+          at(j1 - 1, nv, p.Domain[2], p.Domain[3]));
+      }
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j)
       {
+        const int inBlock = decided[static_cast<size_t>((i / blockSize) * bv + j / blockSize)];
         const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
         const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
-        if (wholly < 0 && !ClassifyPoint(model, p.Face, u, v).Inside)
+        if (inBlock == 0 || (inBlock < 0 && !ClassifyPoint(model, p.Face, u, v).Inside))
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
         perPatch[pi].push_back({ e.P, p.Face, false, u, v });
