@@ -62,8 +62,12 @@ inline double Dot(const Vec3& a, const Vec3& b)
 // middle), so that every subtree below them lies on one solid's faces: an inner node records
 // that solid as Count = -(solid + 1), and a solve bounded by its own solid's walls (the exterior
 // gap's default) skips the other solids' subtrees whole. Within one solid the split is spatial.
+// The upper levels build their right subtree on a thread of its own (parallel > 0, the levels
+// left to split so; subtrees of 20,000 points and more): into a vector of its own, appended
+// after the left subtree with its Right indices moved, so that the tree is the one the serial
+// build gives.
 int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count,
-  const std::vector<int>& faceSolid)
+  const std::vector<int>& faceSolid, int parallel = 0)
 {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
@@ -120,8 +124,24 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
     if (pts[i].Face != node.First)
       node.First = -1;
   node.Count = oneSolid && solid >= 0 ? -(solid + 1) : 0;
-  Build(pts, nodes, first, half, faceSolid);
-  node.Right = Build(pts, nodes, first + half, count - half, faceSolid);
+  if (parallel > 0 && count >= 20000)
+  {
+    std::vector<BVHNode> right;
+    std::thread other([&] { Build(pts, right, first + half, count - half, faceSolid, parallel - 1); });
+    Build(pts, nodes, first, half, faceSolid, parallel - 1);
+    other.join();
+    const int base = static_cast<int>(nodes.size());
+    for (BVHNode& n : right)
+      if (n.Right >= 0)
+        n.Right += base;
+    nodes.insert(nodes.end(), right.begin(), right.end());
+    node.Right = base;
+  }
+  else
+  {
+    Build(pts, nodes, first, half, faceSolid, parallel);
+    node.Right = Build(pts, nodes, first + half, count - half, faceSolid, parallel);
+  }
   nodes[id] = node;
   return id;
 }
@@ -357,19 +377,23 @@ void BuildS1Tree(const BRepModel& model, SolverData& data)
   std::vector<int> faceSolid(model.Faces.size());
   for (size_t f = 0; f < model.Faces.size(); ++f)
     faceSolid[f] = model.Faces[f].Solid;
+  // The levels whose right subtrees are built on threads of their own: a thread per core.
+  int levels = 0;
+  for (unsigned t = std::max(1u, std::thread::hardware_concurrency()); t > 1; t = (t + 1) / 2)
+    ++levels;
   const auto edgeBegin = std::stable_partition(
     pts.begin(), pts.end(), [](const S1Point& p) { return !p.OnEdge; });
   const int faces = static_cast<int>(edgeBegin - pts.begin());
   const int all = static_cast<int>(pts.size());
   if (faces == 0 || faces == all)
   {
-    Build(pts, data.Nodes, 0, all, faceSolid);
+    Build(pts, data.Nodes, 0, all, faceSolid, levels);
     return;
   }
   // The split root over the faces' points (left) and the edges' (right).
   data.Nodes.emplace_back();
-  Build(pts, data.Nodes, 0, faces, faceSolid);
-  const int right = Build(pts, data.Nodes, faces, all - faces, faceSolid);
+  Build(pts, data.Nodes, 0, faces, faceSolid, levels);
+  const int right = Build(pts, data.Nodes, faces, all - faces, faceSolid, levels);
   BVHNode root;
   const BVHNode& l = data.Nodes[1];
   const BVHNode& r = data.Nodes[static_cast<size_t>(right)];
@@ -527,11 +551,10 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
   data.PatchBoxes.assign(6 * model.Patches.size(), 0.0);
   // Patches wholly outside their face's trim take no part in the certification's tree.
   std::vector<char> trimmedAway(model.Patches.size(), 0);
-  for (size_t p = 0; p < model.Patches.size(); ++p)
-  {
+  ParallelFor(model.Patches.size(), 0, [&](size_t p) {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
     trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], &data.PatchBoxes[6 * p]);
-  }
+  });
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
     box(model.EdgeSegments[e].ControlPoints.data(), 4, &data.EdgeBoxes[6 * e]);
