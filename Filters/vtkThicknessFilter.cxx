@@ -785,8 +785,8 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     : std::string("OpenCL ") + (useDouble ? "double" : "float") + ": " + I.CL->DeviceName();
   I.PrepareSeconds = Seconds(t0);
 
-  // Progress and abort between blocks or chunks of samples (below). The gap, when asked for, is the second
-  // half of the progress.
+  // Progress and abort between blocks or chunks of samples (below). The gap, when asked for, is
+  // the second half of the progress.
   const auto t1 = std::chrono::steady_clock::now();
   const size_t n = samples.size();
   const bool gapOnly = this->Measure == GAP;
@@ -801,7 +801,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
                     std::vector<brt::SampleResult>& out, double from, double to, const char* what) {
     out.assign(n, brt::SampleResult());
-    // Progress in steps of a fiftieth; CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees
+    // Progress every `step` samples; CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees
     // this filter's AbortExecute (set by ParaView's Abort) and an abort upstream, and makes the
     // executive mark the outputs aborted, so that the next update solves again.
     size_t reported = 0;

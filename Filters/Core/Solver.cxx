@@ -320,11 +320,9 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
         for (int sg = loop.FirstSegment; sg < loop.FirstSegment + loop.SegmentCount; ++sg)
         {
-          const auto& c = model.TrimSegments[static_cast<size_t>(sg)].ControlPoints;
-          if (std::min({ c[0], c[2], c[4], c[6] }) - band <= uh &&
-            std::max({ c[0], c[2], c[4], c[6] }) + band >= ul &&
-            std::min({ c[1], c[3], c[5], c[7] }) - band <= vh &&
-            std::max({ c[1], c[3], c[5], c[7] }) + band >= vl)
+          const std::array<double, 4> c =
+            SegmentBox(model.TrimSegments[static_cast<size_t>(sg)].ControlPoints);
+          if (c[0] - band <= uh && c[2] + band >= ul && c[1] - band <= vh && c[3] + band >= vl)
             return -1; // near the trim: each point tested
         }
       }
@@ -476,16 +474,10 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch, double* b
     const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
     for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
     {
-      const auto& c = model.TrimSegments[static_cast<size_t>(s)].ControlPoints;
-      double sl[2] = { c[0], c[1] }, sh[2] = { c[0], c[1] };
-      for (int i = 1; i < 4; ++i)
-        for (int k = 0; k < 2; ++k)
-        {
-          sl[k] = std::min(sl[k], c[2 * i + k]);
-          sh[k] = std::max(sh[k], c[2 * i + k]);
-        }
-      const double cl[2] = { std::max(sl[0] - band, u0), std::max(sl[1] - band, v0) };
-      const double ch[2] = { std::min(sh[0] + band, u1), std::min(sh[1] + band, v1) };
+      const std::array<double, 4> sb =
+        SegmentBox(model.TrimSegments[static_cast<size_t>(s)].ControlPoints);
+      const double cl[2] = { std::max(sb[0] - band, u0), std::max(sb[1] - band, v0) };
+      const double ch[2] = { std::min(sb[2] + band, u1), std::min(sb[3] + band, v1) };
       if (cl[0] <= ch[0] && cl[1] <= ch[1])
       {
         add(cl[0], cl[1]);

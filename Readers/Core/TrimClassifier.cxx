@@ -62,19 +62,25 @@ std::array<double, 2> Tangent(const std::array<double, 8>& cp, double t)
 /// lower bound on the squared distance to the curve (convex hull property).
 double BoxDistance2(const std::array<double, 8>& cp, double u, double v)
 {
-  double u0 = cp[0], u1 = cp[0], v0 = cp[1], v1 = cp[1];
-  for (int i = 2; i < 8; i += 2)
-  {
-    u0 = cp[i] < u0 ? cp[i] : u0;
-    u1 = cp[i] > u1 ? cp[i] : u1;
-    v0 = cp[i + 1] < v0 ? cp[i + 1] : v0;
-    v1 = cp[i + 1] > v1 ? cp[i + 1] : v1;
-  }
-  const double du = u < u0 ? u0 - u : (u > u1 ? u - u1 : 0.0);
-  const double dv = v < v0 ? v0 - v : (v > v1 ? v - v1 : 0.0);
+  const std::array<double, 4> b = SegmentBox(cp);
+  const double du = u < b[0] ? b[0] - u : (u > b[2] ? u - b[2] : 0.0);
+  const double dv = v < b[1] ? b[1] - v : (v > b[3] ? v - b[3] : 0.0);
   return du * du + dv * dv;
 }
 } // namespace
+
+std::array<double, 4> SegmentBox(const std::array<double, 8>& cp)
+{
+  std::array<double, 4> b{ cp[0], cp[1], cp[0], cp[1] };
+  for (int i = 2; i < 8; i += 2)
+  {
+    b[0] = cp[i] < b[0] ? cp[i] : b[0];
+    b[1] = cp[i + 1] < b[1] ? cp[i + 1] : b[1];
+    b[2] = cp[i] > b[2] ? cp[i] : b[2];
+    b[3] = cp[i + 1] > b[3] ? cp[i + 1] : b[3];
+  }
+  return b;
+}
 
 double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, double* distance)
 {

@@ -16,6 +16,10 @@ struct TrimProjection
   bool Corner = false;   ///< the nearest point is a C0 junction decided by the corner rule
 };
 
+/// The box of a segment's four control points (u0, v0, u1, v1): it holds the segment (convex
+/// hull property).
+std::array<double, 4> SegmentBox(const std::array<double, 8>& cp);
+
 /// Nearest point on one cubic 2D segment: Newton on eq. 6 started from the projection on the
 /// polyline through c(0), c(1/3), c(2/3), c(1). Returns the local parameter in [0,1].
 double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, double* distance);
