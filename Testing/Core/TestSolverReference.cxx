@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include "Bezier.h"
 #include "NativeSolver.h"
+#include "TestHelpers.h"
+#include "TrimClassifier.h"
 
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
@@ -15,6 +18,7 @@
 #include <TColgp_Array2OfPnt.hxx>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -258,12 +262,16 @@ std::string RoundTrip(const BRepModel& m, const SolverData& data, const char* na
 }
 
 /// Walks the s1 tree below `node`: every leaf's points inside every box above them, each point
-/// in one leaf; counts the faces' and the edges' points.
-void WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& faces,
+/// in one leaf, every inner node's First the face all its points lie on (-1: several; the split
+/// root's marker aside); counts the faces' and the edges' points. Returns the face all the
+/// subtree's points lie on, or -1.
+int WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& faces,
   size_t& edges, std::vector<int>& path)
 {
   const BVHNode& n = d.Nodes[static_cast<size_t>(node)];
   path.push_back(node);
+  int face = -2; // none yet
+  auto join = [&face](int f) { face = face == -2 || face == f ? f : -1; };
   if (n.Count > 0)
   {
     EXPECT_LE(n.Count, 16);
@@ -272,6 +280,7 @@ void WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& f
       ++seen[static_cast<size_t>(i)];
       const S1Point& p = d.S1[static_cast<size_t>(i)];
       (p.OnEdge ? edges : faces) += 1;
+      join(p.Face);
       for (int a : path)
         for (int k = 0; k < 3; ++k)
         {
@@ -282,10 +291,15 @@ void WalkS1Tree(const SolverData& d, int node, std::vector<int>& seen, size_t& f
   }
   else
   {
-    WalkS1Tree(d, node + 1, seen, faces, edges, path);
-    WalkS1Tree(d, n.Right, seen, faces, edges, path);
+    join(WalkS1Tree(d, node + 1, seen, faces, edges, path));
+    join(WalkS1Tree(d, n.Right, seen, faces, edges, path));
+    if (n.First != S1SplitRoot)
+    {
+      EXPECT_EQ(n.First, face) << "inner node " << node;
+    }
   }
   path.pop_back();
+  return face;
 }
 } // namespace
 
@@ -368,5 +382,89 @@ TEST(SolverData, VerticesJoinEdgeEnds)
   EXPECT_EQ(d2.VertexInfo, data.VertexInfo);
   EXPECT_EQ(m2.Tolerance, m.Tolerance);
   std::remove(path.c_str());
+}
+
+/// On a real part (NIST_MBE_PMI_11: two plates with bosses, tori and holes; 95k s1 points, so
+/// that the tree's upper levels are built on threads of their own), the s1 tree as above, and
+/// the certification's patch boxes narrowed to the part of each patch inside its face's trim
+/// (BuildPatchBoxes): every point of a 17 x 17 grid on each patch that the trim test puts on its
+/// face lies in the patch's box, a patch left out of the tree has no such point, and the
+/// narrowing is real (some box smaller than its control points' box).
+TEST(SolverData, TreesAndBoxesOnARealPart)
+{
+  const BRepModel m = ConvertStepFile(test::DataFile("NIST_MBE_PMI_11.stp"), ConversionOptions());
+  const SolverData d = PrepareSolver(m, SolverOptions());
+  ASSERT_FALSE(d.Nodes.empty());
+  std::vector<int> seen(d.S1.size(), 0), path;
+  size_t faces = 0, edges = 0;
+  WalkS1Tree(d, 0, seen, faces, edges, path);
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(d.S1.size()));
+
+  const size_t np = m.Patches.size();
+  std::vector<char> inTree(np, 0);
+  for (int item : d.BoxItems)
+    if (item < static_cast<int>(np))
+      inTree[static_cast<size_t>(item)] = 1;
+  int narrowed = 0, left = 0;
+  for (size_t p = 0; p < np; ++p)
+  {
+    const BezierPatch& patch = m.Patches[p];
+    const double* b = &d.PatchBoxes[6 * p];
+    double full[6] = { 1e300, 1e300, 1e300, -1e300, -1e300, -1e300 };
+    for (int i = 0; i < 16; ++i)
+      for (int k = 0; k < 3; ++k)
+      {
+        full[k] = std::min(full[k], patch.ControlPoints[3 * i + k]);
+        full[3 + k] = std::max(full[3 + k], patch.ControlPoints[3 * i + k]);
+      }
+    double shrink = 0.0;
+    for (int k = 0; k < 3; ++k)
+      shrink = std::max({ shrink, b[k] - full[k], full[3 + k] - b[3 + k] });
+    narrowed += shrink > 1e-6 * d.Scale;
+    left += !inTree[p];
+    for (int i = 0; i <= 16; ++i)
+      for (int j = 0; j <= 16; ++j)
+      {
+        const double u = patch.Domain[0] + (patch.Domain[1] - patch.Domain[0]) * i / 16.0;
+        const double v = patch.Domain[2] + (patch.Domain[3] - patch.Domain[2]) * j / 16.0;
+        if (!ClassifyPoint(m, patch.Face, u, v).Inside)
+          continue;
+        EXPECT_TRUE(inTree[p]) << "patch " << p << " left out, but (" << u << ", " << v
+                               << ") is on its face";
+        const PatchEval e = EvaluatePatch(patch, u, v);
+        for (int k = 0; k < 3; ++k)
+        {
+          EXPECT_GE(e.P[k], b[k] - 1e-9 * d.Scale) << "patch " << p << " at " << u << ", " << v;
+          EXPECT_LE(e.P[k], b[3 + k] + 1e-9 * d.Scale) << "patch " << p << " at " << u << ", " << v;
+        }
+      }
+  }
+  std::printf("NIST_MBE_PMI_11: %zu patches, %d boxes narrowed, %d left out of the tree\n", np,
+    narrowed, left);
+  EXPECT_GT(narrowed, 0);
+}
+
+/// The native device's loop: every index once on two threads, and a progress callback that
+/// returns false stops it with indices left undone.
+TEST(Parallel, BlocksEveryIndexOnceAndStops)
+{
+  const size_t n = 10007;
+  std::vector<std::atomic<int>> count(n);
+  size_t calls = 0, lastDone = 0;
+  EXPECT_TRUE(ParallelForWithProgress(n, 2, 32, [&](size_t i) { ++count[i]; }, [&](size_t done) {
+    EXPECT_GE(done, lastDone);
+    lastDone = done;
+    ++calls;
+    return true;
+  }));
+  for (size_t i = 0; i < n; ++i)
+    ASSERT_EQ(count[i].load(), 1) << i;
+  EXPECT_GT(calls, 0u);
+
+  std::atomic<size_t> ran{ 0 };
+  EXPECT_FALSE(ParallelForWithProgress(n, 2, 32, [&](size_t) { ++ran; },
+    [](size_t done) { return done < 1000; }));
+  EXPECT_GE(ran.load(), 1000u);
+  EXPECT_LT(ran.load(), n);
 }
 } // namespace
