@@ -61,13 +61,15 @@ inline double Dot(const Vec3& a, const Vec3& b)
 // Over several solids the first splits separate the solids (at the solid boundary nearest the
 // middle), so that every subtree below them lies on one solid's faces: an inner node records
 // that solid as Count = -(solid + 1), and a solve bounded by its own solid's walls (the exterior
-// gap's default) skips the other solids' subtrees whole. Within one solid the split is spatial.
-// The upper levels build their right subtree on a thread of its own (parallel > 0, the levels
-// left to split so; subtrees of 20,000 points and more): into a vector of its own, appended
-// after the left subtree with its Right indices moved, so that the tree is the one the serial
-// build gives.
+// gap's default) skips the other solids' subtrees whole. The points come sorted by solid
+// (BuildS1Tree), so every range split so is still sorted. Within one solid the split is
+// spatial. The upper levels build their right subtree on a thread of its own (parallel > 0, the
+// levels left to split so; subtrees of 20,000 points and more): into a vector of its own,
+// appended after the left subtree with its Right indices moved, so that the tree is the one the
+// serial build gives. *face: the face all the subtree's points lie on, or -1 (an inner node's
+// First, from its children's).
 int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int count,
-  const std::vector<int>& faceSolid, int parallel = 0)
+  const std::vector<int>& faceSolid, int parallel, bool oneSolidKnown, int* face)
 {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
@@ -78,29 +80,30 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
   auto solidOf = [&](const S1Point& p) {
     return p.Face >= 0 && p.Face < static_cast<int>(faceSolid.size()) ? faceSolid[p.Face] : -1;
   };
-  const int solid = count > 0 ? solidOf(pts[first]) : -1;
-  bool oneSolid = true;
   for (int i = first; i < first + count; ++i)
-  {
     for (int k = 0; k < 3; ++k)
     {
       node.Min[k] = std::min(node.Min[k], pts[i].Point[k]);
       node.Max[k] = std::max(node.Max[k], pts[i].Point[k]);
     }
-    oneSolid = oneSolid && solidOf(pts[i]) == solid;
-  }
+  // Sorted by solid: one solid where the first and the last point share it. Below a node on one
+  // solid every node is.
+  const int solid = count > 0 ? solidOf(pts[first]) : -1;
+  const bool oneSolid = oneSolidKnown || count == 0 || solidOf(pts[first + count - 1]) == solid;
   if (oneSolid && count <= 16)
   {
     node.First = first;
     node.Count = count;
     nodes[id] = node;
+    *face = count > 0 ? pts[first].Face : -1;
+    for (int i = first + 1; i < first + count && *face >= 0; ++i)
+      if (pts[i].Face != *face)
+        *face = -1;
     return id;
   }
   int half = count / 2;
   if (!oneSolid)
   {
-    std::sort(pts.begin() + first, pts.begin() + first + count,
-      [&](const S1Point& a, const S1Point& b) { return solidOf(a) < solidOf(b); });
     // The solid boundary nearest the middle.
     int best = -1;
     for (int i = first + 1; i < first + count; ++i)
@@ -118,17 +121,15 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
     std::nth_element(pts.begin() + first, pts.begin() + first + half, pts.begin() + first + count,
       [axis](const S1Point& a, const S1Point& b) { return a.Point[axis] < b.Point[axis]; });
   }
-  // An inner node's First: the face all its points lie on, or -1.
-  node.First = pts[first].Face;
-  for (int i = first + 1; i < first + count && node.First >= 0; ++i)
-    if (pts[i].Face != node.First)
-      node.First = -1;
   node.Count = oneSolid && solid >= 0 ? -(solid + 1) : 0;
+  int leftFace = -1, rightFace = -1;
   if (parallel > 0 && count >= 20000)
   {
     std::vector<BVHNode> right;
-    std::thread other([&] { Build(pts, right, first + half, count - half, faceSolid, parallel - 1); });
-    Build(pts, nodes, first, half, faceSolid, parallel - 1);
+    std::thread other([&] {
+      Build(pts, right, first + half, count - half, faceSolid, parallel - 1, oneSolid, &rightFace);
+    });
+    Build(pts, nodes, first, half, faceSolid, parallel - 1, oneSolid, &leftFace);
     other.join();
     const int base = static_cast<int>(nodes.size());
     for (BVHNode& n : right)
@@ -139,9 +140,13 @@ int Build(std::vector<S1Point>& pts, std::vector<BVHNode>& nodes, int first, int
   }
   else
   {
-    Build(pts, nodes, first, half, faceSolid, parallel);
-    node.Right = Build(pts, nodes, first + half, count - half, faceSolid, parallel);
+    Build(pts, nodes, first, half, faceSolid, parallel, oneSolid, &leftFace);
+    node.Right =
+      Build(pts, nodes, first + half, count - half, faceSolid, parallel, oneSolid, &rightFace);
   }
+  // An inner node's First: the face all its points lie on, or -1.
+  node.First = leftFace == rightFace ? leftFace : -1;
+  *face = node.First;
   nodes[id] = node;
   return id;
 }
@@ -379,19 +384,29 @@ void BuildS1Tree(const BRepModel& model, SolverData& data)
   int levels = 0;
   for (unsigned t = std::max(1u, std::thread::hardware_concurrency()); t > 1; t = (t + 1) / 2)
     ++levels;
+  const auto solidOf = [&](const S1Point& p) {
+    return p.Face >= 0 && p.Face < static_cast<int>(faceSolid.size()) ? faceSolid[p.Face] : -1;
+  };
   const auto edgeBegin = std::stable_partition(
     pts.begin(), pts.end(), [](const S1Point& p) { return !p.OnEdge; });
+  // Each part sorted by solid, as Build takes them.
+  const auto bySolid = [&](const S1Point& a, const S1Point& b) { return solidOf(a) < solidOf(b); };
+  if (!std::is_sorted(pts.begin(), edgeBegin, bySolid))
+    std::stable_sort(pts.begin(), edgeBegin, bySolid);
+  if (!std::is_sorted(edgeBegin, pts.end(), bySolid))
+    std::stable_sort(edgeBegin, pts.end(), bySolid);
   const int faces = static_cast<int>(edgeBegin - pts.begin());
   const int all = static_cast<int>(pts.size());
+  int face;
   if (faces == 0 || faces == all)
   {
-    Build(pts, data.Nodes, 0, all, faceSolid, levels);
+    Build(pts, data.Nodes, 0, all, faceSolid, levels, false, &face);
     return;
   }
   // The split root over the faces' points (left) and the edges' (right).
   data.Nodes.emplace_back();
-  Build(pts, data.Nodes, 0, faces, faceSolid, levels);
-  const int right = Build(pts, data.Nodes, faces, all - faces, faceSolid, levels);
+  Build(pts, data.Nodes, 0, faces, faceSolid, levels, false, &face);
+  const int right = Build(pts, data.Nodes, faces, all - faces, faceSolid, levels, false, &face);
   BVHNode root;
   const BVHNode& l = data.Nodes[1];
   const BVHNode& r = data.Nodes[static_cast<size_t>(right)];
@@ -401,9 +416,6 @@ void BuildS1Tree(const BRepModel& model, SolverData& data)
     root.Max[k] = std::max(l.Max[k], r.Max[k]);
   }
   // One solid below both: its marker, as Build gives an inner node over one solid.
-  const auto solidOf = [&](const S1Point& p) {
-    return p.Face >= 0 && p.Face < static_cast<int>(faceSolid.size()) ? faceSolid[p.Face] : -1;
-  };
   const int solid = solidOf(pts.front());
   const bool oneSolid = std::all_of(
     pts.begin(), pts.end(), [&](const S1Point& p) { return solidOf(p) == solid; });
