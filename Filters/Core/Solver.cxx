@@ -319,40 +319,44 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
     const Face& F = model.Faces[static_cast<size_t>(p.Face)];
     const double band =
       F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
+    // Only the segments that can be nearest to a point of the patch's domain are scanned (a face
+    // with many holes has hundreds); with the trim, the ones within the band of it, which a block
+    // near the trim comes near.
+    const std::vector<TrimCandidate> near = TrimCandidatesFor(
+      model, p.Face, { p.Domain[0], p.Domain[2], p.Domain[1], p.Domain[3] }, 2.0 * band);
     auto wholly = [&](double ul, double uh, double vl, double vh) {
-      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
-      {
-        const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
-        for (int sg = loop.FirstSegment; sg < loop.FirstSegment + loop.SegmentCount; ++sg)
-        {
-          const std::array<double, 4> c =
-            SegmentBox(model.TrimSegments[static_cast<size_t>(sg)].ControlPoints);
-          if (c[0] - band <= uh && c[2] + band >= ul && c[1] - band <= vh && c[3] + band >= vl)
-            return -1; // near the trim: each point tested
-        }
-      }
-      return ClassifyPoint(model, p.Face, 0.5 * (ul + uh), 0.5 * (vl + vh)).Inside ? 1 : 0;
+      for (const TrimCandidate& c : near)
+        if (c.Box[0] - band <= uh && c.Box[2] + band >= ul && c.Box[1] - band <= vh &&
+          c.Box[3] + band >= vl)
+          return -1; // near the trim: each point tested
+      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near).Inside ? 1 : 0;
     };
     auto at = [](int k, int count, double from, double to) { return from + (to - from) * (k + 0.5) / count; };
     constexpr int blockSize = 8;
     const int bu = (nu + blockSize - 1) / blockSize, bv = (nv + blockSize - 1) / blockSize;
     std::vector<int> decided(static_cast<size_t>(bu * bv));
+    // A block tested point by point: the segments that can be nearest to one of its points.
+    std::vector<std::vector<TrimCandidate>> blockNear(decided.size());
     for (int a = 0; a < bu; ++a)
       for (int b = 0; b < bv; ++b)
       {
         const int i0 = a * blockSize, i1 = std::min(nu, i0 + blockSize);
         const int j0 = b * blockSize, j1 = std::min(nv, j0 + blockSize);
-        decided[static_cast<size_t>(a * bv + b)] = wholly(at(i0, nu, p.Domain[0], p.Domain[1]),
-          at(i1 - 1, nu, p.Domain[0], p.Domain[1]), at(j0, nv, p.Domain[2], p.Domain[3]),
-          at(j1 - 1, nv, p.Domain[2], p.Domain[3]));
+        const std::array<double, 4> box{ at(i0, nu, p.Domain[0], p.Domain[1]),
+          at(j0, nv, p.Domain[2], p.Domain[3]), at(i1 - 1, nu, p.Domain[0], p.Domain[1]),
+          at(j1 - 1, nv, p.Domain[2], p.Domain[3]) };
+        const size_t k = static_cast<size_t>(a * bv + b);
+        decided[k] = wholly(box[0], box[2], box[1], box[3]);
+        if (decided[k] < 0)
+          blockNear[k] = TrimCandidatesFor(model, near, box);
       }
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j)
       {
-        const int inBlock = decided[static_cast<size_t>((i / blockSize) * bv + j / blockSize)];
+        const size_t k = static_cast<size_t>((i / blockSize) * bv + j / blockSize);
         const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
         const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
-        if (inBlock == 0 || (inBlock < 0 && !ClassifyPoint(model, p.Face, u, v).Inside))
+        if (decided[k] == 0 || (decided[k] < 0 && !ClassifyPointAmong(model, u, v, blockNear[k]).Inside))
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
         perPatch[pi].push_back({ e.P, p.Face, false, u, v });
@@ -481,26 +485,25 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch, double* b
     lo[1] = std::min(lo[1], v);
     hi[1] = std::max(hi[1], v);
   };
-  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  // The segments that can be nearest to a point of the domain, with every one within the band
+  // of it (TrimCandidatesFor): the others neither reach into the domain nor decide a corner.
+  const std::vector<TrimCandidate> near =
+    TrimCandidatesFor(model, patch.Face, { u0, v0, u1, v1 }, 2.0 * band);
+  for (const TrimCandidate& c : near)
   {
-    const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
-    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    const std::array<double, 4>& sb = c.Box;
+    const double cl[2] = { std::max(sb[0] - band, u0), std::max(sb[1] - band, v0) };
+    const double ch[2] = { std::min(sb[2] + band, u1), std::min(sb[3] + band, v1) };
+    if (cl[0] <= ch[0] && cl[1] <= ch[1])
     {
-      const std::array<double, 4> sb =
-        SegmentBox(model.TrimSegments[static_cast<size_t>(s)].ControlPoints);
-      const double cl[2] = { std::max(sb[0] - band, u0), std::max(sb[1] - band, v0) };
-      const double ch[2] = { std::min(sb[2] + band, u1), std::min(sb[3] + band, v1) };
-      if (cl[0] <= ch[0] && cl[1] <= ch[1])
-      {
-        add(cl[0], cl[1]);
-        add(ch[0], ch[1]);
-      }
+      add(cl[0], cl[1]);
+      add(ch[0], ch[1]);
     }
   }
   for (const double u : { u0, u1 })
     for (const double v : { v0, v1 })
     {
-      const TrimProjection tp = ClassifyPoint(model, patch.Face, u, v);
+      const TrimProjection tp = ClassifyPointAmong(model, u, v, near);
       if (tp.Inside || tp.Distance <= band || InsideByCrossings(model, patch.Face, u, v))
         add(u, v);
     }

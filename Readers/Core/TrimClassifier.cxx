@@ -58,15 +58,6 @@ std::array<double, 2> Tangent(const std::array<double, 8>& cp, double t)
   }
   return { cp[6] - cp[0], cp[7] - cp[1] };
 }
-/// Squared distance from (u, v) to the bounding box of the control points (0 inside it): a
-/// lower bound on the squared distance to the curve (convex hull property).
-double BoxDistance2(const std::array<double, 8>& cp, double u, double v)
-{
-  const std::array<double, 4> b = SegmentBox(cp);
-  const double du = u < b[0] ? b[0] - u : (u > b[2] ? u - b[2] : 0.0);
-  const double dv = v < b[1] ? b[1] - v : (v > b[3] ? v - b[3] : 0.0);
-  return du * du + dv * dv;
-}
 } // namespace
 
 std::array<double, 4> SegmentBox(const std::array<double, 8>& cp)
@@ -147,11 +138,60 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
   return bestParam;
 }
 
-TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v)
+std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
+  const std::vector<TrimCandidate>& from, const std::array<double, 4>& uvBox, double reach)
+{
+  // U: the smallest over the segments (of non-zero length: ClassifyPoint skips the others) of
+  // the farthest distance from the box to one of the segment's ends. ClassifyPoint's distance
+  // is at most a point's distance to such an end (it keeps the better of its Newton and the
+  // ends), so no segment whose box lies farther than U is ever kept.
+  double u2 = std::numeric_limits<double>::infinity();
+  auto farthest2 = [&](double x, double y) {
+    const double dx = std::max(std::fabs(x - uvBox[0]), std::fabs(x - uvBox[2]));
+    const double dy = std::max(std::fabs(y - uvBox[1]), std::fabs(y - uvBox[3]));
+    return dx * dx + dy * dy;
+  };
+  for (const TrimCandidate& c : from)
+  {
+    const auto& cp = model.TrimSegments[c.Segment].ControlPoints;
+    if (Length2(cp) > 0.0)
+      u2 = std::min(u2, std::min(farthest2(cp[0], cp[1]), farthest2(cp[6], cp[7])));
+  }
+  // The margin: rounding in the distances compared (relative 1e-6, far above it).
+  const double limit2 = std::max(u2 * (1.0 + 1e-6), reach * reach);
+  std::vector<TrimCandidate> near;
+  for (const TrimCandidate& c : from)
+  {
+    const double du = std::max({ c.Box[0] - uvBox[2], uvBox[0] - c.Box[2], 0.0 });
+    const double dv = std::max({ c.Box[1] - uvBox[3], uvBox[1] - c.Box[3], 0.0 });
+    if (!(du * du + dv * dv > limit2))
+      near.push_back(c);
+  }
+  return near;
+}
+
+std::vector<TrimCandidate> TrimCandidatesFor(
+  const BRepModel& model, int face, const std::array<double, 4>& uvBox, double reach)
+{
+  std::vector<TrimCandidate> all;
+  const Face& f = model.Faces[face];
+  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+      all.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
+  }
+  return TrimCandidatesFor(model, all, uvBox, reach);
+}
+
+namespace
+{
+// ClassifyPoint over `candidates` (every segment of the face, or those TrimCandidatesFor kept).
+TrimProjection Classify(const BRepModel& model, double u, double v,
+  const TrimCandidate* candidates, size_t count)
 {
   TrimProjection res;
   res.Distance = std::numeric_limits<double>::max();
-  const Face& f = model.Faces[face];
   int bestLoop = -1;
   // The nearest segment, ties to the lowest index. A cubic lies in the box of its control
   // points, so a segment whose box is farther than the best distance so far cannot be nearer
@@ -174,36 +214,29 @@ TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double 
   // patch: this scan was a sixth of a filter's preparation on NIST_MBE_PMI_11).
   thread_local std::vector<double> boxGap;
   boxGap.clear();
-  int firstLoop = -1, firstSeg = -1;
+  size_t first = count;
   double firstBound = std::numeric_limits<double>::max();
-  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  for (size_t k = 0; k < count; ++k)
   {
-    const TrimLoop& loop = model.Loops[l];
-    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+    const std::array<double, 4>& bx = candidates[k].Box;
+    const double du = u < bx[0] ? bx[0] - u : (u > bx[2] ? u - bx[2] : 0.0);
+    const double dv = v < bx[1] ? bx[1] - v : (v > bx[3] ? v - bx[3] : 0.0);
+    const double b = du * du + dv * dv;
+    boxGap.push_back(b);
+    if (b < firstBound)
     {
-      const double b = BoxDistance2(model.TrimSegments[s].ControlPoints, u, v);
-      boxGap.push_back(b);
-      if (b < firstBound)
-      {
-        firstBound = b;
-        firstLoop = l;
-        firstSeg = s;
-      }
+      firstBound = b;
+      first = k;
     }
   }
-  if (firstSeg >= 0)
-    consider(firstLoop, firstSeg);
-  size_t at = 0;
-  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  if (first < count)
+    consider(candidates[first].Loop, candidates[first].Segment);
+  for (size_t k = 0; k < count; ++k)
   {
-    const TrimLoop& loop = model.Loops[l];
-    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s, ++at)
-    {
-      // The margin keeps rounding in the projection from dropping a segment that ties.
-      const double bound = res.Distance * (1.0 + 1e-9);
-      if (s != firstSeg && !(boxGap[at] > bound * bound))
-        consider(l, s);
-    }
+    // The margin keeps rounding in the projection from dropping a segment that ties.
+    const double bound = res.Distance * (1.0 + 1e-9);
+    if (k != first && !(boxGap[k] > bound * bound))
+      consider(candidates[k].Loop, candidates[k].Segment);
   }
   if (res.Segment < 0)
   {
@@ -257,6 +290,27 @@ TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double 
   res.Corner = true;
   res.Inside = Cross(ta[0], ta[1], tb[0], tb[1]) < 0.0;
   return res;
+}
+} // namespace
+
+TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v)
+{
+  thread_local std::vector<TrimCandidate> all;
+  all.clear();
+  const Face& f = model.Faces[face];
+  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
+  {
+    const TrimLoop& loop = model.Loops[l];
+    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+      all.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
+  }
+  return Classify(model, u, v, all.data(), all.size());
+}
+
+TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
+  const std::vector<TrimCandidate>& candidates)
+{
+  return Classify(model, u, v, candidates.data(), candidates.size());
 }
 
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v)

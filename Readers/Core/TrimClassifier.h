@@ -4,6 +4,8 @@
 
 #include "BRepModel.h"
 
+#include <vector>
+
 namespace brt
 {
 
@@ -29,6 +31,31 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
 /// point is the junction of two segments that are not tangent-continuous, the corner rule
 /// applies (a left turn is convex: outside; a right turn is concave: inside).
 TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v);
+
+/// A trimming segment of a face with its control box (SegmentBox), for ClassifyPoint over a
+/// part of the face's segments.
+struct TrimCandidate
+{
+  int Loop = -1, Segment = -1;
+  std::array<double, 4> Box{};
+};
+
+/// The segments of `face` that can hold the nearest trimming point of some point of the UV box
+/// (u0, v0, u1, v1): every segment whose control box lies within U of the box, U the largest
+/// distance from the box to the nearest end of a segment (no point of the box is farther than U
+/// from its nearest trimming point), with a margin for rounding, and every segment whose box
+/// lies within `reach` of it. In the face's order.
+std::vector<TrimCandidate> TrimCandidatesFor(
+  const BRepModel& model, int face, const std::array<double, 4>& uvBox, double reach = 0.0);
+
+/// The same choice among `from` (candidates for a box that holds uvBox).
+std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
+  const std::vector<TrimCandidate>& from, const std::array<double, 4>& uvBox, double reach = 0.0);
+
+/// ClassifyPoint over the candidates TrimCandidatesFor gave for a UV box that holds (u, v): the
+/// same answer, without scanning the face's other segments.
+TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
+  const std::vector<TrimCandidate>& candidates);
 
 /// Independent point-in-face test by the parity of the crossings of a ray from (u,v) towards +u
 /// with the loops, each cubic segment flattened to 16 chords. Meant for points farther from the

@@ -22,6 +22,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <tuple>
 
 namespace
 {
@@ -442,6 +444,66 @@ TEST(SolverData, TreesAndBoxesOnARealPart)
   std::printf("NIST_MBE_PMI_11: %zu patches, %d boxes narrowed, %d left out of the tree\n", np,
     narrowed, left);
   EXPECT_GT(narrowed, 0);
+}
+
+/// s1's face points are the points of each patch's grid that the trim test puts on the face:
+/// the preparation decides blocks of 8 x 8 points away from the trim by one test and the others
+/// among the segments near them (TrimCandidatesFor), which must give what testing every grid
+/// point against every segment gives. The grid as documented (docs/Solver.md, s1): n points per
+/// direction from the control net's longest leg, 3 l / spacing, between 2 and S1MaxPerPatch.
+/// On the FRAMEWORK tile (faces of up to 178 segments, holes and bosses across patches).
+TEST(SolverData, S1IsTheGridInsideTheTrim)
+{
+  const BRepModel m =
+    ConvertStepFile(test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions());
+  const SolverOptions options;
+  const SolverData d = PrepareSolver(m, options);
+  using Key = std::tuple<int, double, double>;
+  std::vector<Key> got, want;
+  for (const S1Point& p : d.S1)
+    if (!p.OnEdge)
+      got.emplace_back(p.Face, p.U, p.V);
+  size_t candidates = 0;
+  for (const BezierPatch& p : m.Patches)
+  {
+    double lu = 0.0, lv = 0.0;
+    auto leg = [&](int i0, int j0, int i1, int j1) {
+      const double* a = &p.ControlPoints[(4 * i0 + j0) * 3];
+      const double* b = &p.ControlPoints[(4 * i1 + j1) * 3];
+      return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+        (b[2] - a[2]) * (b[2] - a[2]));
+    };
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 3; ++b)
+      {
+        lu = std::max(lu, leg(b, a, b + 1, a));
+        lv = std::max(lv, leg(a, b, a, b + 1));
+      }
+    const int nu = std::clamp(static_cast<int>(std::ceil(3.0 * lu / d.S1Spacing)), 2, options.S1MaxPerPatch);
+    const int nv = std::clamp(static_cast<int>(std::ceil(3.0 * lv / d.S1Spacing)), 2, options.S1MaxPerPatch);
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j)
+      {
+        const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
+        const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
+        ++candidates;
+        if (ClassifyPoint(m, p.Face, u, v).Inside)
+          want.emplace_back(p.Face, u, v);
+      }
+  }
+  std::sort(got.begin(), got.end());
+  std::sort(want.begin(), want.end());
+  std::printf("FRAMEWORK tile: s1 %zu face points of %zu grid points\n", got.size(), candidates);
+  EXPECT_GT(want.size(), 100000u);
+  EXPECT_LT(want.size(), candidates); // the trim takes some
+  EXPECT_EQ(got.size(), want.size());
+  std::vector<Key> onlyGot, onlyWant;
+  std::set_difference(got.begin(), got.end(), want.begin(), want.end(), std::back_inserter(onlyGot));
+  std::set_difference(want.begin(), want.end(), got.begin(), got.end(), std::back_inserter(onlyWant));
+  EXPECT_TRUE(onlyGot.empty()) << onlyGot.size() << " s1 points the trim test puts off the face, first on face "
+                               << std::get<0>(onlyGot.front());
+  EXPECT_TRUE(onlyWant.empty()) << onlyWant.size() << " grid points on the face missing from s1, first on face "
+                                << std::get<0>(onlyWant.front());
 }
 
 /// The native device's loop: every index once on two threads, and a progress callback that

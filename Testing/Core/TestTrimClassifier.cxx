@@ -211,3 +211,69 @@ TEST(TrimClassifier, KernelSegmentTreeFindsWhatTheScanFinds)
   EXPECT_GT(faces, 50u);
   EXPECT_EQ(mismatches, 0u);
 }
+
+// The preparation classifies s1's grid points among the segments that can be nearest to some
+// point of their patch's domain or of a block of it (TrimCandidatesFor): the answer must be
+// ClassifyPoint's over every segment, exactly. Boxes of every size over every face of the
+// FRAMEWORK tile (faces of up to 178 segments), boxes within boxes as the preparation takes
+// them, and random points inside each, its corners among them.
+TEST(TrimClassifier, CandidatesOfABoxGiveTheScansAnswer)
+{
+  const BRepModel m =
+    ConvertStepFile(test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  size_t points = 0, mismatches = 0, segments = 0, kept = 0;
+  auto check = [&](int f, const std::array<double, 4>& box,
+                 const std::vector<TrimCandidate>& near) {
+    for (int k = 0; k < 12; ++k)
+    {
+      const double u = k < 4 ? box[(k & 1) ? 2 : 0] : box[0] + unit(rng) * (box[2] - box[0]);
+      const double v = k < 4 ? box[(k & 2) ? 3 : 1] : box[1] + unit(rng) * (box[3] - box[1]);
+      const TrimProjection all = ClassifyPoint(m, f, u, v);
+      const TrimProjection among = ClassifyPointAmong(m, u, v, near);
+      ++points;
+      if (all.Segment != among.Segment || all.Inside != among.Inside ||
+        all.Distance != among.Distance || all.Parameter != among.Parameter ||
+        all.Corner != among.Corner)
+      {
+        ++mismatches;
+        ADD_FAILURE() << "face " << f << " (" << u << ", " << v << "): among " << near.size()
+                      << " candidates segment " << among.Segment << " at " << among.Distance
+                      << ", over all " << all.Segment << " at " << all.Distance;
+      }
+    }
+  };
+  for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
+  {
+    const Face& F = m.Faces[f];
+    if (F.LoopCount <= 0)
+      continue;
+    int count = 0;
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+      count += m.Loops[l].SegmentCount;
+    const double wu = F.Domain[1] - F.Domain[0], wv = F.Domain[3] - F.Domain[2];
+    for (int k = 0; k < 8; ++k)
+    {
+      // Boxes from the whole domain (and beyond it) down to a thousandth of it.
+      const double size = std::pow(10.0, -3.0 * unit(rng));
+      const double u0 = F.Domain[0] + (unit(rng) * 1.1 - 0.05) * wu;
+      const double v0 = F.Domain[2] + (unit(rng) * 1.1 - 0.05) * wv;
+      const std::array<double, 4> box{ u0, v0, u0 + size * wu, v0 + size * wv };
+      const std::vector<TrimCandidate> near = TrimCandidatesFor(m, f, box);
+      segments += static_cast<size_t>(count);
+      kept += near.size();
+      check(f, box, near);
+      // A block of it, among the box's candidates.
+      const std::array<double, 4> inner{ box[0] + 0.25 * (box[2] - box[0]),
+        box[1] + 0.5 * (box[3] - box[1]), box[0] + 0.5 * (box[2] - box[0]),
+        box[1] + 0.625 * (box[3] - box[1]) };
+      check(f, inner, TrimCandidatesFor(m, near, inner));
+    }
+  }
+  std::printf("FRAMEWORK tile: %zu points, candidates %.1f%% of the faces' segments\n", points,
+    100.0 * static_cast<double>(kept) / static_cast<double>(segments));
+  EXPECT_GT(points, 5000u);
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_LT(kept, segments / 2); // the candidates are a real cut, not every segment
+}
