@@ -23,6 +23,8 @@ template <class T>
 void PushNodes(const std::vector<BVHNode>& nodes, const std::array<double, 3>& c,
   std::vector<T>& box, std::vector<int>& info)
 {
+  box.reserve(box.size() + 6 * nodes.size());
+  info.reserve(info.size() + 3 * nodes.size());
   for (const auto& n : nodes)
   {
     for (int k = 0; k < 3; ++k)
@@ -181,6 +183,29 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   KernelModel<T> k;
   const auto& c = data.Centre;
   k.Breaks.assign(data.Breaks.begin(), data.Breaks.end());
+  // Every array at its final size up front: grown by doubling, the copies and the fresh pages
+  // were most of the packing (s1 alone is 286k points on the ExpansionCard).
+  const size_t np = m.Patches.size(), nf = m.Faces.size(), nt = m.TrimSegments.size();
+  const size_t ne = m.Edges.size(), nes = m.EdgeSegments.size(), ns = data.S1.size();
+  k.PatchAnchor.reserve(6 * np);
+  k.Patches.reserve(48 * np);
+  k.PatchDomain.reserve(4 * np);
+  k.PatchFace.reserve(np);
+  k.FaceInfo.reserve(10 * nf);
+  k.FaceDomain.reserve(20 * nf);
+  k.Loops.reserve(2 * m.Loops.size());
+  k.Trim.reserve(12 * nt);
+  k.TrimEdge.reserve(nt);
+  k.TrimRange.reserve(2 * nt);
+  k.EdgeInfo.reserve(4 * ne);
+  k.EdgeRange.reserve(2 * ne);
+  k.EdgeAnchor.reserve(6 * nes);
+  k.EdgeSeg.reserve(12 * nes);
+  k.EdgeSegRange.reserve(2 * nes);
+  k.EdgeSegEdge.reserve(nes);
+  k.S1Point.reserve(3 * ns);
+  k.S1Face.reserve(ns);
+  k.S1UV.reserve(2 * ns);
   for (const auto& p : m.Patches)
   {
     // Anchor: the first control point, relative to the centre.
