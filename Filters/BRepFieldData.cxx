@@ -4,6 +4,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
@@ -53,8 +54,13 @@ std::vector<double> Get(vtkFieldData* fd, const char* name, int comps, vtkIdType
     Fail(std::string("array '") + name + "' has " + std::to_string(a->GetNumberOfTuples()) +
       " tuples, expected " + std::to_string(rows));
   std::vector<double> v(static_cast<size_t>(a->GetNumberOfTuples()) * comps);
-  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
-    a->GetTuple(i, &v[static_cast<size_t>(i) * comps]);
+  // The reader's arrays are doubles: copied whole (a tuple at a time, a virtual call each, was
+  // most of reading the model).
+  if (auto* d = vtkDoubleArray::FastDownCast(a))
+    std::copy(d->GetPointer(0), d->GetPointer(0) + v.size(), v.begin());
+  else
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+      a->GetTuple(i, &v[static_cast<size_t>(i) * comps]);
   for (double x : v)
     if (!std::isfinite(x))
       Fail(std::string("array '") + name + "' holds a value that is not finite");
@@ -254,34 +260,56 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
     Fail("no point normals (3 components)");
   DisplayMesh& M = m.Mesh;
   M.FaceIds.resize(n);
-  M.Points.resize(3 * n);
-  M.Normals.resize(3 * n);
   M.UV = uv;
   for (vtkIdType i = 0; i < n; ++i)
-  {
     M.FaceIds[i] = Index(faceIds[i], 0, NF, "point array FaceId", i);
-    input->GetPoint(i, &M.Points[3 * i]);
-    normals->GetTuple(i, &M.Normals[3 * i]);
-  }
+  M.Points.resize(3 * n);
+  vtkDataArray* points = input->GetPoints() ? input->GetPoints()->GetData() : nullptr;
+  if (auto* d = vtkDoubleArray::FastDownCast(points))
+    std::copy(d->GetPointer(0), d->GetPointer(0) + 3 * n, M.Points.begin());
+  else
+    for (vtkIdType i = 0; i < n; ++i)
+      input->GetPoint(i, &M.Points[3 * i]);
+  M.Normals.resize(3 * n);
+  if (auto* d = vtkDoubleArray::FastDownCast(normals))
+    std::copy(d->GetPointer(0), d->GetPointer(0) + 3 * n, M.Normals.begin());
+  else
+    for (vtkIdType i = 0; i < n; ++i)
+      normals->GetTuple(i, &M.Normals[3 * i]);
   if (input->GetNumberOfVerts() + input->GetNumberOfLines() + input->GetNumberOfStrips() > 0)
     Fail("the display mesh has vertices, lines or strips; only triangles are expected");
+  // The triangles from the cell array's offsets and connectivity (cell by cell through an id
+  // list was a third of reading the model).
   vtkCellArray* polys = input->GetPolys();
-  M.Triangles.reserve(3 * polys->GetNumberOfCells());
-  vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-  {
-    if (ids->GetNumberOfIds() != 3)
-      Fail("the display mesh has a polygon with " + std::to_string(ids->GetNumberOfIds()) +
-        " vertices; only triangles are expected");
-    const int f = M.FaceIds[ids->GetId(0)];
-    for (int k = 0; k < 3; ++k)
+  const vtkIdType nc = polys->GetNumberOfCells();
+  M.Triangles.resize(static_cast<size_t>(3 * nc));
+  M.TriangleFace.resize(static_cast<size_t>(nc));
+  auto triangles = [&](auto* offsets, auto* connectivity) {
+    for (vtkIdType c = 0; c < nc; ++c)
     {
-      M.Triangles.push_back(static_cast<int>(ids->GetId(k)));
-      if (M.FaceIds[ids->GetId(k)] != f)
-        Fail("a triangle joins vertices of different faces");
+      const vtkIdType begin = offsets->GetValue(c), size = offsets->GetValue(c + 1) - begin;
+      if (size != 3)
+        Fail("the display mesh has a polygon with " + std::to_string(size) +
+          " vertices; only triangles are expected");
+      int f = -1;
+      for (int k = 0; k < 3; ++k)
+      {
+        const vtkIdType id = connectivity->GetValue(begin + k);
+        if (id < 0 || id >= n)
+          Fail("a triangle names point " + std::to_string(id) + " of " + std::to_string(n));
+        M.Triangles[static_cast<size_t>(3 * c + k)] = static_cast<int>(id);
+        if (k == 0)
+          f = M.FaceIds[id];
+        else if (M.FaceIds[id] != f)
+          Fail("a triangle joins vertices of different faces");
+      }
+      M.TriangleFace[static_cast<size_t>(c)] = f;
     }
-    M.TriangleFace.push_back(f);
-  }
+  };
+  if (polys->IsStorage64Bit())
+    triangles(polys->GetOffsetsArray64(), polys->GetConnectivityArray64());
+  else
+    triangles(polys->GetOffsetsArray32(), polys->GetConnectivityArray32());
 
   m.Stats.Faces = NF;
   m.Stats.Patches = NP;
