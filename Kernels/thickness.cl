@@ -2365,6 +2365,10 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
   int top = 0;
   stack[top] = 0;
   stackGap[top++] = box_gap2(m->boxNodeBox, M);
+  // exact_gap depends on the face alone (M and t do not change during the query): kept for the
+  // last face asked, which a leaf's patches mostly share.
+  int gapFace = -1;
+  real gapOfFace = (real)0;
   while (top > 0)
   {
     --top;
@@ -2389,10 +2393,16 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         {
           const int face = m->patchFace[item];
           const real need = face == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          if (!in_scope(m->faceInfo, face, solid) ||
+            !(box_gap2(m->patchBoxes + 6 * item, M) < need * need))
+            continue;
+          if (face != gapFace)
+          {
+            gapFace = face;
+            gapOfFace = exact_gap(m, face, Ohi, Olo, mr, t);
+          }
           real ahead;
-          if (in_scope(m->faceInfo, face, solid) &&
-            box_gap2(m->patchBoxes + 6 * item, M) < need * need &&
-            exact_gap(m, face, Ohi, Olo, mr, t) < need &&
+          if (gapOfFace < need &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
             ahead > depth &&
