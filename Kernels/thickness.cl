@@ -116,7 +116,7 @@ typedef struct
   __global const int* trimNodeInfo;
   __global const int* trimItems;
   __global const int* edgeInfo;     // first segment, count, face 0, face 1 per edge
-  __global const real* edgeRange;   // T0, T1 per edge
+  __global const real* edgeRange;   // T0, T1 and the distance from each face's exact surface (-1: none) per edge
   __global const real* edgeSeg;     // 12 per edge segment, relative to its anchor
   __global const real* edgeAnchor;  // 6 per edge segment: anchor hi (3) + lo (3)
   __global const real* edgeSegRange; // T0, T1 per edge segment
@@ -1008,7 +1008,7 @@ typedef struct
 //.
 inline int at_edge_end(const Model* m, int edge, real T)
 {
-  const real T0 = m->edgeRange[2 * edge], T1 = m->edgeRange[2 * edge + 1];
+  const real T0 = m->edgeRange[4 * edge], T1 = m->edgeRange[4 * edge + 1];
   const real near = (real)1e-9 * fabs(T1 - T0);
   return fabs(T - T0) <= near || fabs(T - T1) <= near;
 }
@@ -1171,8 +1171,8 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
     }
     const int edge = trimEdge[seg];
     real T = trimRange[2 * seg] + param * (trimRange[2 * seg + 1] - trimRange[2 * seg]);
-    const real Tlo = fmin(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
-    const real Thi = fmax(edgeRange[2 * edge], edgeRange[2 * edge + 1]);
+    const real Tlo = fmin(edgeRange[4 * edge], edgeRange[4 * edge + 1]);
+    const real Thi = fmax(edgeRange[4 * edge], edgeRange[4 * edge + 1]);
     int atEnd = 0, edgeCapped = 1;
     real3 C = splat_real3(0), Ct = splat_real3(0), Ctt = splat_real3(0);
     for (int it = 0; it < maxEdgeIterations; ++it)
@@ -1451,8 +1451,8 @@ EdgeMinimum minimise_on_edge(const Model* m, int edge, real T, real3 Ohi, real3 
 {
   const real tiny = DESCENT_TINY * scale;
   const real roundoff = (real)8 * REAL_EPS;
-  const real Tlo = fmin(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
-  const real Thi = fmax(m->edgeRange[2 * edge], m->edgeRange[2 * edge + 1]);
+  const real Tlo = fmin(m->edgeRange[4 * edge], m->edgeRange[4 * edge + 1]);
+  const real Thi = fmax(m->edgeRange[4 * edge], m->edgeRange[4 * edge + 1]);
   T = clamp(T, Tlo, Thi);
   real3 C, Ct, Ctt;
   eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
@@ -1694,7 +1694,7 @@ Result descend_across_nearest_edge(const Model* m, int ownFace, real2 ownUV, rea
 void near_vertex(const Model* m, int edge, real T, real3 foot, real rho, real3 Ohi, real3 Olo,
   int* vertexEdge, int* vertexEnd)
 {
-  const real T0 = m->edgeRange[2 * edge], T1 = m->edgeRange[2 * edge + 1];
+  const real T0 = m->edgeRange[4 * edge], T1 = m->edgeRange[4 * edge + 1];
   const int end = fabs(T - T1) < fabs(T - T0) ? 1 : 0;
   real3 C, Ct, Ctt;
   eval_edge(m, edge, end ? T1 : T0, Ohi, Olo, &C, &Ct, &Ctt);
@@ -1737,7 +1737,7 @@ void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int en
   for (int i = 1; i <= n; ++i)
   {
     const int e = m->vertexInfo[record + i] / 2;
-    const real Te = m->edgeRange[2 * e + m->vertexInfo[record + i] % 2];
+    const real Te = m->edgeRange[4 * e + m->vertexInfo[record + i] % 2];
     const EdgeMinimum em =
       minimise_on_edge(m, e, Te, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
     Result c = edge_contact(
@@ -2416,10 +2416,33 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
           const int edge = m->edgeSegEdge[es];
           const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
           const real need = f0 == ownFace || f1 == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          if (!(f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
+                box_gap2(m->edgeBoxes + 6 * es, M) < need * need))
+            continue;
+          // The edge lies within its measured distance of each face's exact surface: no point of
+          // it is nearer to M than M's distance from that surface, less that.
+          real edgeGap = (real)-1;
+          for (int k = 0; k < 2; ++k)
+          {
+            const int f = k ? f1 : f0;
+            const real dev = m->edgeRange[4 * edge + 2 + k];
+            const int kind = f >= 0 ? m->faceInfo[FACE_INTS * f + 8] : EXACT_NONE;
+            if (kind == EXACT_NONE || !(dev >= (real)0))
+              continue;
+            __global const real* e = m->faceDomain + FACE_REALS * f + FACE_EXACT;
+            real3 g;
+            int ok;
+            const real3 X = mr - anchor_minus(e, Ohi, Olo);
+#ifdef BRT_DOUBLE
+            const real allow = dev + (real)64 * REAL_EPS * (length(X) + t);
+#else
+            const real allow = fmax(dev, (real)0.5 * m->slack);
+#endif
+            edgeGap = fmax(edgeGap, fabs(exact_distance(kind, e, X, &g, &ok)) - allow);
+          }
           __global const real* c = m->edgeSeg + 12 * es;
           const real3 a = anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo);
-          if (f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
-            box_gap2(m->edgeBoxes + 6 * es, M) < need * need && -hull_gap(c, 4, a, -d) > depth &&
+          if (edgeGap < need && -hull_gap(c, 4, a, -d) > depth &&
             hull_gap(c, 4, a - mr, toward_hull(c, 4, a - mr)) < need)
             certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
@@ -3279,7 +3302,7 @@ int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, re
     real T = r->param.x;
     if (r->type == CONTACT_SURFACE_VERTEX)
     {
-      const real T0 = m->edgeRange[2 * r->edge], T1 = m->edgeRange[2 * r->edge + 1];
+      const real T0 = m->edgeRange[4 * r->edge], T1 = m->edgeRange[4 * r->edge + 1];
       T = fabs(T - T1) < fabs(T - T0) ? T1 : T0;
     }
     const EdgeMinimum em =

@@ -198,7 +198,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.TrimEdge.reserve(nt);
   k.TrimRange.reserve(2 * nt);
   k.EdgeInfo.reserve(4 * ne);
-  k.EdgeRange.reserve(2 * ne);
+  k.EdgeRange.reserve(4 * ne);
   k.EdgeAnchor.reserve(6 * nes);
   k.EdgeSeg.reserve(12 * nes);
   k.EdgeSegRange.reserve(2 * nes);
@@ -256,7 +256,12 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   for (const auto& e : m.Edges)
   {
     k.EdgeInfo.insert(k.EdgeInfo.end(), { e.FirstSegment, e.SegmentCount, e.Faces[0], e.Faces[1] });
-    k.EdgeRange.insert(k.EdgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1) });
+    // T0, T1 and the edge's distance from each of its faces' exact surfaces (-1: none).
+    const size_t at = 2 * (k.EdgeRange.size() / 4);
+    const bool dev = data.EdgeFaceDeviation.size() == 2 * m.Edges.size();
+    k.EdgeRange.insert(k.EdgeRange.end(), { static_cast<T>(e.T0), static_cast<T>(e.T1),
+      static_cast<T>(dev ? data.EdgeFaceDeviation[at] : -1.0),
+      static_cast<T>(dev ? data.EdgeFaceDeviation[at + 1] : -1.0) });
   }
   for (const auto& s : m.EdgeSegments)
   {

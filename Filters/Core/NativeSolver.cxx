@@ -202,6 +202,28 @@ void NativeSolver::RayThickness(const std::vector<Sample>& samples,
   });
 }
 
+double FarthestFromExactSurface(const BRepModel& model, int face, const double* points,
+  size_t count)
+{
+  std::array<double, 12> e{};
+  const int kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, e);
+  if (kind == 0)
+    return -1.0;
+  double worst = 0.0;
+  for (size_t i = 0; i < count; ++i)
+  {
+    const double* p = points + 3 * i;
+    const kernel::real3 X{ p[0] - e[0], p[1] - e[1], p[2] - e[2] };
+    kernel::real3 g{ 0.0, 0.0, 0.0 };
+    int ok = 0;
+    const double f = kernel::exact_distance(kind, e.data(), X, &g, &ok);
+    if (!ok)
+      return -1.0;
+    worst = std::max(worst, std::fabs(f));
+  }
+  return worst;
+}
+
 bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
   std::array<double, 3>& normal, double maxMove)
 {

@@ -83,4 +83,9 @@ private:
 bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
   std::array<double, 3>& normal, double maxMove);
 
+/// The largest distance of `count` points (x, y, z each) from `face`'s exact surface (the
+/// kernels' exact_distance); -1 where the face has none or a point lies on its axis.
+double FarthestFromExactSurface(const BRepModel& model, int face, const double* points,
+  size_t count);
+
 } // namespace brt

@@ -159,6 +159,11 @@ struct SolverData
   std::vector<double> PatchBoxes;
   /// The same per edge segment (its 4 control points).
   std::vector<double> EdgeBoxes;
+  /// Per edge, for each of its two faces: how far its segments lie from that face's exact surface
+  /// (plane, cylinder, cone, sphere, torus), half as much again as measured at 17 points of each
+  /// segment, for the certification's bound on the edge (thickness.cl, find_point_inside); -1
+  /// where the face has no exact surface or there is no face. Derived like PatchBoxes.
+  std::vector<double> EdgeFaceDeviation;
   /// BVH over those boxes (same node layout as Nodes); BoxItems[First .. First + Count) of a
   /// leaf are patch indices, or edge segment indices offset by the number of patches.
   std::vector<BVHNode> BoxNodes;
