@@ -1002,6 +1002,7 @@ typedef struct
   int trimSeg;
   real trimParam;
   real2 trimUV;
+  int trimInside; // that test's answer
 } Result;
 
 // T within 1e-9 of the edge's parameter range of one of its ends: that vertex
@@ -1087,6 +1088,7 @@ inline Result no_result(void)
   r.trimSeg = -2;
   r.trimParam = 0;
   r.trimUV = splat_real2(0);
+  r.trimInside = 0;
   return r;
 }
 
@@ -1114,7 +1116,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   __global const real* trimRange = m->trimRange;
   __global const real* edgeRange = m->edgeRange;
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
-  int trimSeg = -2;
+  int trimSeg = -2, trimInside = 0;
   real trimParam = 0;
   real edgeT = 0;
   real res = 0;
@@ -1158,6 +1160,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       footParam = make_real2(ss.u, ss.v);
       trimSeg = ss.seg;
       trimParam = ss.param;
+      trimInside = ss.inside;
       goto out;
     }
     const int seg = ss.seg;
@@ -1296,6 +1299,7 @@ out:;
   r.trimSeg = trimSeg;
   r.trimParam = trimParam;
   r.trimUV = footParam;
+  r.trimInside = trimInside;
   type_tangent_edge_contact(m, edgeT, d, &r);
   return r;
 }
@@ -2697,8 +2701,19 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   // the sphere may touch the edge rather than the surface, keeps the patches' contact. A seam's or
   // split line's foot lies on the same surface either side: the band counts, as it does for a
   // sphere touching its own closed surface across (its foot may fall on the surface's seam).
-  if (!project_on_face(m, face, Ohi, Olo, foot, r->type == CONTACT_SURFACE_EDGE || selfContact, &u,
-        &v, &patch))
+  // A face contact whose foot moves by less than half a hundredth of the slack (a plane's: its
+  // patches lie on it to rounding) keeps its (u, v), where the projection would stop at once, and
+  // the surface Newton's trim test there answers for the projection's, which is the same test.
+  if (r->type == CONTACT_SURFACE_SURFACE && !selfContact &&
+    length(moved) <= (real)0.005 * m->slack && r->trimSeg != -2 && r->trimUV.x == u &&
+    r->trimUV.y == v)
+  {
+    if (!r->trimInside)
+      return;
+    patch = find_patch(m, face, u, v);
+  }
+  else if (!project_on_face(m, face, Ohi, Olo, foot,
+             r->type == CONTACT_SURFACE_EDGE || selfContact, &u, &v, &patch))
     return;
   if (r->type == CONTACT_SURFACE_EDGE)
   {
