@@ -1003,6 +1003,7 @@ typedef struct
   real trimParam;
   real2 trimUV;
   int trimInside; // that test's answer
+  real trimDist;  // and the distance from trimUV to the nearest trimming segment (UV)
 } Result;
 
 // T within 1e-9 of the edge's parameter range of one of its ends: that vertex
@@ -1089,6 +1090,7 @@ inline Result no_result(void)
   r.trimParam = 0;
   r.trimUV = splat_real2(0);
   r.trimInside = 0;
+  r.trimDist = 0;
   return r;
 }
 
@@ -1117,7 +1119,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
   __global const real* edgeRange = m->edgeRange;
   int type = CONTACT_FAILED, reason = FAIL_NONE, oppFace = -1, oppPatch = -1, oppEdge = -1;
   int trimSeg = -2, trimInside = 0;
-  real trimParam = 0;
+  real trimParam = 0, trimDist = 0;
   real edgeT = 0;
   real res = 0;
   real3 foot = splat_real3(0);
@@ -1161,6 +1163,7 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       trimSeg = ss.seg;
       trimParam = ss.param;
       trimInside = ss.inside;
+      trimDist = ss.trimDist;
       goto out;
     }
     const int seg = ss.seg;
@@ -1300,6 +1303,7 @@ out:;
   r.trimParam = trimParam;
   r.trimUV = footParam;
   r.trimInside = trimInside;
+  r.trimDist = trimDist;
   type_tangent_edge_contact(m, edgeT, d, &r);
   return r;
 }
@@ -2538,8 +2542,20 @@ int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, rea
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
 // |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
 // `band`, within its tolerance band of an edge too), with its (u, v) and patch.
+int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
+  real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut);
 int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
   real* vio, int* patchOut)
+{
+  return project_on_face_near(m, face, Ohi, Olo, foot, band, splat_real2(0), (real)0, uio, vio,
+    patchOut);
+}
+
+// The same, where the trim test is known to put every point within insideRadius of insideUV (in
+// UV) on the face: a point reached within that disk needs no test of its own (the disk holds no
+// trimming curve). insideRadius 0: no such disk.
+int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
+  real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut)
 {
   real u = *uio, v = *vio;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -2572,11 +2588,14 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
   const PatchEval pe = eval_patch(m, patch, u, v);
   if (!(length(pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot) <= m->slack))
     return 0;
-  int seg;
-  real param, trimDist;
-  const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
-  if (!inside && !(band && trimDist <= fd[6]))
-    return 0;
+  if (!(length(make_real2(u, v) - insideUV) < insideRadius))
+  {
+    int seg;
+    real param, trimDist;
+    const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
+    if (!inside && !(band && trimDist <= fd[6]))
+      return 0;
+  }
   *uio = u;
   *vio = v;
   *patchOut = patch;
@@ -2712,9 +2731,17 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
       return;
     patch = find_patch(m, face, u, v);
   }
-  else if (!project_on_face(m, face, Ohi, Olo, foot,
-             r->type == CONTACT_SURFACE_EDGE || selfContact, &u, &v, &patch))
-    return;
+  else
+  {
+    // A face contact's own trim test (inside, this far from the trim in UV) covers the disk around
+    // its (u, v) up to that distance (a thousandth less, for rounding).
+    const int known = r->type == CONTACT_SURFACE_SURFACE && r->trimSeg != -2 && r->trimInside &&
+      r->trimUV.x == u && r->trimUV.y == v;
+    if (!project_on_face_near(m, face, Ohi, Olo, foot,
+          r->type == CONTACT_SURFACE_EDGE || selfContact, make_real2(u, v),
+          known ? (real)0.999 * r->trimDist : (real)0, &u, &v, &patch))
+      return;
+  }
   if (r->type == CONTACT_SURFACE_EDGE)
   {
     r->type = CONTACT_SURFACE_SURFACE;
