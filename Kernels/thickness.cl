@@ -2541,19 +2541,10 @@ int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, rea
 
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
 // |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
-// `band`, within its tolerance band of an edge too), with its (u, v) and patch.
-int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
-  real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut);
-int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
-  real* vio, int* patchOut)
-{
-  return project_on_face_near(m, face, Ohi, Olo, foot, band, splat_real2(0), (real)0, uio, vio,
-    patchOut);
-}
-
-// The same, where the trim test is known to put every point within insideRadius of insideUV (in
-// UV) on the face: a point reached within that disk needs no test of its own (the disk holds no
-// trimming curve). insideRadius 0: no such disk.
+// `band`, within its tolerance band of an edge too), with its (u, v) and patch. Where the trim
+// test is known to put every point within insideRadius of insideUV (in UV) on the face, a point
+// reached within that disk needs no test of its own (the disk holds no trimming curve);
+// insideRadius 0: no such disk.
 int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
   real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut)
 {
@@ -2600,6 +2591,14 @@ int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 f
   *vio = v;
   *patchOut = patch;
   return 1;
+}
+
+// The same without a known disk.
+int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
+  real* vio, int* patchOut)
+{
+  return project_on_face_near(m, face, Ohi, Olo, foot, band, splat_real2(0), (real)0, uio, vio,
+    patchOut);
 }
 
 // The sphere tangent at O of a surface/surface contact on an analytic face (or a surface/edge

@@ -170,7 +170,8 @@ struct SolverData
   std::vector<int> BoxItems;
 };
 
-/// Fills data.PatchBoxes, data.EdgeBoxes and their BVH (PrepareSolver and ReadSolve call it).
+/// Fills data.PatchBoxes, data.EdgeBoxes, their BVH and data.EdgeFaceDeviation (PrepareSolver
+/// and ReadSolve call it).
 void BuildPatchBoxes(const BRepModel& model, SolverData& data);
 
 /// Fills data.VertexInfo from the model's edges (PrepareSolver and ReadSolve call it).
