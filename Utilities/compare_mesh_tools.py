@@ -28,6 +28,7 @@ a tool: no value, or a diameter beyond the model's diagonal).
 """
 import argparse
 import os
+import re
 import subprocess
 import sys
 import time
@@ -58,6 +59,8 @@ def solve(device, measure="Thickness", precision=None):
     Delete(f)
     return mesh, rows, name
 mesh, rows_ref, _ = solve("native")
+if mesh.VTKObject.GetNumberOfPoints() == 0:
+    sys.exit(1)  # the reader's or the filter's error is on stderr
 _, rows_dev, dev_name = solve("cpu")
 _, rows_dev2, _ = solve("cpu", precision="Double")
 extra = {}
@@ -103,7 +106,12 @@ def tools(npz, trimesh_samples, seed=1):
     wtri = inverse[tri]
     interior = (counts[inverse] == 1) & np.isfinite(exact)
     n_w = len(W)
-    rows = []
+    print("COUNTS\t%d\t%d\t%d\t%s" % (len(P), n_w, interior.sum(), str(d["dev_name"])), flush=True)
+
+    def emit(row):
+        # Each row as soon as it is measured: a tool that dies later (memory) leaves the rows
+        # before it.
+        print("ROW\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g" % row, flush=True)
 
     def report(name, values, seconds, computed, idx):
         """values: per original vertex; computed: how many points the tool ran on; idx: the
@@ -111,8 +119,8 @@ def tools(npz, trimesh_samples, seed=1):
         v, e = values[idx], exact[idx]
         ok = np.isfinite(v) & (v < 1e30)
         err = np.abs(v[ok] - e[ok])
-        rows.append((name, computed / seconds, np.median(err), np.percentile(err, 99), err.max(),
-                     np.mean(err <= 1e-4), 1.0 - ok.mean()))
+        emit((name, computed / seconds, np.median(err), np.percentile(err, 99), err.max(),
+              np.mean(err <= 1e-4), 1.0 - ok.mean()))
 
     all_idx = np.nonzero(interior)[0]
     rng = np.random.default_rng(seed)
@@ -156,12 +164,11 @@ def tools(npz, trimesh_samples, seed=1):
             both = idx[~ours_inf[idx] & ~tool_inf]
             err = np.abs(values[both] - exact_gap[both])
             agree_inf = np.mean(tool_inf == ours_inf[idx])
-            rows.append(("gap: " + name, computed / seconds, np.median(err) if len(err) else np.nan,
-                         np.percentile(err, 99) if len(err) else np.nan, err.max() if len(err) else np.nan,
-                         np.mean(err <= 1e-4) if len(err) else np.nan, 1.0 - agree_inf))
+            emit(("gap: " + name, computed / seconds, np.median(err) if len(err) else np.nan,
+                  np.percentile(err, 99) if len(err) else np.nan, err.max() if len(err) else np.nan,
+                  np.mean(err <= 1e-4) if len(err) else np.nan, 1.0 - agree_inf))
 
-        rows.append(("gap: ours, native CPU", len(P) / max(float(d["gap_seconds"]), 1e-9), 0.0, 0.0, 0.0, 1.0,
-                     0.0))
+        emit(("gap: ours, native CPU", len(P) / max(float(d["gap_seconds"]), 1e-9), 0.0, 0.0, 0.0, 1.0, 0.0))
         mo = mn.meshFromFacesVerts(wtri[:, ::-1].astype(np.int32), W.astype(np.float32))  # inside out
         settings = mr.InSphereSearchSettings()
         settings.maxRadius = diag
@@ -176,7 +183,6 @@ def tools(npz, trimesh_samples, seed=1):
         full = np.full(len(P), np.nan)
         full[sub] = th
         report_gap("trimesh max_sphere", full, sec, len(sub), sub)
-    return rows, len(P), n_w, interior.sum()
 
 
 def main(argv=None):
@@ -193,11 +199,9 @@ def main(argv=None):
         n = len(d["points"])
         print("OURS\t%.6g\t%.6g\t%.6g\t%.6g" % (n / float(d["ref_seconds"]), n / float(d["dev_seconds"]),
                                                 n / float(d["dev2_seconds"]),
-                                                n / (float(d["ref_seconds"]) + float(d["ref_prepare"]))))
-        rows, n, nw, ni = tools(args.models[0], args.trimesh_samples)
-        for r in rows:
-            print("ROW\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g" % r)
-        print("COUNTS\t%d\t%d\t%d\t%s" % (n, nw, ni, str(d["dev_name"])))
+                                                n / (float(d["ref_seconds"]) + float(d["ref_prepare"]))),
+              flush=True)
+        tools(args.models[0], args.trimesh_samples)
         return 0
     plugin = os.path.join(args.build, "lib", "paraview-plugins", "BRepThickness", "BRepThickness.so")
     if not os.path.exists(plugin):
@@ -213,11 +217,22 @@ def main(argv=None):
     for model in args.models:
         name = os.path.basename(model)
         npz = os.path.join(work, os.path.splitext(name)[0] + ".npz")
-        subprocess.check_call(["pvpython", script, plugin, os.path.abspath(model), npz, "1" if args.gap else "0"],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        out = subprocess.check_output([py, os.path.abspath(__file__), npz, "--phase", "tools",
-                                       "--trimesh-samples", str(args.trimesh_samples)], text=True)
-        for line in out.splitlines():
+        export = subprocess.run(["pvpython", script, plugin, os.path.abspath(model), npz, "1" if args.gap else "0"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if export.returncode != 0:
+            # The reader's or the filter's error names the file and the problem (VTK's error
+            # lines carry "ERR|", colour codes and the object's address before it).
+            errors = [re.sub(r"\x1b\[[0-9;]*m", "", l) for l in export.stderr.splitlines() if "ERR|" in l]
+            why = errors[0].split("): ", 1)[-1].strip() if errors else "exit status %d" % export.returncode
+            print("%-34s   not compared: %s" % (name, why))
+            sys.stdout.flush()
+            continue
+        run = subprocess.run([py, os.path.abspath(__file__), npz, "--phase", "tools",
+                              "--trimesh-samples", str(args.trimesh_samples)], stdout=subprocess.PIPE, text=True)
+        lines = run.stdout.splitlines()
+        # The counts come first from the tools' phase; printed last, after the rows.
+        counts = [l for l in lines if l.startswith("COUNTS\t")]
+        for line in [l for l in lines if not l.startswith("COUNTS\t")] + counts:
             p = line.split("\t")
             if p[0] == "OURS":
                 print("%-34s %-22s %12.0f %12s" % (name, "ours, native CPU", float(p[1]), "(exact)"))
@@ -230,6 +245,13 @@ def main(argv=None):
             elif p[0] == "COUNTS":
                 print("%-34s   samples %s, welded vertices %s, face-interior samples compared %s; OpenCL CPU device: %s"
                       % (name, p[1], p[2], p[3], p[4]))
+        if run.returncode != 0:
+            # A tool that runs out of memory on a large mesh is killed by the system: the rows
+            # before it stand, the model's comparison ends there and the next model is run.
+            why = ("killed by signal %d (out of memory, most likely)" % -run.returncode if run.returncode < 0
+                   else "exit status %d" % run.returncode)
+            print("%-34s   the mesh tools' run stopped: %s; the tools after the last row above gave no figures"
+                  % (name, why))
         sys.stdout.flush()
     if args.gap:
         print("gap rows: the error over the face-interior samples where ours is finite and the tool gives a "
