@@ -55,6 +55,8 @@
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax3.hxx>
+#include <math_Jacobi.hxx>
+#include <math_Matrix.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
@@ -63,6 +65,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -224,11 +227,106 @@ Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::a
   return new Geom_SphericalSurface(gp_Ax3(gp_Pnt(centre), gp_Dir(0, 0, 1)), std::sqrt(r2));
 }
 
+/// The cylinder through the surface's points on a 17 x 17 grid of the domain: its axis the
+/// direction all the surface normals there are perpendicular to (the eigenvector of the sum of
+/// n n^T with the least eigenvalue, which must be about 0 while the next is not), its circle
+/// fitted by least squares to the points projected along the axis (x^2 + y^2 + D x + E y + F = 0,
+/// relative to their mean). Null where the normals do not lie in one plane or the projected
+/// points lie on a line. OpenCASCADE 7.6's ShapeCustom_Surface misses some cylinders written as
+/// B-splines: every one of the 72 round faces of its own assembly sample as1-oc-214 (rational in
+/// the degree-1 direction, cubic around), cylinders within 7e-11 mm.
+Handle(Geom_Surface) FitCylinder(const Handle(Geom_Surface)& surface, const std::array<double, 4>& d)
+{
+  constexpr int n = 16;
+  std::vector<gp_Pnt> points;
+  math_Matrix nn(1, 3, 1, 3, 0.0);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+    {
+      gp_Pnt p;
+      gp_Vec du, dv;
+      surface->D1(d[0] + (d[1] - d[0]) * i / n, d[2] + (d[3] - d[2]) * j / n, p, du, dv);
+      gp_Vec normal = du.Crossed(dv);
+      if (!(normal.Magnitude() > 1e-12 * std::max(1.0, du.Magnitude() * dv.Magnitude())))
+        continue;
+      normal.Normalize();
+      points.push_back(p);
+      const double c[3] = { normal.X(), normal.Y(), normal.Z() };
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k)
+          nn(r + 1, k + 1) += c[r] * c[k];
+    }
+  const double count = static_cast<double>(points.size());
+  if (points.size() < 9)
+    return nullptr;
+  math_Jacobi eigen(nn);
+  if (!eigen.IsDone())
+    return nullptr;
+  int least = 1;
+  for (int k = 2; k <= 3; ++k)
+    if (eigen.Value(k) < eigen.Value(least))
+      least = k;
+  double next = std::numeric_limits<double>::max();
+  for (int k = 1; k <= 3; ++k)
+    if (k != least)
+      next = std::min(next, eigen.Value(k));
+  // Normals within 1e-6 rad of perpendicular to the axis, and spread around it.
+  if (!(eigen.Value(least) <= 1e-12 * count && next >= 1e-6 * count))
+    return nullptr;
+  math_Vector axis(1, 3);
+  eigen.Vector(least, axis);
+  const gp_Dir a(axis(1), axis(2), axis(3));
+  const gp_Dir e1 = std::fabs(a.X()) < 0.9 ? a.Crossed(gp_Dir(1, 0, 0)) : a.Crossed(gp_Dir(0, 1, 0));
+  const gp_Dir e2 = a.Crossed(e1);
+  gp_XYZ mean(0, 0, 0);
+  for (const gp_Pnt& p : points)
+    mean += p.XYZ() / count;
+  double A[3][4] = {};
+  for (const gp_Pnt& p : points)
+  {
+    const gp_XYZ w = p.XYZ() - mean;
+    const double x = w.Dot(e1.XYZ()), y = w.Dot(e2.XYZ()), row[3] = { x, y, 1.0 },
+                 rhs = -(x * x + y * y);
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int k = 0; k < 3; ++k)
+        A[r][k] += row[r] * row[k];
+      A[r][3] += row[r] * rhs;
+    }
+  }
+  // Gaussian elimination with partial pivoting on the 3 x 3 normal equations.
+  for (int c = 0; c < 3; ++c)
+  {
+    int piv = c;
+    for (int r = c + 1; r < 3; ++r)
+      if (std::fabs(A[r][c]) > std::fabs(A[piv][c]))
+        piv = r;
+    if (!(std::fabs(A[piv][c]) > 1e-300))
+      return nullptr;
+    for (int k = 0; k < 4; ++k)
+      std::swap(A[c][k], A[piv][k]);
+    for (int r = 0; r < 3; ++r)
+      if (r != c)
+      {
+        const double f = A[r][c] / A[c][c];
+        for (int k = c; k < 4; ++k)
+          A[r][k] -= f * A[c][k];
+      }
+  }
+  const double D = A[0][3] / A[0][0], E = A[1][3] / A[1][1], F = A[2][3] / A[2][2];
+  const double cx = -0.5 * D, cy = -0.5 * E, r2 = cx * cx + cy * cy - F;
+  if (!(r2 > 0.0) || !std::isfinite(r2))
+    return nullptr;
+  const gp_Pnt centre(mean + cx * e1.XYZ() + cy * e2.XYZ());
+  return new Geom_CylindricalSurface(gp_Ax3(centre, a, e1), std::sqrt(r2));
+}
+
 /// A B-spline or Bezier surface that is a plane, cylinder, cone, sphere or torus within
 /// `tolerance` over the face's domain (some CAD systems write every round or hole as a rational
-/// B-spline): that surface, found by OpenCASCADE's ShapeCustom_Surface (or, for a sphere, which
-/// it does not find, fitted to the surface's points) and confirmed here on a 33 x 33 grid of the
-/// domain: each of those points of the surface lies within `tolerance` of it; null otherwise.
+/// B-spline): that surface, found by OpenCASCADE's ShapeCustom_Surface or else fitted to the
+/// surface's points (a sphere, which it does not find; a cylinder, which it misses in some
+/// parametrisations) and confirmed here on a 33 x 33 grid of the domain: each of those points of
+/// the surface lies within `tolerance` of it; null otherwise.
 Handle(Geom_Surface) RecogniseAnalytic(
   const Handle(Geom_Surface)& surface, const std::array<double, 4>& d, double tolerance)
 {
@@ -237,27 +335,38 @@ Handle(Geom_Surface) RecogniseAnalytic(
   {
     ShapeCustom_Surface sc(surface);
     analytic = sc.ConvertToAnalytical(tolerance, Standard_False);
-    if (analytic.IsNull() || !(sc.Gap() <= tolerance))
-      analytic = FitSphere(surface, d);
-    if (analytic.IsNull())
-      return nullptr;
-    for (int i = 0; i <= 32; ++i)
-      for (int j = 0; j <= 32; ++j)
-      {
-        const gp_Pnt P =
-          surface->Value(d[0] + (d[1] - d[0]) * i / 32.0, d[2] + (d[3] - d[2]) * j / 32.0);
-        // OpenCASCADE's projection, in closed form on these surfaces (Extrema_ExtPElS).
-        GeomAPI_ProjectPointOnSurf proj(P, analytic);
-        const double e = proj.NbPoints() > 0 ? proj.LowerDistance() : -1.0;
-        if (!(e >= 0.0 && e <= tolerance))
-          return nullptr;
-      }
+    if (!analytic.IsNull() && !(sc.Gap() <= tolerance))
+      analytic.Nullify();
+    // The candidates in turn: OpenCASCADE's, a fitted sphere, a fitted cylinder; the first that
+    // every grid point confirms.
+    for (int candidate = 0; candidate < 3; ++candidate)
+    {
+      if (candidate == 1)
+        analytic = FitSphere(surface, d);
+      else if (candidate == 2)
+        analytic = FitCylinder(surface, d);
+      if (analytic.IsNull())
+        continue;
+      bool confirmed = true;
+      for (int i = 0; i <= 32 && confirmed; ++i)
+        for (int j = 0; j <= 32 && confirmed; ++j)
+        {
+          const gp_Pnt P =
+            surface->Value(d[0] + (d[1] - d[0]) * i / 32.0, d[2] + (d[3] - d[2]) * j / 32.0);
+          // OpenCASCADE's projection, in closed form on these surfaces (Extrema_ExtPElS).
+          GeomAPI_ProjectPointOnSurf proj(P, analytic);
+          const double e = proj.NbPoints() > 0 ? proj.LowerDistance() : -1.0;
+          confirmed = e >= 0.0 && e <= tolerance;
+        }
+      if (confirmed)
+        return analytic;
+    }
   }
   catch (const Standard_Failure&)
   {
     return nullptr;
   }
-  return analytic;
+  return nullptr;
 }
 
 /// A face's patches before they are appended to the model: a nu x nv grid, u fastest.

@@ -23,6 +23,10 @@
 #include <Geom_OffsetSurface.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
+#include <ShapeCustom_Surface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColStd_Array2OfReal.hxx>
 #include <TColgp_Array1OfPnt.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopoDS.hxx>
@@ -173,5 +177,60 @@ TEST(SurfaceKinds, ToleranceIsAProperty)
   EXPECT_LE(a.Stats.MaxPatchDeviation, 1e-2);
   EXPECT_LE(b.Stats.MaxPatchDeviation, 1e-5);
   EXPECT_LE(test::CheckPatches(b, faces, 2000).MaxDeviation, 1e-5);
+}
+TEST(SurfaceKinds, CylinderAsBSplineThatOpenCascadeMisses)
+{
+  // Half a cylinder of radius 5 around the z axis, 30 long, written as OpenCASCADE's own
+  // assembly sample as1-oc-214 writes its rods: degree 1 along the axis, two rational quarter
+  // circles of degree 2 around. ShapeCustom_Surface finds no cylinder in it; the reader's fit
+  // (BRepConverter, FitCylinder) must, within a thousandth of the tolerance, and give the face
+  // its exact surface.
+  const double r = 5.0, w = std::sqrt(0.5);
+  const double xy[5][2] = { { r, 0 }, { r, r }, { 0, r }, { -r, r }, { -r, 0 } };
+  const double wt[5] = { 1, w, 1, w, 1 };
+  TColgp_Array2OfPnt poles(1, 2, 1, 5);
+  TColStd_Array2OfReal weights(1, 2, 1, 5);
+  for (int i = 1; i <= 2; ++i)
+    for (int j = 1; j <= 5; ++j)
+    {
+      poles(i, j) = gp_Pnt(xy[j - 1][0], xy[j - 1][1], i == 1 ? 0.0 : 30.0);
+      weights(i, j) = wt[j - 1];
+    }
+  TColStd_Array1OfReal uk(1, 2), vk(1, 3);
+  TColStd_Array1OfInteger um(1, 2), vm(1, 3);
+  uk(1) = 0.0;
+  uk(2) = 30.0;
+  um(1) = um(2) = 2;
+  vk(1) = 0.0;
+  vk(2) = 1.0;
+  vk(3) = 2.0;
+  vm(1) = vm(3) = 3;
+  vm(2) = 2;
+  const Handle(Geom_BSplineSurface) bs =
+    new Geom_BSplineSurface(poles, weights, uk, vk, um, vm, 1, 2);
+  ShapeCustom_Surface custom(bs);
+  EXPECT_TRUE(custom.ConvertToAnalytical(1e-3, Standard_False).IsNull())
+    << "OpenCASCADE now finds this cylinder: the test no longer covers the reader's own fit";
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(bs, 1e-7).Face();
+  ConversionOptions options;
+  const BRepModel m = ConvertShape(face, options);
+  ASSERT_EQ(m.Faces.size(), 1u);
+  EXPECT_EQ(m.Faces[0].Kind, SurfaceKind::Cylinder) << SurfaceKindName(m.Faces[0].Kind);
+  EXPECT_EQ(m.Stats.AnalyticFromSpline, 1);
+  ASSERT_EQ(m.FaceExact.size(), 1u);
+  const auto& e = m.FaceExact[0];
+  // A point on the axis, the axis, the radius.
+  EXPECT_NEAR(std::hypot(e[0], e[1]), 0.0, 1e-9);
+  EXPECT_NEAR(std::fabs(e[5]), 1.0, 1e-12);
+  EXPECT_NEAR(e[6], r, 1e-9);
+  // Not a cylinder: the same net with the middle poles moved out by 1e-3 is refused.
+  TColgp_Array2OfPnt bent = poles;
+  for (int i = 1; i <= 2; ++i)
+    bent(i, 3) = gp_Pnt(0.0, r + 1e-3, i == 1 ? 0.0 : 30.0);
+  const Handle(Geom_BSplineSurface) off = new Geom_BSplineSurface(bent, weights, uk, vk, um, vm, 1, 2);
+  const BRepModel n = ConvertShape(BRepBuilderAPI_MakeFace(off, 1e-7).Face(), options);
+  ASSERT_EQ(n.Faces.size(), 1u);
+  EXPECT_EQ(n.Faces[0].Kind, SurfaceKind::BSplineSurface) << SurfaceKindName(n.Faces[0].Kind);
+  EXPECT_EQ(n.Stats.AnalyticFromSpline, 0);
 }
 } // namespace
