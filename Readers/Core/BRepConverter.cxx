@@ -175,6 +175,36 @@ void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double
     face.Kind = SurfaceKind::Other;
 }
 
+/// Gauss-Jordan elimination with partial pivoting on least-squares normal equations [A | b]:
+/// afterwards x_i = A[i][N] / A[i][i]. False where a pivot falls below 1e-12 of the largest
+/// diagonal entry (the points do not determine the fit).
+template <int N>
+bool SolveNormalEquations(double (&A)[N][N + 1])
+{
+  double scale = 0.0;
+  for (int a = 0; a < N; ++a)
+    scale = std::max(scale, std::fabs(A[a][a]));
+  for (int c = 0; c < N; ++c)
+  {
+    int piv = c;
+    for (int r = c + 1; r < N; ++r)
+      if (std::fabs(A[r][c]) > std::fabs(A[piv][c]))
+        piv = r;
+    if (!(std::fabs(A[piv][c]) > 1e-12 * scale))
+      return false;
+    for (int k = 0; k <= N; ++k)
+      std::swap(A[c][k], A[piv][k]);
+    for (int r = 0; r < N; ++r)
+      if (r != c)
+      {
+        const double f = A[r][c] / A[c][c];
+        for (int k = c; k <= N; ++k)
+          A[r][k] -= f * A[c][k];
+      }
+  }
+  return true;
+}
+
 /// The sphere through the surface's points on a 5 x 5 grid of the domain, by least squares on
 /// x^2 + y^2 + z^2 + D x + E y + F z + G = 0 (relative to the first point); null where they are
 /// (nearly) coplanar. OpenCASCADE 7.6's ShapeCustom_Surface finds no sphere in a B-spline.
@@ -198,28 +228,8 @@ Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::a
       A[a][4] += row[a] * rhs;
     }
   }
-  // Gaussian elimination with partial pivoting.
-  double scale = 0.0;
-  for (int a = 0; a < 4; ++a)
-    scale = std::max(scale, std::fabs(A[a][a]));
-  for (int c = 0; c < 4; ++c)
-  {
-    int piv = c;
-    for (int r = c + 1; r < 4; ++r)
-      if (std::fabs(A[r][c]) > std::fabs(A[piv][c]))
-        piv = r;
-    if (!(std::fabs(A[piv][c]) > 1e-12 * scale))
-      return nullptr;
-    for (int k = 0; k < 5; ++k)
-      std::swap(A[c][k], A[piv][k]);
-    for (int r = 0; r < 4; ++r)
-      if (r != c)
-      {
-        const double f = A[r][c] / A[c][c];
-        for (int k = c; k < 5; ++k)
-          A[r][k] -= f * A[c][k];
-      }
-  }
+  if (!SolveNormalEquations(A))
+    return nullptr;
   const gp_XYZ centre = o - 0.5 * gp_XYZ(A[0][4] / A[0][0], A[1][4] / A[1][1], A[2][4] / A[2][2]);
   const double r2 = (centre - o).SquareModulus() - A[3][4] / A[3][3];
   if (!(r2 > 0.0))
@@ -294,25 +304,8 @@ Handle(Geom_Surface) FitCylinder(const Handle(Geom_Surface)& surface, const std:
       A[r][3] += row[r] * rhs;
     }
   }
-  // Gaussian elimination with partial pivoting on the 3 x 3 normal equations.
-  for (int c = 0; c < 3; ++c)
-  {
-    int piv = c;
-    for (int r = c + 1; r < 3; ++r)
-      if (std::fabs(A[r][c]) > std::fabs(A[piv][c]))
-        piv = r;
-    if (!(std::fabs(A[piv][c]) > 1e-300))
-      return nullptr;
-    for (int k = 0; k < 4; ++k)
-      std::swap(A[c][k], A[piv][k]);
-    for (int r = 0; r < 3; ++r)
-      if (r != c)
-      {
-        const double f = A[r][c] / A[c][c];
-        for (int k = c; k < 4; ++k)
-          A[r][k] -= f * A[c][k];
-      }
-  }
+  if (!SolveNormalEquations(A))
+    return nullptr;
   const double D = A[0][3] / A[0][0], E = A[1][3] / A[1][1], F = A[2][3] / A[2][2];
   const double cx = -0.5 * D, cy = -0.5 * E, r2 = cx * cx + cy * cy - F;
   if (!(r2 > 0.0) || !std::isfinite(r2))
