@@ -175,6 +175,18 @@ void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double
     face.Kind = SurfaceKind::Other;
 }
 
+/// Adds the equation row . x = rhs to least-squares normal equations [A | b].
+template <int N>
+void AddEquation(double (&A)[N][N + 1], const double (&row)[N], double rhs)
+{
+  for (int a = 0; a < N; ++a)
+  {
+    for (int b = 0; b < N; ++b)
+      A[a][b] += row[a] * row[b];
+    A[a][N] += row[a] * rhs;
+  }
+}
+
 /// Gauss-Jordan elimination with partial pivoting on least-squares normal equations [A | b]:
 /// afterwards x_i = A[i][N] / A[i][i]. False where a pivot falls below 1e-12 of the largest
 /// diagonal entry (the points do not determine the fit).
@@ -220,13 +232,8 @@ Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::a
   for (const gp_XYZ& q : pts)
   {
     const gp_XYZ p = q - o;
-    const double row[4] = { p.X(), p.Y(), p.Z(), 1.0 }, rhs = -p.SquareModulus();
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = 0; b < 4; ++b)
-        A[a][b] += row[a] * row[b];
-      A[a][4] += row[a] * rhs;
-    }
+    const double row[4] = { p.X(), p.Y(), p.Z(), 1.0 };
+    AddEquation(A, row, -p.SquareModulus());
   }
   if (!SolveNormalEquations(A))
     return nullptr;
@@ -295,14 +302,8 @@ Handle(Geom_Surface) FitCylinder(const Handle(Geom_Surface)& surface, const std:
   for (const gp_Pnt& p : points)
   {
     const gp_XYZ w = p.XYZ() - mean;
-    const double x = w.Dot(e1.XYZ()), y = w.Dot(e2.XYZ()), row[3] = { x, y, 1.0 },
-                 rhs = -(x * x + y * y);
-    for (int r = 0; r < 3; ++r)
-    {
-      for (int k = 0; k < 3; ++k)
-        A[r][k] += row[r] * row[k];
-      A[r][3] += row[r] * rhs;
-    }
+    const double x = w.Dot(e1.XYZ()), y = w.Dot(e2.XYZ()), row[3] = { x, y, 1.0 };
+    AddEquation(A, row, -(x * x + y * y));
   }
   if (!SolveNormalEquations(A))
     return nullptr;
