@@ -250,7 +250,7 @@ Handle(Geom_Surface) FitSphere(const Handle(Geom_Surface)& surface, const std::a
 /// fitted by least squares to the points projected along the axis (x^2 + y^2 + D x + E y + F = 0,
 /// relative to their mean). Null where the normals do not lie in one plane or the projected
 /// points lie on a line. OpenCASCADE 7.6's ShapeCustom_Surface misses some cylinders written as
-/// B-splines: every one of the 72 round faces of its own assembly sample as1-oc-214 (rational in
+/// B-splines: every one of the 70 round faces of its own assembly sample as1-oc-214 (rational in
 /// the degree-1 direction, cubic around), cylinders within 7e-11 mm.
 Handle(Geom_Surface) FitCylinder(const Handle(Geom_Surface)& surface, const std::array<double, 4>& d)
 {
