@@ -15,6 +15,8 @@ STL user would have it. Printed per tool: samples/s, and the error against the e
 the samples inside faces (vertices of one face only: at face boundaries the welded mesh has one
 normal where the B-Rep has two): median, 99th percentile and maximum of |T - T_exact|, and the
 share within 1e-4 mm. The exact values are the native device's; failed samples are left out.
+A model that cannot be read, or whose mesh tools are stopped (a tool killed for memory on a large
+mesh), gets one line saying so and the next model runs; the exit status is then 1.
 Ours is timed for the solve alone (the Summary's SolveSeconds); the row "native + prep." adds
 the preparation (PrepareSeconds: s1, the trees, the samples, the packing), the counterpart of the
 tree MeshLib builds inside its timed call.
@@ -214,6 +216,7 @@ def main(argv=None):
         f.write(EXPORT)
     print("%-34s %-22s %12s %12s %12s %12s %10s %8s" % ("model", "tool", "samples/s", "median_err", "p99_err",
                                                           "max_err", "<=1e-4mm", "no_value"))
+    incomplete = 0  # models not compared, or whose tools stopped: the exit status says so
     for model in args.models:
         name = os.path.basename(model)
         npz = os.path.join(work, os.path.splitext(name)[0] + ".npz")
@@ -226,6 +229,7 @@ def main(argv=None):
             why = errors[0].split("): ", 1)[-1].strip() if errors else "exit status %d" % export.returncode
             print("%-34s   not compared: %s" % (name, why))
             sys.stdout.flush()
+            incomplete += 1
             continue
         run = subprocess.run([py, os.path.abspath(__file__), npz, "--phase", "tools",
                               "--trimesh-samples", str(args.trimesh_samples)], stdout=subprocess.PIPE, text=True)
@@ -252,6 +256,7 @@ def main(argv=None):
                    else "exit status %d" % run.returncode)
             print("%-34s   the mesh tools' run stopped: %s; the tools after the last row above gave no figures"
                   % (name, why))
+            incomplete += 1
         sys.stdout.flush()
     if args.gap:
         print("gap rows: the error over the face-interior samples where ours is finite and the tool gives a "
@@ -259,7 +264,7 @@ def main(argv=None):
               "infinite.")
     print("(*) ray thickness: the distance along the inward normal to the opposite wall, a different "
           "measure; its error against the sphere diameter shows how far the two differ.")
-    return 0
+    return 1 if incomplete else 0
 
 
 if __name__ == "__main__":
