@@ -2539,6 +2539,32 @@ int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, rea
   return *t > (real)0;
 }
 
+// The sphere of radius t tangent at O to its own cylinder, sphere or torus and touching it
+// across (self_contact_radius; X0 = O - the surface's origin): it touches the surface along a
+// circle (a ball: everywhere). Its foot (relative to O) nearest `near` (relative to O, a point
+// next to that circle), in *foot; 0 where `near` lies too close to the sphere's centre or axis
+// to say.
+int self_contact_foot(int kind, __global const real* e, real3 X0, real3 d, real t, real3 near,
+  real3* foot)
+{
+  const real3 a = make_real3(e[6], e[7], e[8]);
+  real3 across = near - t * d; // from the centre towards `near`
+  if (kind == EXACT_CYLINDER)
+    across = across - dot(across, a) * a;
+  else if (kind == EXACT_TORUS)
+  {
+    // In the meridian plane of the centre: without the core circle's tangent.
+    const real3 C = X0 + t * d;
+    const real3 tangent = normalize(cross(a, C - dot(C, a) * a));
+    across = across - dot(across, tangent) * tangent;
+  }
+  const real la = length(across);
+  if (!(t > (real)0) || !(la > (real)0.5 * t))
+    return 0;
+  *foot = t * d + across * (t / la);
+  return 1;
+}
+
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
 // |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
 // `band`, within its tolerance band of an edge too), with its (u, v) and patch. Where the trim
@@ -2660,22 +2686,9 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
     // O lies on the contact's own surface, d along its inward normal: a rod, a ball or a ring,
     // the sphere touching the surface across; the foot the surface point across from the
     // patches' foot.
-    const real3 a = make_real3(e[6], e[7], e[8]);
     t = tSelf;
-    real3 across = r->foot - t * d; // from the centre towards the patches' foot
-    if (kind == EXACT_CYLINDER)
-      across = across - dot(across, a) * a;
-    else if (kind == EXACT_TORUS)
-    {
-      // In the meridian plane of the centre: without the core circle's tangent.
-      const real3 C = X0 + t * d;
-      const real3 tangent = normalize(cross(a, C - dot(C, a) * a));
-      across = across - dot(across, tangent) * tangent;
-    }
-    const real la = length(across);
-    if (!(t > (real)0) || !(la > (real)0.5 * t))
+    if (!self_contact_foot(kind, e, X0, d, t, r->foot, &foot))
       return;
-    foot = t * d + across * (t / la);
   }
   else
   {
@@ -3141,13 +3154,14 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   // eq. 4 from them wanders and stops unconverged (a third of the ExpansionCard's samples did,
   // before the best start on another face was tried). The verification and the certification
   // still count the face's points.
-  int notStart = -1;
+  int notStart = -1, selfContact = 0;
+  real tSelf = 0;
   if (!(m->mode & MODE_EXTERIOR))
   {
     __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
-    real tc;
-    if (self_contact_radius(faceInfo[FACE_INTS * ownFace + 8], e, -anchor_minus(e, Ohi, Olo), d,
-          m->slack, &tc))
+    selfContact = self_contact_radius(faceInfo[FACE_INTS * ownFace + 8], e,
+      -anchor_minus(e, Ohi, Olo), d, m->slack, &tSelf);
+    if (selfContact)
       notStart = ownFace;
   }
   // O on a plane: its own face's points lie in O's tangent plane (to the patches' deviation from
@@ -3199,8 +3213,37 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   }
   const int fromCertification = best < 0;
   const real firstT = t;
-  r = solve_from(m, ownFace, Ohi, Olo, d, startFace, startU, startV, t, scale, stepTol, newtonTol,
-    maxIterations, maxEdgeIterations, iterations);
+  if (selfContact && !fromCertification && same_exact_surface(m, startFace, ownFace))
+  {
+    // The start lies on O's own surface, on another face of it (a rod or a ball split into
+    // halves): the sphere touching that surface across is the closed form's, and it touches the
+    // start's face along a circle, where eq. 4's Newton is singular (in float it fails on most
+    // such samples and the descents after it stray). That sphere, its foot the circle's point
+    // next to the start, is the candidate; the checks below decide as for any other.
+    __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
+    const real3 near = make_real3(s1Point[3 * best], s1Point[3 * best + 1],
+      s1Point[3 * best + 2]) - O;
+    real3 foot;
+    real u = startU, v = startV;
+    int patch;
+    if (self_contact_foot(faceInfo[FACE_INTS * ownFace + 8], e, -anchor_minus(e, Ohi, Olo), d,
+          tSelf, near, &foot) &&
+      project_on_face(m, startFace, Ohi, Olo, foot, 1, &u, &v, &patch))
+    {
+      r.type = CONTACT_SURFACE_SURFACE;
+      r.face = startFace;
+      r.patch = patch;
+      r.param = make_real2(u, v);
+      r.foot = foot;
+      // The closed form's radius, which the exact finish reports: the clearance's eq. 1 at the
+      // foot across would make it larger by half the clearance, and the patches there, within
+      // their accuracy of the surface, would reach into it by more than the checks allow.
+      r.t = tSelf;
+    }
+  }
+  if (r.type == CONTACT_FAILED)
+    r = solve_from(m, ownFace, Ohi, Olo, d, startFace, startU, startV, t, scale, stepTol,
+      newtonTol, maxIterations, maxEdgeIterations, iterations);
   if (r.type == CONTACT_FAILED && r.face >= 0)
   {
     // That start led nowhere: try the best start on any other face once.

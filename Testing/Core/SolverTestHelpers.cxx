@@ -60,7 +60,12 @@ std::vector<double> RimDistances(const BRepModel& m, const std::vector<Sample>& 
   std::vector<double> out(samples.size(), std::numeric_limits<double>::infinity());
   for (const Edge& e : m.Edges)
   {
-    if (e.Seam)
+    // A seam, or the line where two faces of one surface meet (a rod written as two half
+    // cylinders), is no rim.
+    if (e.Seam || (e.Faces[0] >= 0 && e.Faces[1] >= 0 && m.FaceExact.size() == m.Faces.size() &&
+                    m.Faces[e.Faces[0]].Kind == m.Faces[e.Faces[1]].Kind &&
+                    m.Faces[e.Faces[0]].Kind <= SurfaceKind::Torus &&
+                    m.FaceExact[e.Faces[0]] == m.FaceExact[e.Faces[1]]))
       continue;
     for (int s = e.FirstSegment; s < e.FirstSegment + e.SegmentCount; ++s)
       for (size_t i = 0; i < samples.size(); ++i)

@@ -22,7 +22,8 @@ struct Solved
 /// Converts `shape` with the given conversion tolerance and solves it with the reference.
 Solved SolveShape(const TopoDS_Shape& shape, double tolerance, const SolverOptions& options = {});
 
-/// Distance from each sample to the nearest rim: an edge that is neither a seam nor degenerated.
+/// Distance from each sample to the nearest rim: an edge that is neither a seam, nor degenerated,
+/// nor the line where two faces of one analytic surface meet.
 std::vector<double> RimDistances(const BRepModel& model, const std::vector<Sample>& samples);
 
 /// Prints failed share and residual percentiles (median, 99th, max) per contact type.

@@ -16,6 +16,7 @@
 #include <TopoDS_Face.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <ShapeUpgrade_ShapeDivideClosed.hxx>
 #include <Geom_BezierSurface.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 
@@ -50,6 +51,12 @@ std::vector<ClosedForm> Shapes()
   v.push_back({ "conical shell R30 R15 H40 h3", analytic::ConicalShell(30, 15, 40, 3), 3.0 });
   // The sphere touches the surface it is tangent to, across (the exact finish's closed form).
   v.push_back({ "rod R5 L60", analytic::Rod(5, 60), 10.0 });
+  // Its side written as two half cylinders, as many CAD systems write it: a sample on one half
+  // touches the other along a circle.
+  ShapeUpgrade_ShapeDivideClosed halves(analytic::Rod(5, 60));
+  halves.SetNbSplitPoints(1);
+  halves.Perform();
+  v.push_back({ "rod R5 L60 in halves", halves.Result(), 10.0 });
   v.push_back({ "ball R10", analytic::Ball(10), 20.0 });
   v.push_back({ "ring 30 / 4", analytic::Ring(30, 4), 8.0 });
   // The same shells with every face written as a rational B-spline, as some CAD systems export
