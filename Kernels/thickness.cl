@@ -67,6 +67,9 @@ typedef float3 real3;
 #define TRIM_LEAF 4
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
+// Per patch of a cylindrical face, the sector of the cylinder its control points lie in
+// (cylinder_patch_gap; brt::KernelPatchSectorReals).
+#define PATCH_SECTOR_REALS 8
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
 // plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
 // sphere radius; torus major and minor radius.
@@ -130,6 +133,7 @@ typedef struct
   __global const int* patchFace;   // face per patch
   __global const int* edgeSegEdge; // edge per edge segment
   __global const real* patchBoxes;
+  __global const real* patchSector; // PATCH_SECTOR_REALS per patch (brt::PackKernelModel)
   __global const real* edgeBoxes;
   __global const real* boxNodeBox;  // 6 per node
   __global const int* boxNodeInfo;  // first, count, right per node
@@ -2269,82 +2273,43 @@ inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, 
 // A lower bound of the distance from M to patch p of a cylindrical face, tighter than exact_gap
 // where the sphere's centre lies near the axis (a rod or boss of radius about t: the whole
 // cylinder is then about t from M, and exact_gap lets every patch through). The patch lies in the
-// hull of its control points, so within the sector (around the axis) and the height range that
-// hold them all; a point of it within the deviation of the cylinder has its nearest cylinder
-// point in that sector and range too. The bound is M's distance from that piece of the cylinder
-// (its nearest point: M's direction around the axis turned into the sector, M's height clamped),
-// less the deviation. Negative (no bound) where the sector is not narrower than a half-turn.
-// Double only: in float the angles carry too much rounding.
+// hull of its control points, so within the height range and the sector (around the axis) that
+// hold them all (PATCH_SECTOR_REALS, packed on the host in double and rounded outwards); a point
+// of it within the deviation of the cylinder has its nearest cylinder point in that range and
+// sector too. The bound is M's distance from that piece of the cylinder, less the deviation and
+// the rounding of M's height and radius here (a few epsilons of the lengths they come from; the
+// sector's side also the rounding of M's direction around the axis, which grows as M nears the
+// axis, where M's distance from the whole cylinder, with the heights, bounds instead).
 inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
   real t)
 {
-#ifdef BRT_DOUBLE
   __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
   const real3 ax = make_real3(e[6], e[7], e[8]);
-  const real3 origin = anchor_minus(e, Ohi, Olo); // the cylinder's origin - O
-  const real3 X = mr - origin;                     // M - origin
-  // The patch's anchor relative to the cylinder's origin.
-  const real3 a = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo) - origin;
-  __global const real* c = m->patches + 48 * p;
-  real3 mean = splat_real3(0);
-  real z0 = REAL_MAX, z1 = -REAL_MAX;
-  for (int i = 0; i < 16; ++i)
-  {
-    const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
-    const real z = dot(q, ax);
-    z0 = min(z0, z);
-    z1 = max(z1, z);
-    mean += q - z * ax;
-  }
-  const real lm = length(mean);
-  if (!(lm > (real)0))
-    return (real)-1;
-  const real3 mid = mean / lm;
-  real cosA = (real)1;
-  for (int i = 0; i < 16; ++i)
-  {
-    const real3 q = a + make_real3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
-    const real3 r = q - dot(q, ax) * ax;
-    const real lr = length(r);
-    if (!(lr > (real)0))
-      return (real)-1;
-    cosA = min(cosA, dot(r, mid) / lr);
-  }
-  if (!(cosA > (real)0))
-    return (real)-1;
-  const real sinA = sqrt(fmax((real)0, (real)1 - cosA * cosA));
+  const real R = e[9];
+  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the cylinder's origin
   const real zM = dot(X, ax);
   const real3 rM = X - zM * ax;
   const real rho = length(rM);
-  // The direction of the nearest point around the axis: M's own where it lies in the sector (or
-  // any where M is on the axis), else the sector's side towards M (either where M lies straight
-  // across from the sector's middle: the side is taken from the axis, not from M's direction,
-  // which is then all rounding).
-  real3 w = mid;
-  if (rho > (real)0)
+  const real dz = zM - clamp(zM, s[0], s[1]);
+  const real rounding = (real)16 * REAL_EPS * (length(X) + R + t);
+  real gap = sqrt((rho - R) * (rho - R) + dz * dz) - rounding;
+  if (s[7] > (real)0 && rho > (real)0)
   {
+    // M's direction around the axis outside the sector: the nearest point lies on the sector's
+    // side towards M (either where M lies straight across from the sector's middle: the side is
+    // taken from the axis, not from M's direction, which is then all rounding).
+    const real3 mid = make_real3(s[2], s[3], s[4]);
     const real3 u = rM / rho;
-    if (dot(u, mid) >= cosA)
-      w = u;
-    else
+    if (!(dot(u, mid) >= s[5]))
     {
       const real3 perp = cross(ax, mid);
-      w = cosA * mid + (dot(u, perp) < (real)0 ? -sinA : sinA) * perp;
+      const real3 w = s[5] * mid + (dot(u, perp) < (real)0 ? -s[6] : s[6]) * perp;
+      const real3 g = rM - R * w;
+      gap = fmax(gap, sqrt(dot(g, g) + dz * dz) - rounding * ((real)1 + R / rho));
     }
   }
-  const real dz = zM - clamp(zM, z0, z1);
-  const real3 gap = rM - e[9] * w;
-  return sqrt(dot(gap, gap) + dz * dz) - deviation_allowance(m, face, X, t);
-#else
-  (void)m;
-  (void)p;
-  (void)face;
-  (void)Ohi;
-  (void)Olo;
-  (void)mr;
-  (void)t;
-  return (real)-1;
-#endif
+  return gap - deviation_allowance(m, face, X, t);
 }
 
 // The certification of the sphere of radius t tangent at O: the deepest
@@ -3541,7 +3506,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
 }
 
 #ifdef __OPENCL_VERSION__
-// The model's buffers, kernel arguments 0..30 of every kernel (brt::KernelModel, in this order).
+// The model's buffers, kernel arguments 0..31 of every kernel (brt::KernelModel, in this order).
 #define MODEL_PARAMS                                                                             \
   __global const real *patches, __global const real *patchAnchor,                                \
     __global const real *patchDomain, __global const int *faceInfo,                             \
@@ -3555,9 +3520,10 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     __global const real *patchBoxes, __global const real *edgeBoxes,                             \
     __global const real *boxNodeBox, __global const int *boxNodeInfo,                           \
     __global const int *boxItems, __global const real *trimNodeBox,                              \
-    __global const int *trimNodeInfo, __global const int *trimItems
+    __global const int *trimNodeInfo, __global const int *trimItems,                             \
+    __global const real *patchSector
 // Then the launch's: the samples (SAMPLE_REALS each) and their faces, the count, the scalars
-// (brt::KernelScalars), arguments 31..43.
+// (brt::KernelScalars), arguments 32..44.
 #define LAUNCH_PARAMS                                                                            \
   __global const real *samples, __global const int *sampleFace, const int count,                \
     const real scale, const real stepTol, const real newtonTol, const real slack,                \
@@ -3567,11 +3533,11 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
   { patches, patchAnchor, patchDomain, faceInfo, faceDomain, breaks, loops, trim, trimEdge,      \
     trimRange, trimNodeBox, trimNodeInfo, trimItems, edgeInfo, edgeRange, edgeSeg, edgeAnchor,   \
     edgeSegRange, vertexInfo, slack,                                                             \
-    clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, edgeBoxes, boxNodeBox,            \
-    boxNodeInfo, boxItems, patchCount, mode }
+    clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, patchSector, edgeBoxes,           \
+    boxNodeBox, boxNodeInfo, boxItems, patchCount, mode }
 
 // The solve: one work-item per sample; results in OUT_REALS and OUT_INTS per sample (arguments
-// 44, 45).
+// 45, 46).
 __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __global int* outInt)
 {
   const int gid = get_global_id(0);
@@ -3584,7 +3550,7 @@ __kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __g
 }
 
 // The ray thickness (ray_thickness): one work-item per sample; the distance in outRay (REAL_MAX
-// where the ray meets nothing) and the face hit in outFace (-1) (arguments 44, 45). Needs the
+// where the ray meets nothing) and the face hit in outFace (-1) (arguments 45, 46). Needs the
 // certification's boxes (MODE_CERTIFY).
 __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __global int* outFace)
 {
@@ -3603,7 +3569,7 @@ __kernel void brt_ray(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outRay, __glob
 // The float solve's finish on the device, in double (built in the double program of a device
 // with cl_khr_fp64): each float contact polished (polish_result) and certified again; the
 // results in double in outReal/outInt, and redo[gid] = 1 where the sample must be solved again
-// in double (the float solve failed it, or its sphere holds boundary). Arguments 44..48.
+// in double (the float solve failed it, or its sphere holds boundary). Arguments 45..49.
 __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floatReal,
   __global const int* floatInt, __global real* outReal, __global int* outInt, __global int* redo)
 {

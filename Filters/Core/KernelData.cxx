@@ -4,6 +4,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 
 namespace brt
 {
@@ -178,6 +179,71 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
   return kind;
 }
 
+/// x rounded to T towards -infinity (down) or +infinity (up).
+template <class T>
+T Rounded(double x, bool up)
+{
+  T y = static_cast<T>(x);
+  if (up ? static_cast<double>(y) < x : static_cast<double>(y) > x)
+    y = std::nextafter(y, up ? std::numeric_limits<T>::infinity() : -std::numeric_limits<T>::infinity());
+  return y;
+}
+
+/// The sector of a cylinder (origin o and unit axis a, absolute) that holds the control points
+/// cp of one of its face's patches, as KernelPatchSectorReals: their heights along a, rounded
+/// outwards; the middle direction around the axis, as T; the cosine (rounded down) and sine
+/// (rounded up) of the half-angle that holds every control point around that stored direction;
+/// 1 where the sector is narrower than a half-turn.
+template <class T>
+void PackCylinderSector(const double* cp, const double* o, const double* a, T* out)
+{
+  double z0 = std::numeric_limits<double>::infinity(), z1 = -z0;
+  double r[16][3], mean[3] = { 0.0, 0.0, 0.0 };
+  for (int i = 0; i < 16; ++i)
+  {
+    double q[3];
+    for (int j = 0; j < 3; ++j)
+      q[j] = cp[3 * i + j] - o[j];
+    const double z = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
+    z0 = std::min(z0, z);
+    z1 = std::max(z1, z);
+    for (int j = 0; j < 3; ++j)
+    {
+      r[i][j] = q[j] - z * a[j];
+      mean[j] += r[i][j];
+    }
+  }
+  std::fill(out, out + KernelPatchSectorReals, T(0));
+  out[0] = Rounded<T>(z0, false);
+  out[1] = Rounded<T>(z1, true);
+  const double lm = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+  if (!(lm > 0.0))
+    return;
+  // The angles around the direction as the kernel will read it (rounded to T).
+  double mid[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    out[2 + j] = static_cast<T>(mean[j] / lm);
+    mid[j] = static_cast<double>(out[2 + j]);
+  }
+  const double lmid = std::sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
+  double cosA = 1.0;
+  for (const auto& ri : r)
+  {
+    const double lr = std::sqrt(ri[0] * ri[0] + ri[1] * ri[1] + ri[2] * ri[2]);
+    if (!(lr > 0.0))
+      return;
+    cosA = std::min(cosA, (ri[0] * mid[0] + ri[1] * mid[1] + ri[2] * mid[2]) / (lr * lmid));
+  }
+  const T c = Rounded<T>(cosA, false);
+  if (!(c > T(0)))
+    return;
+  const double cd = static_cast<double>(c);
+  out[5] = c;
+  out[6] = Rounded<T>(std::sqrt(std::max(0.0, 1.0 - cd * cd)), true);
+  out[7] = T(1);
+}
+
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
 {
@@ -192,6 +258,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.Patches.reserve(48 * np);
   k.PatchDomain.reserve(4 * np);
   k.PatchFace.reserve(np);
+  k.PatchSector.assign(KernelPatchSectorReals * np, T(0));
   k.FaceInfo.reserve(10 * nf);
   k.FaceDomain.reserve(20 * nf);
   k.Loops.reserve(2 * m.Loops.size());
@@ -233,6 +300,13 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 6; i < 12; ++i)
       k.FaceDomain.push_back(static_cast<T>(exact[i]));
     k.FaceDomain.push_back(static_cast<T>(F.MaxDeviation));
+    if (kind == 2) // a cylinder (EXACT_CYLINDER): its patches' sectors
+    {
+      const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
+      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+        PackCylinderSector<T>(m.Patches[p].ControlPoints.data(), o, &exact[6],
+          &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+    }
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

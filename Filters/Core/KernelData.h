@@ -23,6 +23,12 @@ constexpr size_t KernelOutInts = 7;
 constexpr size_t KernelFaceInts = 10;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
+/// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control
+/// points' height range along the face's cylinder axis (from its packed origin), the middle
+/// direction around the axis (3), the cosine and sine of the half-angle that holds them all, and
+/// 1 where that sector is narrower than a half-turn (else 0, the heights alone count). Rounded
+/// outwards to T; zeros on faces of other kinds.
+constexpr size_t KernelPatchSectorReals = 8;
 /// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
 /// those with more than KernelLinearTrims segments.
 constexpr int KernelTrimLeaf = 4, KernelLinearTrims = 8;
@@ -31,7 +37,8 @@ template <class T>
 struct KernelModel
 {
   std::vector<T> Patches, PatchAnchor, PatchDomain, FaceDomain, Breaks, Trim, TrimRange, EdgeRange,
-    EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox;
+    EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox,
+    PatchSector;
   std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, PatchFace,
     EdgeSegEdge, BoxNodeInfo, BoxItems;
   /// The faces' trimming-segment trees (PackTrimTrees in KernelData.cxx): node boxes (4 per

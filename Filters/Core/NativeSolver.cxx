@@ -18,7 +18,7 @@ static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker diff
 // The packing (KernelData.h) and the kernel source agree on their records' sizes.
 static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &&
     OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts && TRIM_REALS == KernelTrimReals &&
-    TRIM_LEAF == KernelTrimLeaf,
+    TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals,
   "the kernel's record sizes differ from KernelData.h");
 
 struct NativeSolver::Impl
@@ -42,7 +42,7 @@ struct NativeSolver::Impl
       K.TrimItems.data(), K.EdgeInfo.data(), K.EdgeRange.data(),
       K.EdgeSeg.data(), K.EdgeAnchor.data(), K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack,
       s.Clearance, s.S1Spacing, K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(),
-      K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
+      K.PatchSector.data(), K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
       static_cast<int>(Model.Patches.size()), s.Mode(K.HasBoxes()) };
   }
 };
