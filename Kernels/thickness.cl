@@ -69,7 +69,7 @@ typedef float3 real3;
 #define FACE_DEVIATION 19
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
 // (cylinder_patch_gap; brt::KernelPatchSectorReals).
-#define PATCH_SECTOR_REALS 8
+#define PATCH_SECTOR_REALS 12
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
 // plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
 // sphere radius; torus major and minor radius.
@@ -978,6 +978,22 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
     }
   *tOut = t;
   return best;
+}
+
+// The depth below which a point inside a sphere proves nothing (the verification's and the
+// certification's): the patches' accuracy (slack) or the clearance, and in float also its
+// rounding of the model's coordinates, 4 FLT_EPSILON of its size (as initialise's noise): on a
+// 6.7 m assembly the exact surfaces' distances carry 5e-4 mm of it, so the contact faces' bounds
+// could not clear the 2e-4 mm depth and every patch of them was searched. The float kernels'
+// finish certifies again in double at the patches' depth.
+inline real check_depth(const Model* m, real scale)
+{
+#ifdef BRT_DOUBLE
+  (void)scale;
+  return fmax(m->delta, m->slack);
+#else
+  return fmax(fmax(m->delta, m->slack), (real)4 * FLT_EPSILON * scale);
+#endif
 }
 
 // The verification of a sphere of radius t against s1: an s1 point more than `depth` inside it
@@ -2277,9 +2293,11 @@ inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, 
 // hold them all (PATCH_SECTOR_REALS, packed on the host in double and rounded outwards); a point
 // of it within the deviation of the cylinder has its nearest cylinder point in that range and
 // sector too. The bound is M's distance from that piece of the cylinder, less the deviation and
-// the rounding of M's height and radius here (a few epsilons of the lengths they come from; the
-// sector's side also the rounding of M's direction around the axis, which grows as M nears the
-// axis, where M's distance from the whole cylinder, with the heights, bounds instead).
+// the rounding of M's height and radius here (a few epsilons of the lengths they come from, M
+// taken from the patch's own point of the axis, which is packed relative to the patch's anchor:
+// in float the patch's and the sphere's lengths, not the model's; the sector's side also the
+// rounding of M's direction around the axis, which grows as M nears the axis, where M's distance
+// from the whole cylinder, with the heights, bounds instead).
 inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
   real t)
 {
@@ -2287,12 +2305,13 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
   __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
   const real3 ax = make_real3(e[6], e[7], e[8]);
   const real R = e[9];
-  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the cylinder's origin
+  const real3 A = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo); // the patch's anchor - O
+  const real3 X = mr - A - make_real3(s[8], s[9], s[10]); // M - the patch's point of the axis
   const real zM = dot(X, ax);
   const real3 rM = X - zM * ax;
   const real rho = length(rM);
   const real dz = zM - clamp(zM, s[0], s[1]);
-  const real rounding = (real)16 * REAL_EPS * (length(X) + R + t);
+  const real rounding = (real)8 * REAL_EPS * (length(X) + length(A) + R + t);
   real gap = sqrt((rho - R) * (rho - R) + dz * dz) - rounding;
   if (s[7] > (real)0 && rho > (real)0)
   {
@@ -3045,7 +3064,7 @@ int settle_not_maximal(const Model* m, __global const real* s1Point,
   __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
-  const real depth = fmax(m->delta, m->slack);
+  const real depth = check_depth(m, scale);
   const int solid = scope_solid(m, ownFace);
   PointInside inside;
   if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
@@ -3158,7 +3177,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   if ((m->mode & MODE_EXTERIOR) && (best < 0 || !(t < scale)))
   {
     PointInside inside;
-    if (!find_point_inside(m, ownFace, Ohi, Olo, d, scale, fmax(m->delta, m->slack), &inside))
+    if (!find_point_inside(m, ownFace, Ohi, Olo, d, scale, check_depth(m, scale), &inside))
     {
       r.reason = FAIL_NO_OPPOSITE;
       return r;
@@ -3244,13 +3263,13 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
       // diagonal that found it.
       Result s = no_result();
       s.t = fromCertification ? scale : firstT;
-      if (shrink_ball(m, ownFace, Ohi, Olo, d, fmax(m->delta, m->slack), &s))
+      if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), &s))
         r = s;
     }
   }
   // Points inside by less than the patches' accuracy (slack) prove nothing, whatever the
   // clearance.
-  const real depth = fmax(m->delta, m->slack);
+  const real depth = check_depth(m, scale);
   for (int check = 0; r.type != CONTACT_FAILED; ++check)
   {
     best = verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, O, d, solid, scale, r.t, depth, &t);
@@ -3404,7 +3423,7 @@ void self_contact_sphere(const Model* m, __global const real* s1Point, __global 
   real3 Olo, real3 d, real scale, real t, Result* r)
 {
   const int kind = m->faceInfo[FACE_INTS * ownFace + 8];
-  const real depth = fmax(m->delta, m->slack);
+  const real depth = check_depth(m, scale);
   real tt;
   if (verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, Ohi + Olo, d, scope_solid(m, ownFace),
         scale, t, depth, &tt) >= 0)

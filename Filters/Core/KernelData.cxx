@@ -190,20 +190,40 @@ T Rounded(double x, bool up)
 }
 
 /// The sector of a cylinder (origin o and unit axis a, absolute) that holds the control points
-/// cp of one of its face's patches, as KernelPatchSectorReals: their heights along a, rounded
-/// outwards; the middle direction around the axis, as T; the cosine (rounded down) and sine
-/// (rounded up) of the half-angle that holds every control point around that stored direction;
-/// 1 where the sector is narrower than a half-turn.
+/// cp of one of its face's patches, as KernelPatchSectorReals: the point of the axis at the
+/// middle of their heights, relative to the patch's anchor (the first control point) and stored
+/// as T, so that the kernels form M's position from it with float's rounding of the patch's size
+/// rather than of the model's; their heights from that stored point, rounded outwards; the
+/// middle direction around the axis, as T; the cosine (rounded down) and sine (rounded up) of
+/// the half-angle that holds every control point around that stored direction; 1 where the
+/// sector is narrower than a half-turn.
 template <class T>
 void PackCylinderSector(const double* cp, const double* o, const double* a, T* out)
 {
+  std::fill(out, out + KernelPatchSectorReals, T(0));
   double z0 = std::numeric_limits<double>::infinity(), z1 = -z0;
+  for (int i = 0; i < 16; ++i)
+  {
+    const double z = (cp[3 * i] - o[0]) * a[0] + (cp[3 * i + 1] - o[1]) * a[1] +
+      (cp[3 * i + 2] - o[2]) * a[2];
+    z0 = std::min(z0, z);
+    z1 = std::max(z1, z);
+  }
+  // The patch's own point of the axis, as the kernels will read it.
+  double po[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    out[8 + j] = static_cast<T>(o[j] + 0.5 * (z0 + z1) * a[j] - cp[j]);
+    po[j] = cp[j] + static_cast<double>(out[8 + j]);
+  }
+  z0 = std::numeric_limits<double>::infinity();
+  z1 = -z0;
   double r[16][3], mean[3] = { 0.0, 0.0, 0.0 };
   for (int i = 0; i < 16; ++i)
   {
     double q[3];
     for (int j = 0; j < 3; ++j)
-      q[j] = cp[3 * i + j] - o[j];
+      q[j] = cp[3 * i + j] - po[j];
     const double z = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
     z0 = std::min(z0, z);
     z1 = std::max(z1, z);
@@ -213,7 +233,6 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
       mean[j] += r[i][j];
     }
   }
-  std::fill(out, out + KernelPatchSectorReals, T(0));
   out[0] = Rounded<T>(z0, false);
   out[1] = Rounded<T>(z1, true);
   const double lm = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);

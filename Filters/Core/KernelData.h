@@ -24,11 +24,12 @@ constexpr size_t KernelFaceInts = 10;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control
-/// points' height range along the face's cylinder axis (from its packed origin), the middle
-/// direction around the axis (3), the cosine and sine of the half-angle that holds them all, and
-/// 1 where that sector is narrower than a half-turn (else 0, the heights alone count). Rounded
-/// outwards to T; zeros on faces of other kinds.
-constexpr size_t KernelPatchSectorReals = 8;
+/// points' height range along the face's cylinder axis from a point of the axis next to the
+/// patch, the middle direction around the axis (3), the cosine and sine of the half-angle that
+/// holds them all, 1 where that sector is narrower than a half-turn (else 0, the heights alone
+/// count), then that point of the axis relative to the patch's anchor (3), and one unused.
+/// Rounded outwards to T; zeros on faces of other kinds.
+constexpr size_t KernelPatchSectorReals = 12;
 /// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
 /// those with more than KernelLinearTrims segments.
 constexpr int KernelTrimLeaf = 4, KernelLinearTrims = 8;
