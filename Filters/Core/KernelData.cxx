@@ -209,12 +209,15 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
     z0 = std::min(z0, z);
     z1 = std::max(z1, z);
   }
-  // The patch's own point of the axis, as the kernels will read it.
+  // The patch's own point of the axis, as the kernels will read it. Through a volatile: GCC 12
+  // at -O3 vectorised cp + double(T(x)) into cp + x here, dropping the rounding to T that the
+  // kernels see (caught by KernelData.CylinderSectorsHoldTheirControlPoints).
   double po[3];
   for (int j = 0; j < 3; ++j)
   {
-    out[8 + j] = static_cast<T>(o[j] + 0.5 * (z0 + z1) * a[j] - cp[j]);
-    po[j] = cp[j] + static_cast<double>(out[8 + j]);
+    const volatile T stored = static_cast<T>(o[j] + 0.5 * (z0 + z1) * a[j] - cp[j]);
+    out[8 + j] = stored;
+    po[j] = cp[j] + static_cast<double>(stored);
   }
   z0 = std::numeric_limits<double>::infinity();
   z1 = -z0;
@@ -242,8 +245,9 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
   double mid[3];
   for (int j = 0; j < 3; ++j)
   {
-    out[2 + j] = static_cast<T>(mean[j] / lm);
-    mid[j] = static_cast<double>(out[2 + j]);
+    const volatile T stored = static_cast<T>(mean[j] / lm); // as above
+    out[2 + j] = stored;
+    mid[j] = static_cast<double>(stored);
   }
   const double lmid = std::sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
   double cosA = 1.0;

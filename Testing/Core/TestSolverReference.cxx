@@ -7,12 +7,16 @@
 #include <gtest/gtest.h>
 
 #include "Bezier.h"
+#include "KernelData.h"
 #include "NativeSolver.h"
 #include "TestHelpers.h"
 #include "TrimClassifier.h"
 
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
@@ -197,6 +201,101 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     EXPECT_GT(checked, 100u);
     EXPECT_GT(patchTighter, 0u);
   }
+}
+
+/// The cylinder sectors the kernels' certification skips patches by (PackCylinderSector) are
+/// packed in double and rounded outwards to the kernels' precision: measured as the kernels read
+/// them (the patch's point of the axis as stored, relative to its anchor), every control point
+/// of every patch lies within the stored height range and within the stored half-angle of the
+/// stored middle direction. Rods written in halves, thirds and quarters, long and short, thin
+/// and thick, on axes in general directions up to 5 m from the origin, so that float's rounding
+/// of their coordinates (up to 3e-4 mm) is far above the sectors' margins and each rounding
+/// falls both ways somewhere.
+template <class T>
+void CheckSectors(const BRepModel& m, const KernelModel<T>& k, const char* precision)
+{
+  SCOPED_TRACE(precision);
+  size_t patches = 0, narrow = 0;
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const Face& F = m.Faces[f];
+    if (F.Kind != SurfaceKind::Cylinder)
+      continue;
+    const auto& e = m.FaceExact[f];
+    const double la = std::sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5]);
+    const double a[3] = { e[3] / la, e[4] / la, e[5] / la };
+    for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+    {
+      const T* s = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+      const auto& cp = m.Patches[p].ControlPoints;
+      const double o[3] = { cp[0] + static_cast<double>(s[8]), cp[1] + static_cast<double>(s[9]),
+        cp[2] + static_cast<double>(s[10]) };
+      const double mid[3] = { static_cast<double>(s[2]), static_cast<double>(s[3]),
+        static_cast<double>(s[4]) };
+      const double lm = std::sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
+      ++patches;
+      narrow += s[7] > T(0);
+      if (s[7] > T(0))
+      {
+        const double c = static_cast<double>(s[5]), sn = static_cast<double>(s[6]);
+        EXPECT_GE(sn, std::sqrt(std::max(0.0, 1.0 - c * c))) << "patch " << p;
+      }
+      for (int i = 0; i < 16; ++i)
+      {
+        double q[3];
+        for (int j = 0; j < 3; ++j)
+          q[j] = cp[3 * i + j] - o[j];
+        const double z = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
+        EXPECT_GE(z, static_cast<double>(s[0]) - 1e-12 * std::fabs(z)) << "patch " << p;
+        EXPECT_LE(z, static_cast<double>(s[1]) + 1e-12 * std::fabs(z)) << "patch " << p;
+        if (s[7] > T(0))
+        {
+          const double r[3] = { q[0] - z * a[0], q[1] - z * a[1], q[2] - z * a[2] };
+          const double lr = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+          EXPECT_GE((r[0] * mid[0] + r[1] * mid[1] + r[2] * mid[2]) / (lr * lm),
+            static_cast<double>(s[5]) - 1e-12)
+            << "patch " << p << ", control point " << i;
+        }
+      }
+    }
+  }
+  std::printf("[sectors, %s] %zu cylinder patches, %zu with a sector narrower than a half-turn\n",
+    precision, patches, narrow);
+  EXPECT_GT(patches, 10u);
+  EXPECT_EQ(narrow, patches);
+}
+
+TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
+{
+  struct Rod
+  {
+    double R, L;
+    int Splits;
+    gp_Dir Axis;
+    gp_Vec At;
+  };
+  const Rod rods[] = { { 127, 4000, 1, gp_Dir(0.3, 0.4, 0.866), gp_Vec(5000, 3000, -1000) },
+    { 200, 10, 2, gp_Dir(-0.71, 0.2, 0.3), gp_Vec(-2500, 4100, 700) },
+    { 3, 70, 3, gp_Dir(0.05, -0.9, 0.2), gp_Vec(1234.5, -987.6, 4321) },
+    { 45, 600, 1, gp_Dir(1, 0.001, 0), gp_Vec(-3333, -2222, 111) } };
+  BRep_Builder b;
+  TopoDS_Compound all;
+  b.MakeCompound(all);
+  for (const Rod& r : rods)
+  {
+    ShapeUpgrade_ShapeDivideClosed parts(analytic::Rod(r.R, r.L));
+    parts.SetNbSplitPoints(r.Splits);
+    parts.Perform();
+    gp_Trsf turn, move;
+    turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1).Crossed(r.Axis)),
+      gp_Dir(0, 0, 1).Angle(r.Axis));
+    move.SetTranslation(r.At);
+    b.Add(all, BRepBuilderAPI_Transform(parts.Result(), move * turn, true).Shape());
+  }
+  const BRepModel m = ConvertShape(all, ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  CheckSectors(m, PackKernelModel<float>(m, data), "float");
+  CheckSectors(m, PackKernelModel<double>(m, data), "double");
 }
 } // namespace
 
