@@ -2218,13 +2218,11 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   const real z = dot(X, a);
   const real3 radial = X - z * a;
   const real rho = length(radial);
-  if (!(rho > (real)1e-6 * (fabs(z) + e[9])))
-  {
-    *ok = 0;
-    *g = a;
-    return (real)0;
-  }
-  const real3 er = radial / rho;
+  // On the axis the direction away from it is undefined: no gradient (ok = 0), but the distance
+  // is still the surface's (every meridian half-plane alike), which the certification's bounds
+  // read without the gradient: a sphere inscribed in a rod has its centre there.
+  *ok = rho > (real)1e-6 * (fabs(z) + e[9]);
+  const real3 er = *ok ? radial / rho : a;
   if (kind == EXACT_CYLINDER)
   {
     *g = er;
@@ -2233,13 +2231,13 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   if (kind == EXACT_CONE)
   {
     // The generator rho = R + z tan(angle) in the meridian half-plane; cos and sin in e[10], e[11].
-    *g = e[10] * er - e[11] * a;
+    *g = *ok ? e[10] * er - e[11] * a : a;
     return (rho - e[9]) * e[10] - z * e[11];
   }
   // Torus: the tube circle of radius e[10] around the circle of radius e[9].
   const real q = rho - e[9];
   const real l = sqrt(q * q + z * z);
-  *ok = l > (real)0;
+  *ok = *ok && l > (real)0;
   *g = *ok ? (q * er + z * a) / l : a;
   return l - e[10];
 }
@@ -2271,8 +2269,7 @@ inline real deviation_allowance(const Model* m, int face, real3 X, real t)
 // from the whole surface. Its patches lie within their deviation of it (deviation_allowance),
 // which the bound gives up, so that a point of the patches more than that deviation inside the
 // sphere still counts. Tight where the sphere touches a round or a boss, where the control
-// points' hull is not; negative where the face has no exact surface (or M lies on its axis, where
-// exact_distance gives 0).
+// points' hull is not, and on a rod's axis; negative where the face has no exact surface.
 inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, real t)
 {
   const int kind = m->faceInfo[FACE_INTS * face + 8];

@@ -212,7 +212,9 @@ void ParallelFor(size_t n, unsigned threads, F&& f)
 /// them: each takes the next `block` indices in turn, so that no thread waits while another has
 /// work left. Between its blocks the calling thread calls progress(done), done the indices
 /// finished so far; progress returning false stops the loop (the indices not yet taken are left
-/// undone). Returns false where stopped.
+/// undone). The calling thread runs the first block before the others start, so progress is
+/// called at least once (where n > 0) however the threads are scheduled. Returns false where
+/// stopped.
 template <class F, class P>
 bool ParallelForWithProgress(size_t n, unsigned threads, size_t block, F&& f, P&& progress)
 {
@@ -222,23 +224,31 @@ bool ParallelForWithProgress(size_t n, unsigned threads, size_t block, F&& f, P&
   threads = static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(threads, (n + block - 1) / block)));
   std::atomic<size_t> next{ 0 }, done{ 0 };
   std::atomic<bool> stop{ false };
+  // The next block; false where none is left, else the indices finished so far in `finished`.
+  auto one = [&](size_t& finished) {
+    const size_t first = next.fetch_add(block);
+    if (first >= n)
+      return false;
+    const size_t last = std::min(n, first + block);
+    for (size_t i = first; i < last; ++i)
+      f(i);
+    finished = done.fetch_add(last - first) + (last - first);
+    return true;
+  };
   auto work = [&](bool caller) {
-    while (!stop.load(std::memory_order_relaxed))
-    {
-      const size_t first = next.fetch_add(block);
-      if (first >= n)
-        return;
-      const size_t last = std::min(n, first + block);
-      for (size_t i = first; i < last; ++i)
-        f(i);
-      const size_t finished = done.fetch_add(last - first) + (last - first);
+    size_t finished = 0;
+    while (!stop.load(std::memory_order_relaxed) && one(finished))
       if (caller && !progress(finished))
       {
         stop = true;
         return;
       }
-    }
   };
+  // Under load a worker could otherwise take every block before the caller gets one: no
+  // progress at all, and no stop (Parallel.BlocksEveryIndexOnceAndStops failed so once).
+  size_t first = 0;
+  if (one(first) && !progress(first))
+    return false;
   std::vector<std::thread> pool;
   for (unsigned k = 1; k < threads; ++k)
     pool.emplace_back(work, false);
