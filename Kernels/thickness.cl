@@ -68,7 +68,8 @@ typedef float3 real3;
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
-// (cylinder_patch_gap; brt::KernelPatchSectorReals).
+// (cylinder_patch_gap); of a toroidal face, its range of angles around the tube
+// (torus_patch_gap; brt::KernelPatchSectorReals).
 #define PATCH_SECTOR_REALS 12
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
 // plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
@@ -2328,6 +2329,51 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
   return gap - deviation_allowance(m, face, X, t);
 }
 
+// A lower bound of the distance from M to patch p of a toroidal face (a round), tighter than
+// exact_gap where the sphere sits inside the tube and the tube continues beyond the face (the
+// sphere of a wall next to a round touches it, and the whole tube circle is then about t from
+// M). The patch's points lie within the deviation of the torus at their own parameters (the
+// reader's measure), and no point of the torus is nearer to M than M's position in its own
+// meridian half-plane is to the tube circle; over the patch that is the arc of the angles around
+// the tube (v) its domain spans (PATCH_SECTOR_REALS: v0, v1, packed on the host and rounded
+// outwards; s[7] 0 where not packed: a torus read from a B-spline, whose parameters are not its
+// angles, or one whose tube reaches the axis). The bound is M's distance from that arc, less the
+// deviation and the rounding of M's meridian position (and, where the arc's end is nearest, of
+// M's angle around the tube, which grows as M nears the tube's centre). Negative: no bound.
+inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
+  real t)
+{
+  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
+  if (!(s[7] > (real)0))
+    return (real)-1;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real3 ax = make_real3(e[6], e[7], e[8]);
+  const real R = e[9], r = e[10];
+  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the torus's centre
+  const real z = dot(X, ax);
+  const real qx = length(X - z * ax) - R, qz = z; // M relative to the tube circle's centre
+  const real lq = sqrt(qx * qx + qz * qz);
+  const real rounding = (real)8 * REAL_EPS * (length(X) + R + r + t);
+  real gap = fabs(lq - r) - rounding;
+  const real twoPi = (real)6.283185307179586;
+  const real span = s[1] - s[0];
+  if (span < twoPi && lq > (real)0)
+  {
+    real rel = atan2(qz, qx) - s[0];
+    rel -= twoPi * floor(rel / twoPi);
+    if (rel > span)
+    {
+      // Outside the arc: its nearer end.
+      const real d0 = sqrt((qx - r * cos(s[0])) * (qx - r * cos(s[0])) +
+        (qz - r * sin(s[0])) * (qz - r * sin(s[0])));
+      const real d1 = sqrt((qx - r * cos(s[1])) * (qx - r * cos(s[1])) +
+        (qz - r * sin(s[1])) * (qz - r * sin(s[1])));
+      gap = fmax(gap, fmin(d0, d1) - rounding * ((real)1 + r / lq));
+    }
+  }
+  return gap - deviation_allowance(m, face, X, t);
+}
+
 // The certification of the sphere of radius t tangent at O: the deepest
 // point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
 // conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
@@ -2396,7 +2442,9 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
               &ahead) < need &&
             ahead > depth &&
             (m->faceInfo[FACE_INTS * face + 8] != EXACT_CYLINDER ||
-              cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
+              cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
+            (m->faceInfo[FACE_INTS * face + 8] != EXACT_TORUS ||
+              torus_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
         }
         else

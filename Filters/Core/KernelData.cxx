@@ -330,6 +330,17 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
         PackCylinderSector<T>(m.Patches[p].ControlPoints.data(), o, &exact[6],
           &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
     }
+    // A torus (EXACT_TORUS) written as one, whose patch parameters are its angles (not one read
+    // from a B-spline), with its tube clear of the axis: each patch's range of angles around the
+    // tube, rounded outwards (torus_patch_gap).
+    if (kind == 5 && F.DegreeU == 0 && F.DegreeV == 0 && exact[9] > exact[10])
+      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+      {
+        T* out = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+        out[0] = Rounded<T>(m.Patches[p].Domain[2], false);
+        out[1] = Rounded<T>(m.Patches[p].Domain[3], true);
+        out[7] = T(1);
+      }
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

@@ -140,9 +140,10 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
   const kernel::real3 mr = t * d;
   const int face = view.patchFace[patch];
   faceBound = kernel::exact_gap(&view, face, Ohi, Olo, mr, t);
-  patchBound = view.faceInfo[FACE_INTS * face + 8] == EXACT_CYLINDER
-    ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
-    : -1.0;
+  const int kind = view.faceInfo[FACE_INTS * face + 8];
+  patchBound = kind == EXACT_CYLINDER ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
+    : kind == EXACT_TORUS           ? kernel::torus_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
+                                    : -1.0;
 }
 
 void NativeSolver::Classify(int face, double u, double v, bool& inside, int& segment,

@@ -44,8 +44,8 @@ public:
   /// The certification's lower bounds of the distance from the centre of the sphere of radius t
   /// tangent at the sample to `patch` (find_point_inside in Kernels/thickness.cl): faceBound from
   /// its face's exact surface (exact_gap), patchBound from the patch's piece of a cylinder
-  /// (cylinder_patch_gap); -1 where one does not apply. For tests against OpenCASCADE's distance
-  /// to the patch.
+  /// (cylinder_patch_gap) or its arc of a torus's tube (torus_patch_gap); -1 where one does not
+  /// apply. For tests against OpenCASCADE's distance to the patch.
   void PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
     double& patchBound) const;
 
