@@ -406,6 +406,51 @@ TEST(OpenCLKernels, RayThicknessSameAsNative)
   }
 }
 
+/// A closed-form shape solved on the device with the reader's and the solver's defaults: the
+/// samples farther than h from every rim must be surface/surface contacts (checked here); the
+/// largest |2t - h| / h among them, their count and most iterations, and the failed samples.
+struct ClosedFormRun
+{
+  size_t Interior = 0, Failed = 0, Samples = 0;
+  double Worst = 0.0;
+  int MostIterations = 0;
+};
+
+ClosedFormRun SolveClosedForm(OpenCLSolver& cl, const TopoDS_Shape& shape, const char* name,
+  double h, size_t* faces = nullptr)
+{
+  const BRepModel m = ConvertShape(shape, ConversionOptions()); // the reader's defaults
+  if (faces)
+    *faces = m.Faces.size();
+  SolverOptions options;
+  const SolverData data = PrepareSolver(m, options);
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> got;
+  cl.Upload(m, data);
+  cl.Solve(m, data, options, samples, got);
+  const std::vector<double> rim = test::RimDistances(m, samples);
+  ClosedFormRun run;
+  run.Samples = got.size();
+  for (size_t i = 0; i < got.size(); ++i)
+  {
+    run.Failed += got[i].Type == ContactType::Failed;
+    if (rim[i] < h)
+      continue;
+    ++run.Interior;
+    EXPECT_EQ(got[i].Type, ContactType::SurfaceSurface)
+      << name << " sample " << i << ": " << ContactTypeName(got[i].Type) << ", "
+      << FailReasonName(got[i].Reason) << ", 2t " << got[i].Thickness << ", residual "
+      << got[i].Residual << ", " << got[i].Iterations << " iterations";
+    run.Worst = std::max(run.Worst, std::fabs(got[i].Thickness - h) / h);
+    run.MostIterations = std::max(run.MostIterations, got[i].Iterations);
+  }
+  for (size_t i = 0, shown = 0; i < got.size() && shown < 5; ++i)
+    if (got[i].Type == ContactType::Failed && ++shown)
+      std::printf("[failed] %s sample %zu (rim distance %.3g): %s, residual %.2e\n", name, i,
+        rim[i], FailReasonName(got[i].Reason), got[i].Residual);
+  return run;
+}
+
 TEST(OpenCLKernels, ClosedFormsInFloat)
 {
   std::string why;
@@ -433,37 +478,12 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
       BRepBuilderAPI_NurbsConvert(analytic::SphericalShell(25, 20)).Shape(), 5 } };
   for (const auto& s : shapes)
   {
-    const BRepModel m = ConvertShape(s.S, ConversionOptions()); // the reader's defaults
-    SolverOptions options;
-    const SolverData data = PrepareSolver(m, options);
-    const std::vector<Sample> samples = SamplesFromMesh(m, data);
-    std::vector<SampleResult> got;
-    cl->Upload(m, data);
-    cl->Solve(m, data, options, samples, got);
-    const std::vector<double> rim = test::RimDistances(m, samples);
-    double worst = 0.0;
-    size_t interior = 0, failed = 0;
-    for (size_t i = 0; i < got.size(); ++i)
-    {
-      failed += got[i].Type == ContactType::Failed;
-      if (rim[i] < s.H)
-        continue;
-      ++interior;
-      EXPECT_EQ(got[i].Type, ContactType::SurfaceSurface)
-        << s.Name << " sample " << i << ": " << ContactTypeName(got[i].Type) << ", "
-        << FailReasonName(got[i].Reason) << ", 2t " << got[i].Thickness << ", residual "
-        << got[i].Residual << ", " << got[i].Iterations << " iterations";
-      worst = std::max(worst, std::fabs(got[i].Thickness - s.H) / s.H);
-    }
-    for (size_t i = 0, shown = 0; i < got.size() && shown < 5; ++i)
-      if (got[i].Type == ContactType::Failed && ++shown)
-        std::printf("[failed] %s sample %zu (rim distance %.3g): %s, residual %.2e\n", s.Name, i,
-          rim[i], FailReasonName(got[i].Reason), got[i].Residual);
+    const ClosedFormRun run = SolveClosedForm(*cl, s.S, s.Name, s.H);
     std::printf("[closed form, float kernel] %s: %zu interior samples, max |2t-h|/h = %.2e, "
                 "failed %zu of %zu\n",
-      s.Name, interior, worst, failed, got.size());
-    EXPECT_LE(worst, 1e-5) << s.Name;
-    EXPECT_EQ(failed, 0u) << s.Name;
+      s.Name, run.Interior, run.Worst, run.Failed, run.Samples);
+    EXPECT_LE(run.Worst, 1e-5) << s.Name;
+    EXPECT_EQ(run.Failed, 0u) << s.Name;
   }
 }
 
@@ -496,37 +516,16 @@ TEST(OpenCLKernels, LargeModelsInFloatSolveAtOnce)
     { "rod R127 L4000 in halves", halves.Result(), 254, 4 } };
   for (const auto& s : shapes)
   {
-    const BRepModel m = ConvertShape(s.S, ConversionOptions());
-    ASSERT_EQ(m.Faces.size(), s.Faces) << s.Name;
-    SolverOptions options;
-    const SolverData data = PrepareSolver(m, options);
-    const std::vector<Sample> samples = SamplesFromMesh(m, data);
-    std::vector<SampleResult> got;
-    cl->Upload(m, data);
-    cl->Solve(m, data, options, samples, got);
-    const std::vector<double> rim = test::RimDistances(m, samples);
-    double worst = 0.0;
-    size_t interior = 0, failed = 0;
-    int most = 0;
-    for (size_t i = 0; i < got.size(); ++i)
-    {
-      failed += got[i].Type == ContactType::Failed;
-      if (rim[i] < s.H)
-        continue;
-      ++interior;
-      EXPECT_EQ(got[i].Type, ContactType::SurfaceSurface)
-        << s.Name << " sample " << i << ": " << ContactTypeName(got[i].Type) << ", "
-        << FailReasonName(got[i].Reason) << ", 2t " << got[i].Thickness;
-      worst = std::max(worst, std::fabs(got[i].Thickness - s.H) / s.H);
-      most = std::max(most, got[i].Iterations);
-    }
+    size_t faces = 0;
+    const ClosedFormRun run = SolveClosedForm(*cl, s.S, s.Name, s.H, &faces);
+    EXPECT_EQ(faces, s.Faces) << s.Name;
     std::printf("[large, float kernel] %s: %zu interior samples, max |2t-h|/h = %.2e, at most "
                 "%d iterations, failed %zu of %zu\n",
-      s.Name, interior, worst, most, failed, got.size());
-    EXPECT_GT(interior, 100u) << s.Name;
-    EXPECT_LE(worst, 1e-5) << s.Name;
-    EXPECT_LE(most, 10) << s.Name;
-    EXPECT_EQ(failed, 0u) << s.Name;
+      s.Name, run.Interior, run.Worst, run.MostIterations, run.Failed, run.Samples);
+    EXPECT_GT(run.Interior, 100u) << s.Name;
+    EXPECT_LE(run.Worst, 1e-5) << s.Name;
+    EXPECT_LE(run.MostIterations, 10) << s.Name;
+    EXPECT_EQ(run.Failed, 0u) << s.Name;
   }
 }
 
