@@ -2335,11 +2335,13 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
 // M). The patch's points lie within the deviation of the torus at their own parameters (the
 // reader's measure), and no point of the torus is nearer to M than M's position in its own
 // meridian half-plane is to the tube circle; over the patch that is the arc of the angles around
-// the tube (v) its domain spans (PATCH_SECTOR_REALS: v0, v1, packed on the host and rounded
-// outwards; s[7] 0 where not packed: a torus read from a B-spline, whose parameters are not its
-// angles, or one whose tube reaches the axis). The bound is M's distance from that arc, less the
-// deviation and the rounding of M's meridian position (and, where the arc's end is nearest, of
-// M's angle around the tube, which grows as M nears the tube's centre). Negative: no bound.
+// the tube (v) its domain spans (PATCH_SECTOR_REALS, packed on the host: the arc's ends as unit
+// vectors, its middle and the cosine of its half-span around that, rounded down; s[7] 0 where
+// not packed: a torus read from a B-spline, whose parameters are not its angles, one whose tube
+// reaches the axis, an arc of half the tube or more). The bound is M's distance from that arc,
+// less the deviation and the rounding of M's meridian position (and, where the arc's end is
+// nearest, of M's direction from the tube's centre, which grows as M nears that centre).
+// Negative: no bound.
 inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
   real t)
 {
@@ -2355,21 +2357,12 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
   const real lq = sqrt(qx * qx + qz * qz);
   const real rounding = (real)8 * REAL_EPS * (length(X) + R + r + t);
   real gap = fabs(lq - r) - rounding;
-  const real twoPi = (real)6.283185307179586;
-  const real span = s[1] - s[0];
-  if (span < twoPi && lq > (real)0)
+  if (lq > (real)0 && !((qx * s[4] + qz * s[5]) >= s[6] * lq))
   {
-    real rel = atan2(qz, qx) - s[0];
-    rel -= twoPi * floor(rel / twoPi);
-    if (rel > span)
-    {
-      // Outside the arc: its nearer end.
-      const real d0 = sqrt((qx - r * cos(s[0])) * (qx - r * cos(s[0])) +
-        (qz - r * sin(s[0])) * (qz - r * sin(s[0])));
-      const real d1 = sqrt((qx - r * cos(s[1])) * (qx - r * cos(s[1])) +
-        (qz - r * sin(s[1])) * (qz - r * sin(s[1])));
-      gap = fmax(gap, fmin(d0, d1) - rounding * ((real)1 + r / lq));
-    }
+    // M's direction outside the arc: its nearer end.
+    const real d0 = sqrt((qx - r * s[0]) * (qx - r * s[0]) + (qz - r * s[1]) * (qz - r * s[1]));
+    const real d1 = sqrt((qx - r * s[2]) * (qx - r * s[2]) + (qz - r * s[3]) * (qz - r * s[3]));
+    gap = fmax(gap, fmin(d0, d1) - rounding * ((real)1 + r / lq));
   }
   return gap - deviation_allowance(m, face, X, t);
 }

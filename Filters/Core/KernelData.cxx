@@ -121,63 +121,6 @@ std::vector<T> RelativeBoxes(const std::vector<double>& boxes, const std::array<
     out[i] = static_cast<T>(boxes[i] - c[i % 3]);
   return out;
 }
-} // namespace
-
-int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
-  std::array<double, 12>& out)
-{
-  const Face& F = m.Faces[f];
-  if (m.FaceExact.size() != m.Faces.size() || F.PatchCount <= 0)
-    return 0;
-  const auto& e = m.FaceExact[f];
-  double a[3] = { e[3], e[4], e[5] };
-  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  if (!(std::fabs(la - 1.0) < 1e-6))
-    return 0; // not a unit axis: not a description this solver trusts
-  for (double& x : a)
-    x /= la;
-  const auto& p = m.Patches[F.FirstPatch].ControlPoints;
-  double o[3] = { e[0], e[1], e[2] };
-  const double s = (p[0] - o[0]) * a[0] + (p[1] - o[1]) * a[1] + (p[2] - o[2]) * a[2];
-  double sizes[3] = { 0.0, 0.0, 0.0 };
-  int kind = 0;
-  switch (F.Kind)
-  {
-    case SurfaceKind::Plane:
-      kind = 1;
-      for (int i = 0; i < 3; ++i)
-        o[i] = p[i] - s * a[i];
-      break;
-    case SurfaceKind::Cylinder:
-      kind = 2;
-      for (int i = 0; i < 3; ++i)
-        o[i] += s * a[i];
-      sizes[0] = e[6];
-      break;
-    case SurfaceKind::Cone:
-      kind = 3;
-      for (int i = 0; i < 3; ++i)
-        o[i] += s * a[i];
-      sizes[0] = e[6] + s * std::tan(e[7]);
-      sizes[1] = std::cos(e[7]);
-      sizes[2] = std::sin(e[7]);
-      break;
-    case SurfaceKind::Sphere:
-      kind = 4;
-      sizes[0] = e[6];
-      break;
-    case SurfaceKind::Torus:
-      kind = 5;
-      sizes[0] = e[6];
-      sizes[1] = e[7];
-      break;
-    default:
-      return 0;
-  }
-  out = { o[0] - c[0], o[1] - c[1], o[2] - c[2], 0.0, 0.0, 0.0, a[0], a[1], a[2], sizes[0],
-    sizes[1], sizes[2] };
-  return kind;
-}
 
 /// x rounded to T towards -infinity (down) or +infinity (up).
 template <class T>
@@ -267,6 +210,93 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
   out[7] = T(1);
 }
 
+/// A torus patch's arc of the tube (torus_patch_gap), as KernelPatchSectorReals: the unit
+/// vectors of its ends in the meridian half-plane (cos, sin of v0 and of v1: radial, axial), its
+/// middle direction as T, the cosine of the half-span around that stored direction (rounded
+/// down), and 1; 0 in the flag where the arc spans half the tube or more.
+template <class T>
+void PackTorusArc(double v0, double v1, T* out)
+{
+  std::fill(out, out + KernelPatchSectorReals, T(0));
+  const double span = v1 - v0;
+  if (!(span > 0.0 && span < 3.14159))
+    return;
+  const double ends[2] = { v0, v1 };
+  for (int k = 0; k < 2; ++k)
+  {
+    out[2 * k] = static_cast<T>(std::cos(ends[k]));
+    out[2 * k + 1] = static_cast<T>(std::sin(ends[k]));
+  }
+  const double mid = 0.5 * (v0 + v1);
+  const volatile T mc = static_cast<T>(std::cos(mid)), ms = static_cast<T>(std::sin(mid)); // as in PackCylinderSector
+  out[4] = mc;
+  out[5] = ms;
+  const double c = static_cast<double>(mc), sn = static_cast<double>(ms), l = std::hypot(c, sn);
+  // Every angle of the arc is within the farther end's angle of the stored middle.
+  const double cosHalf = std::min(std::cos(v0) * c + std::sin(v0) * sn,
+    std::cos(v1) * c + std::sin(v1) * sn) / l;
+  out[6] = Rounded<T>(cosHalf, false);
+  out[7] = T(1);
+}
+
+} // namespace
+
+int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
+  std::array<double, 12>& out)
+{
+  const Face& F = m.Faces[f];
+  if (m.FaceExact.size() != m.Faces.size() || F.PatchCount <= 0)
+    return 0;
+  const auto& e = m.FaceExact[f];
+  double a[3] = { e[3], e[4], e[5] };
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  if (!(std::fabs(la - 1.0) < 1e-6))
+    return 0; // not a unit axis: not a description this solver trusts
+  for (double& x : a)
+    x /= la;
+  const auto& p = m.Patches[F.FirstPatch].ControlPoints;
+  double o[3] = { e[0], e[1], e[2] };
+  const double s = (p[0] - o[0]) * a[0] + (p[1] - o[1]) * a[1] + (p[2] - o[2]) * a[2];
+  double sizes[3] = { 0.0, 0.0, 0.0 };
+  int kind = 0;
+  switch (F.Kind)
+  {
+    case SurfaceKind::Plane:
+      kind = 1;
+      for (int i = 0; i < 3; ++i)
+        o[i] = p[i] - s * a[i];
+      break;
+    case SurfaceKind::Cylinder:
+      kind = 2;
+      for (int i = 0; i < 3; ++i)
+        o[i] += s * a[i];
+      sizes[0] = e[6];
+      break;
+    case SurfaceKind::Cone:
+      kind = 3;
+      for (int i = 0; i < 3; ++i)
+        o[i] += s * a[i];
+      sizes[0] = e[6] + s * std::tan(e[7]);
+      sizes[1] = std::cos(e[7]);
+      sizes[2] = std::sin(e[7]);
+      break;
+    case SurfaceKind::Sphere:
+      kind = 4;
+      sizes[0] = e[6];
+      break;
+    case SurfaceKind::Torus:
+      kind = 5;
+      sizes[0] = e[6];
+      sizes[1] = e[7];
+      break;
+    default:
+      return 0;
+  }
+  out = { o[0] - c[0], o[1] - c[1], o[2] - c[2], 0.0, 0.0, 0.0, a[0], a[1], a[2], sizes[0],
+    sizes[1], sizes[2] };
+  return kind;
+}
+
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
 {
@@ -331,16 +361,12 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
           &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
     }
     // A torus (EXACT_TORUS) written as one, whose patch parameters are its angles (not one read
-    // from a B-spline), with its tube clear of the axis: each patch's range of angles around the
-    // tube, rounded outwards (torus_patch_gap).
+    // from a B-spline), with its tube clear of the axis: each patch's arc of the tube
+    // (torus_patch_gap).
     if (kind == 5 && F.DegreeU == 0 && F.DegreeV == 0 && exact[9] > exact[10])
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-      {
-        T* out = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
-        out[0] = Rounded<T>(m.Patches[p].Domain[2], false);
-        out[1] = Rounded<T>(m.Patches[p].Domain[3], true);
-        out[7] = T(1);
-      }
+        PackTorusArc<T>(m.Patches[p].Domain[2], m.Patches[p].Domain[3],
+          &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });
