@@ -2335,10 +2335,12 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
 // M). The patch's points lie within the deviation of the torus at their own parameters (the
 // reader's measure), and no point of the torus is nearer to M than M's position in its own
 // meridian half-plane is to the tube circle; over the patch that is the arc of the angles around
-// the tube (v) its domain spans (PATCH_SECTOR_REALS, packed on the host: the arc's ends as unit
-// vectors, its middle and the cosine of its half-span around that, rounded down; s[7] 0 where
-// not packed: a torus read from a B-spline, whose parameters are not its angles, one whose tube
-// reaches the axis, an arc of half the tube or more). The bound is M's distance from that arc,
+// the tube (v) its domain spans, or for a torus read from a B-spline, whose parameters are not
+// its angles, the arc that holds its control hull (TorusArcOfPatch: every point of such a patch
+// lies within the deviation of the torus, at its own angle around the tube) (PATCH_SECTOR_REALS,
+// packed on the host: the arc's ends as unit vectors, its middle and the cosine of its half-span
+// around that, rounded down; s[7] 0 where not packed: a torus whose tube reaches the axis, an
+// arc of half the tube or more). The bound is M's distance from that arc,
 // less the deviation and the rounding of M's meridian position (and, where the arc's end is
 // nearest, of M's direction from the tube's centre, which grows as M nears that centre).
 // Negative: no bound.

@@ -239,6 +239,93 @@ void PackTorusArc(double v0, double v1, T* out)
   out[7] = T(1);
 }
 
+/// The angles around the tube (as a native torus's v: from the torus's plane towards its axis)
+/// that hold a patch lying near a torus of centre o, unit axis a and radius R (absolute), for a
+/// torus read from a B-spline, whose patch parameters are not its angles. The patch lies in the
+/// hull of its control points c_i. A point P = sum l_i c_i of it has the height sum l_i z_i and
+/// the distance from the axis |sum l_i r_i| (r_i: c_i's part across the axis), which is at most
+/// sum l_i |r_i| and, the r_i lying within an angle A of their mean direction, at least that
+/// less e = max |r_i| (1 - cos A). So P's meridian position (distance from the axis less R,
+/// height) lies in the hull of the c_i's and of the same moved by -e along the first, and the
+/// angles of a hull that leaves out the tube's centre are those of its points. False where the
+/// points' angles span half a turn or more, or a point lies on that centre.
+bool TorusArcOfPatch(const double* cp, const double* o, const double* a, double R, double& v0,
+  double& v1)
+{
+  double q[16], z[16], r[16][3], n[3] = { 0.0, 0.0, 0.0 }, maxRho = 0.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    const double w[3] = { cp[3 * i] - o[0], cp[3 * i + 1] - o[1], cp[3 * i + 2] - o[2] };
+    z[i] = w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+    for (int j = 0; j < 3; ++j)
+    {
+      r[i][j] = w[j] - z[i] * a[j];
+      n[j] += r[i][j];
+    }
+    const double rho = std::sqrt(r[i][0] * r[i][0] + r[i][1] * r[i][1] + r[i][2] * r[i][2]);
+    q[i] = rho - R;
+    maxRho = std::max(maxRho, rho);
+  }
+  const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(ln > 0.0))
+    return false;
+  double cosA = 1.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    const double rho = q[i] + R;
+    if (!(rho > 0.0))
+      return false;
+    cosA = std::min(cosA, (r[i][0] * n[0] + r[i][1] * n[1] + r[i][2] * n[2]) / (rho * ln));
+  }
+  if (!(cosA > 0.0))
+    return false;
+  // With the rounding of the sums above, well beyond it.
+  const double e = maxRho * ((1.0 - cosA) + 1e-12);
+  double mq = 0.0, mz = 0.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    mq += q[i] - 0.5 * e;
+    mz += z[i];
+  }
+  const double lm = std::hypot(mq, mz);
+  if (!(lm > 0.0))
+    return false;
+  const double cr = mq / lm, sr = mz / lm, minLength = 1e-9 * (R + maxRho);
+  // The points in the frame of their mean direction; the two whose angles are extreme, found by
+  // a pseudo-angle that grows with the angle over the whole turn, then their angles.
+  auto pseudo = [](double x, double y) {
+    const double s = y / (std::fabs(x) + std::fabs(y));
+    return x >= 0.0 ? s : (y >= 0.0 ? 2.0 - s : -2.0 - s);
+  };
+  double loP = std::numeric_limits<double>::infinity(), hiP = -loP, lo[2] = {}, hi[2] = {};
+  for (int k = 0; k < 32; ++k)
+  {
+    const double x = q[k % 16] - (k < 16 ? 0.0 : e), y = z[k % 16];
+    if (!(x * x + y * y > minLength * minLength))
+      return false;
+    const double xr = x * cr + y * sr, yr = y * cr - x * sr, pa = pseudo(xr, yr);
+    if (pa < loP)
+    {
+      loP = pa;
+      lo[0] = xr;
+      lo[1] = yr;
+    }
+    if (pa > hiP)
+    {
+      hiP = pa;
+      hi[0] = xr;
+      hi[1] = yr;
+    }
+  }
+  const double first = std::atan2(lo[1], lo[0]), last = std::atan2(hi[1], hi[0]);
+  const double ref = std::atan2(sr, cr);
+  if (!(last - first < 3.14))
+    return false;
+  v0 = ref + first - 1e-9;
+  v1 = ref + last + 1e-9;
+  return true;
+}
+
 } // namespace
 
 int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
@@ -367,6 +454,17 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
         PackTorusArc<T>(m.Patches[p].Domain[2], m.Patches[p].Domain[3],
           &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+    // A torus read from a B-spline: the arc that holds each patch's control hull.
+    else if (kind == 5 && exact[9] > exact[10])
+    {
+      const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
+      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+      {
+        double v0, v1;
+        if (TorusArcOfPatch(m.Patches[p].ControlPoints.data(), o, &exact[6], exact[9], v0, v1))
+          PackTorusArc<T>(v0, v1, &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+      }
+    }
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

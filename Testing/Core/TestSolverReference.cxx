@@ -164,6 +164,10 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     // The torus's bound: the arc of its tube that a patch spans.
     { "toroidal shell 40 R10 r6", analytic::ToroidalShell(40, 10, 6), 4.0 },
     { "ring 30 / 4", analytic::Ring(30, 4), 8.0 },
+    // Read from B-splines, recognised as tori: the arc that holds each patch's control hull.
+    { "toroidal shell 40 R10 r6 as NURBS",
+      BRepBuilderAPI_NurbsConvert(analytic::ToroidalShell(40, 10, 6)).Shape(), 4.0 },
+    { "ring 30 / 4 as NURBS", BRepBuilderAPI_NurbsConvert(analytic::Ring(30, 4)).Shape(), 8.0 },
   };
   for (const ClosedForm& c : shapes)
   {
@@ -173,6 +177,9 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     size_t checked = 0, patchTighter = 0;
     double worst = -1e300;
     const size_t stride = std::max<size_t>(1, s.Samples.size() / 8);
+    // The B-spline forms have 4-6 times the patches: each sample checks every k-th of them, from
+    // a first patch that moves with the sample, to keep the test's time.
+    const size_t patchStride = std::max<size_t>(1, s.Model.Patches.size() / 1500);
     for (size_t i = 0; i < s.Samples.size(); i += stride)
     {
       const Sample& smp = s.Samples[i];
@@ -182,7 +189,7 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
       {
         const gp_Pnt M(smp.Point[0] + t * smp.Direction[0], smp.Point[1] + t * smp.Direction[1],
           smp.Point[2] + t * smp.Direction[2]);
-        for (size_t p = 0; p < s.Model.Patches.size(); ++p)
+        for (size_t p = (i / stride) % patchStride; p < s.Model.Patches.size(); p += patchStride)
         {
           double faceBound, patchBound;
           solver.PatchBounds(smp, t, static_cast<int>(p), faceBound, patchBound);
@@ -301,6 +308,91 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
   const SolverData data = PrepareSolver(m, SolverOptions());
   CheckSectors(m, PackKernelModel<float>(m, data), "float");
   CheckSectors(m, PackKernelModel<double>(m, data), "double");
+}
+
+/// The arcs of the tube that the certification skips the patches of a torus read from a
+/// B-spline by (TorusArcOfPatch, packed as PackTorusArc): every point of every such patch (a
+/// 17 x 17 grid of it) lies, around the tube's centre circle, within the stored half-span of the
+/// stored middle and between the stored ends, as the kernels read them. Tori at the origin and
+/// tilted 3 m away.
+template <class T>
+void CheckTorusArcs(const BRepModel& m, const KernelModel<T>& k, const char* precision)
+{
+  SCOPED_TRACE(precision);
+  size_t patches = 0, packed = 0, points = 0;
+  double closest = 1.0;
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const Face& F = m.Faces[f];
+    if (F.Kind != SurfaceKind::Torus || F.DegreeU == 0)
+      continue;
+    const auto& e = m.FaceExact[f];
+    const double la = std::sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5]);
+    const double a[3] = { e[3] / la, e[4] / la, e[5] / la };
+    for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+    {
+      const T* s = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+      ++patches;
+      if (!(s[7] > T(0)))
+        continue;
+      ++packed;
+      const auto& cp = m.Patches[p].ControlPoints;
+      for (int gu = 0; gu <= 16; ++gu)
+        for (int gv = 0; gv <= 16; ++gv)
+        {
+          const double u = gu / 16.0, v = gv / 16.0;
+          const double bu[4] = { (1 - u) * (1 - u) * (1 - u), 3 * u * (1 - u) * (1 - u),
+            3 * u * u * (1 - u), u * u * u };
+          const double bv[4] = { (1 - v) * (1 - v) * (1 - v), 3 * v * (1 - v) * (1 - v),
+            3 * v * v * (1 - v), v * v * v };
+          double w[3] = { -e[0], -e[1], -e[2] };
+          for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+              for (int c = 0; c < 3; ++c)
+                w[c] += bu[i] * bv[j] * cp[3 * (4 * i + j) + c];
+          const double z = w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+          const double r[3] = { w[0] - z * a[0], w[1] - z * a[1], w[2] - z * a[2] };
+          const double q = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - e[6];
+          const double l = std::hypot(q, z);
+          const double cq = q / l, cz = z / l;
+          const double mq = static_cast<double>(s[4]), mz = static_cast<double>(s[5]);
+          const double inArc = (cq * mq + cz * mz) / std::hypot(mq, mz) - static_cast<double>(s[6]);
+          // Between the ends: on the inner side of each, the arc being under half a turn.
+          const double afterStart = static_cast<double>(s[0]) * cz - static_cast<double>(s[1]) * cq;
+          const double beforeEnd = cq * static_cast<double>(s[3]) - cz * static_cast<double>(s[2]);
+          closest = std::min(closest, std::min(inArc, std::min(afterStart, beforeEnd)));
+          EXPECT_GE(inArc, -1e-12) << "patch " << p << " at " << u << ", " << v;
+          EXPECT_GE(afterStart, -1e-12) << "patch " << p << " at " << u << ", " << v;
+          EXPECT_GE(beforeEnd, -1e-12) << "patch " << p << " at " << u << ", " << v;
+          ++points;
+        }
+    }
+  }
+  std::printf("[torus arcs, %s] %zu patches of tori read from B-splines, %zu with an arc, %zu "
+              "points, nearest to the arc's side %.3g\n",
+    precision, patches, packed, points, closest);
+  EXPECT_GT(patches, 100u);
+  EXPECT_EQ(packed, patches);
+}
+
+TEST(KernelData, TorusArcsHoldTheirPatches)
+{
+  BRep_Builder b;
+  TopoDS_Compound all;
+  b.MakeCompound(all);
+  gp_Trsf turn, move;
+  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0.3, -0.8, 0.5)), 0.7);
+  move.SetTranslation(gp_Vec(2100, -1500, 1200));
+  for (const TopoDS_Shape& s : { analytic::ToroidalShell(40, 10, 6), analytic::Ring(30, 4) })
+  {
+    const TopoDS_Shape n = BRepBuilderAPI_NurbsConvert(s).Shape();
+    b.Add(all, n);
+    b.Add(all, BRepBuilderAPI_Transform(n, move * turn, true).Shape());
+  }
+  const BRepModel m = ConvertShape(all, ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  CheckTorusArcs(m, PackKernelModel<float>(m, data), "float");
+  CheckTorusArcs(m, PackKernelModel<double>(m, data), "double");
 }
 } // namespace
 
