@@ -223,22 +223,32 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
 /// and thick, on axes in general directions up to 5 m from the origin, so that float's rounding
 /// of their coordinates (up to 3e-4 mm) is far above the sectors' margins and each rounding
 /// falls both ways somewhere.
-template <class T>
-void CheckSectors(const BRepModel& m, const KernelModel<T>& k, const char* precision)
+/// Calls fn(p, e, a, s) for every patch p of every face that take(face) accepts, with the face's
+/// exact surface e (BRepModel::FaceExact), its unit axis a and the patch's sector record s as
+/// the kernels read it.
+template <class T, class Take, class Fn>
+void ForEachPatchSector(const BRepModel& m, const KernelModel<T>& k, Take take, Fn fn)
 {
-  SCOPED_TRACE(precision);
-  size_t patches = 0, narrow = 0;
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
     const Face& F = m.Faces[f];
-    if (F.Kind != SurfaceKind::Cylinder)
+    if (!take(F))
       continue;
     const auto& e = m.FaceExact[f];
     const double la = std::sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5]);
     const double a[3] = { e[3] / la, e[4] / la, e[5] / la };
     for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-    {
-      const T* s = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+      fn(p, e, a, &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+  }
+}
+
+template <class T>
+void CheckSectors(const BRepModel& m, const KernelModel<T>& k, const char* precision)
+{
+  SCOPED_TRACE(precision);
+  size_t patches = 0, narrow = 0;
+  ForEachPatchSector(m, k, [](const Face& F) { return F.Kind == SurfaceKind::Cylinder; },
+    [&](int p, const std::array<double, 8>&, const double* a, const T* s) {
       const auto& cp = m.Patches[p].ControlPoints;
       const double o[3] = { cp[0] + static_cast<double>(s[8]), cp[1] + static_cast<double>(s[9]),
         cp[2] + static_cast<double>(s[10]) };
@@ -269,8 +279,7 @@ void CheckSectors(const BRepModel& m, const KernelModel<T>& k, const char* preci
             << "patch " << p << ", control point " << i;
         }
       }
-    }
-  }
+    });
   std::printf("[sectors, %s] %zu cylinder patches, %zu with a sector narrower than a half-turn\n",
     precision, patches, narrow);
   EXPECT_GT(patches, 10u);
@@ -321,20 +330,12 @@ void CheckTorusArcs(const BRepModel& m, const KernelModel<T>& k, const char* pre
   SCOPED_TRACE(precision);
   size_t patches = 0, packed = 0, points = 0;
   double closest = 1.0;
-  for (size_t f = 0; f < m.Faces.size(); ++f)
-  {
-    const Face& F = m.Faces[f];
-    if (F.Kind != SurfaceKind::Torus || F.DegreeU == 0)
-      continue;
-    const auto& e = m.FaceExact[f];
-    const double la = std::sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5]);
-    const double a[3] = { e[3] / la, e[4] / la, e[5] / la };
-    for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-    {
-      const T* s = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+  ForEachPatchSector(m, k,
+    [](const Face& F) { return F.Kind == SurfaceKind::Torus && F.DegreeU != 0; },
+    [&](int p, const std::array<double, 8>& e, const double* a, const T* s) {
       ++patches;
       if (!(s[7] > T(0)))
-        continue;
+        return;
       ++packed;
       const auto& cp = m.Patches[p].ControlPoints;
       for (int gu = 0; gu <= 16; ++gu)
@@ -366,8 +367,7 @@ void CheckTorusArcs(const BRepModel& m, const KernelModel<T>& k, const char* pre
           EXPECT_GE(beforeEnd, -1e-12) << "patch " << p << " at " << u << ", " << v;
           ++points;
         }
-    }
-  }
+    });
   std::printf("[torus arcs, %s] %zu patches of tori read from B-splines, %zu with an arc, %zu "
               "points, nearest to the arc's side %.3g\n",
     precision, patches, packed, points, closest);
