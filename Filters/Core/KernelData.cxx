@@ -440,31 +440,24 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 6; i < 12; ++i)
       k.FaceDomain.push_back(static_cast<T>(exact[i]));
     k.FaceDomain.push_back(static_cast<T>(F.MaxDeviation));
-    if (kind == 2) // a cylinder (EXACT_CYLINDER): its patches' sectors
-    {
-      const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
-      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-        PackCylinderSector<T>(m.Patches[p].ControlPoints.data(), o, &exact[6],
-          &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
-    }
-    // A torus (EXACT_TORUS) written as one, whose patch parameters are its angles (not one read
-    // from a B-spline), with its tube clear of the axis: each patch's arc of the tube
-    // (torus_patch_gap).
-    if (kind == 5 && F.DegreeU == 0 && F.DegreeV == 0 && exact[9] > exact[10])
-      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-        PackTorusArc<T>(m.Patches[p].Domain[2], m.Patches[p].Domain[3],
-          &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
-    // A torus read from a B-spline: the arc that holds each patch's control hull.
-    else if (kind == 5 && exact[9] > exact[10])
-    {
-      const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
+    // Per patch of a cylinder (EXACT_CYLINDER) its sector, of a torus (EXACT_TORUS) whose tube
+    // is clear of the axis its arc of the tube (cylinder_patch_gap, torus_patch_gap): on a torus
+    // written as one the arc its (u, v) domain spans (its parameters are the torus's angles), on
+    // one read from a B-spline the arc that holds its control hull.
+    const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
+    const bool torus = kind == 5 && exact[9] > exact[10];
+    const bool native = F.DegreeU == 0 && F.DegreeV == 0;
+    if (kind == 2 || torus)
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
       {
-        double v0, v1;
-        if (TorusArcOfPatch(m.Patches[p].ControlPoints.data(), o, &exact[6], exact[9], v0, v1))
-          PackTorusArc<T>(v0, v1, &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+        T* sector = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
+        const double* cp = m.Patches[p].ControlPoints.data();
+        double v0 = m.Patches[p].Domain[2], v1 = m.Patches[p].Domain[3];
+        if (kind == 2)
+          PackCylinderSector<T>(cp, o, &exact[6], sector);
+        else if (native || TorusArcOfPatch(cp, o, &exact[6], exact[9], v0, v1))
+          PackTorusArc<T>(v0, v1, sector);
       }
-    }
   }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });

@@ -28,8 +28,10 @@ constexpr size_t KernelTrimReals = 12;
 /// patch, the middle direction around the axis (3), the cosine and sine of the half-angle that
 /// holds them all, 1 where that sector is narrower than a half-turn (else 0, the heights alone
 /// count), then that point of the axis relative to the patch's anchor (3), and one unused.
-/// On a torus written as one: the patch's arc of the tube (PackTorusArc: its ends' unit vectors,
-/// its middle, the cosine of its half-span) and 1 in the same flag. Rounded outwards to T; zeros on faces of other kinds.
+/// On a torus: the patch's arc of the tube (PackTorusArc: its ends' unit vectors, its middle,
+/// the cosine of its half-span) and 1 in the same flag; the arc its domain spans on a torus
+/// written as one, the arc that holds its control hull on one read from a B-spline
+/// (TorusArcOfPatch). Rounded outwards to T; zeros on faces of other kinds.
 constexpr size_t KernelPatchSectorReals = 12;
 /// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
 /// those with more than KernelLinearTrims segments.
