@@ -647,10 +647,12 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
       r.Reason = FailReason::NoOppositePoint;
     return;
   }
+  // Neighbours in one work-group walk the same nodes (SpatialOrder).
+  const std::vector<size_t> order = SpatialOrder(samples, nullptr);
   // The double kernels run the whole solve, the certification included: they are final.
   if (P->Double)
   {
-    P->SolveAs<double>(model, data, options, samples, results, nullptr, chunk, false);
+    P->SolveAs<double>(model, data, options, samples, results, &order, chunk, false);
     return;
   }
   // The float kernels, then their finish in double: every contact polished (polish_result: its
@@ -660,7 +662,7 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   // the native device (the same source).
   const bool onDevice = Finish && FinishesOnDevice();
   std::vector<size_t> hard =
-    P->SolveAs<float>(model, data, options, samples, results, nullptr, chunk, onDevice);
+    P->SolveAs<float>(model, data, options, samples, results, &order, chunk, onDevice);
   if (!Finish)
     return;
   if (onDevice)

@@ -76,10 +76,10 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
   const KernelModel<double>& K = P->K;
-  // Blocks of 32 samples: neighbours in the samples' order (a face's mesh vertices) share the
-  // trees' nodes near them.
+  // Blocks of 32 samples in SpatialOrder: neighbours share the trees' nodes near them.
+  const std::vector<size_t> order = SpatialOrder(samples, which);
   return ParallelForWithProgress(n, threads, 32, [&](size_t j) {
-    const size_t i = which ? (*which)[j] : j;
+    const size_t i = order[j];
     double in[KernelSampleReals], outR[KernelOutReals];
     int outI[KernelOutInts];
     PackSample(P->Data, samples[i], in);

@@ -5,6 +5,8 @@
 #include "TrimClassifier.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -785,6 +787,77 @@ void BuildVertices(const BRepModel& model, SolverData& data)
       data.VertexInfo[id] = record;
     }
   }
+}
+
+namespace
+{
+/// x's low 10 bits spread to every third bit.
+uint32_t SpreadBits(uint32_t x)
+{
+  x &= 0x3ffu;
+  x = (x | (x << 16)) & 0x030000ffu;
+  x = (x | (x << 8)) & 0x0300f00fu;
+  x = (x | (x << 4)) & 0x030c30c3u;
+  x = (x | (x << 2)) & 0x09249249u;
+  return x;
+}
+} // namespace
+
+std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::vector<size_t>* which)
+{
+  const size_t n = which ? which->size() : samples.size();
+  auto index = [&](size_t j) { return which ? (*which)[j] : j; };
+  // Each face's box over its samples (faces as their own index; -1 and others kept apart).
+  int faces = 0;
+  for (size_t j = 0; j < n; ++j)
+    faces = std::max(faces, samples[index(j)].Face + 2);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::array<double, 6>> box(static_cast<size_t>(faces), { inf, inf, inf, -inf, -inf, -inf });
+  for (size_t j = 0; j < n; ++j)
+  {
+    const Sample& s = samples[index(j)];
+    auto& b = box[static_cast<size_t>(std::max(s.Face + 1, 0))];
+    for (int k = 0; k < 3; ++k)
+    {
+      b[k] = std::min(b[k], s.Point[k]);
+      b[3 + k] = std::max(b[3 + k], s.Point[k]);
+    }
+  }
+  // Keys (face << 30 | Morton code), sorted with their positions by a stable radix sort of 13-bit
+  // digits: a comparison sort took 6 ms for 93k samples, a tenth of the gain.
+  std::vector<std::pair<uint64_t, size_t>> keys(n), tmp(n);
+  uint64_t largest = 0;
+  for (size_t j = 0; j < n; ++j)
+  {
+    const Sample& s = samples[index(j)];
+    const size_t f = static_cast<size_t>(std::max(s.Face + 1, 0));
+    const auto& b = box[f];
+    const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
+    uint32_t code = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double x = ext > 0.0 ? (s.Point[k] - b[k]) / ext * 1023.0 : 0.0;
+      code |= SpreadBits(static_cast<uint32_t>(std::min(std::max(x, 0.0), 1023.0))) << k;
+    }
+    keys[j] = { (static_cast<uint64_t>(f) << 30) | code, index(j) };
+    largest = std::max(largest, keys[j].first);
+  }
+  std::vector<uint32_t> count(8193);
+  for (int shift = 0; shift < 64 && (largest >> shift) != 0; shift += 13)
+  {
+    std::fill(count.begin(), count.end(), 0u);
+    for (const auto& k : keys)
+      ++count[((k.first >> shift) & 8191u) + 1];
+    for (int b = 0; b < 8192; ++b)
+      count[b + 1] += count[b];
+    for (const auto& k : keys)
+      tmp[count[(k.first >> shift) & 8191u]++] = k;
+    keys.swap(tmp);
+  }
+  std::vector<size_t> order(n);
+  for (size_t j = 0; j < n; ++j)
+    order[j] = keys[j].second;
+  return order;
 }
 
 std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data)

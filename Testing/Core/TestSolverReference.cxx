@@ -25,6 +25,8 @@
 #include <TColgp_Array2OfPnt.hxx>
 
 #include <algorithm>
+#include <random>
+#include <numeric>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -808,4 +810,83 @@ TEST(Parallel, BlocksEveryIndexOnceAndStops)
   EXPECT_GE(ran.load(), 1000u);
   EXPECT_LT(ran.load(), n);
 }
+/// The solvers' order: a permutation of the samples asked for, each face's together, a line of
+/// points along it whatever order they came in, and points in one cell in their given order.
+TEST(Parallel, SpatialOrderKeepsNeighboursTogether)
+{
+  std::vector<Sample> samples;
+  // Face 3: 500 points on a line along y, given in a shuffled order; face 0: a 20 x 20 grid in
+  // the plane z = 1 given by rows from the top; face 7: two points at one place.
+  std::vector<int> line(500);
+  std::iota(line.begin(), line.end(), 0);
+  std::shuffle(line.begin(), line.end(), std::mt19937(5));
+  for (int i = 0; i < 1000; ++i)
+  {
+    Sample s;
+    if (i % 2 == 0)
+    {
+      s.Face = 3;
+      s.Point = { 2.0, 0.1 * line[i / 2], -4.0 };
+    }
+    else
+    {
+      s.Face = 0;
+      const int k = 399 - (i / 2) % 400;
+      s.Point = { 0.5 * (k % 20), 0.5 * (k / 20), 1.0 };
+    }
+    samples.push_back(s);
+  }
+  for (int i = 0; i < 2; ++i)
+  {
+    Sample s;
+    s.Face = 7;
+    s.Point = { 1.0, 1.0, 1.0 };
+    samples.push_back(s);
+  }
+  std::vector<size_t> which;
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (i % 10 != 9 || samples[i].Face == 3 || samples[i].Face == 7)
+      which.push_back(i);
+  const std::vector<size_t>* lists[] = { nullptr, &which };
+  for (const std::vector<size_t>* w : lists)
+  {
+    const std::vector<size_t> order = SpatialOrder(samples, w);
+    std::vector<size_t> sorted = order, expected = w ? *w : std::vector<size_t>();
+    if (!w)
+      for (size_t i = 0; i < samples.size(); ++i)
+        expected.push_back(i);
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(sorted, expected);
+    // Each face's samples form one run, faces in increasing order.
+    for (size_t j = 1; j < order.size(); ++j)
+      EXPECT_LE(samples[order[j - 1]].Face, samples[order[j]].Face) << j;
+    double lastY = -1.0, gridStep = 0.0;
+    size_t gridCount = 0, sameCell = 0;
+    for (size_t j = 0; j < order.size(); ++j)
+    {
+      const Sample& s = samples[order[j]];
+      if (s.Face == 3)
+      {
+        EXPECT_GT(s.Point[1], lastY) << j;
+        lastY = s.Point[1];
+      }
+      else if (s.Face == 0 && j > 0 && samples[order[j - 1]].Face == 0)
+      {
+        const auto& p = samples[order[j - 1]].Point;
+        gridStep += std::hypot(s.Point[0] - p[0], s.Point[1] - p[1]);
+        ++gridCount;
+      }
+      else if (s.Face == 7)
+      {
+        EXPECT_EQ(order[j], samples.size() - 2 + sameCell);
+        ++sameCell;
+      }
+    }
+    // Along a Morton curve the mean step between grid neighbours stays near the spacing (0.5);
+    // by rows it would be 0.5 plus a row's length every 20 points.
+    EXPECT_LT(gridStep / gridCount, 0.9);
+    EXPECT_EQ(sameCell, 2u);
+  }
+}
+
 } // namespace
