@@ -2244,7 +2244,9 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   }
   if (kind == EXACT_CONE)
   {
-    // The generator rho = R + z tan(angle) in the meridian half-plane; cos and sin in e[10], e[11].
+    // The generator rho = R + z tan(angle) in the meridian half-plane, cos and sin in e[10],
+    // e[11]: the nappe the face lies on (the packing turns the description where the face lies
+    // past the apex, PackModel). The other nappe is exact_bound_distance's.
     *g = *ok ? e[10] * er - e[11] * a : a;
     return (rho - e[9]) * e[10] - z * e[11];
   }
@@ -2254,6 +2256,23 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   *ok = *ok && l > (real)0;
   *g = *ok ? (q * er + z * a) / l : a;
   return l - e[10];
+}
+
+// A lower bound of the distance from X to the whole exact surface: |exact_distance|, and for a
+// cone also to its other nappe, past the apex, which meets the half-plane on the mirrored line
+// rho = -(R + z tan(angle)). A centre past the apex of a flat cone (a countersink) lies near that
+// line and far from the generator's: the generator's distance alone is no bound there.
+inline real exact_bound_distance(int kind, __global const real* e, real3 X)
+{
+  real3 g;
+  int ok;
+  const real f = fabs(exact_distance(kind, e, X, &g, &ok));
+  if (kind != EXACT_CONE)
+    return f;
+  const real3 a = make_real3(e[6], e[7], e[8]);
+  const real z = dot(X, a);
+  const real rho = length(X - z * a);
+  return fmin(f, fabs((rho + e[9]) * e[10] + z * e[11]));
 }
 
 // How far an analytic face's patches may lie from its exact surface, for the bounds below (X: the
@@ -2290,11 +2309,8 @@ inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, 
   if (kind == EXACT_NONE)
     return (real)-1;
   __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
-  real3 g;
-  int ok;
   const real3 X = mr - anchor_minus(e, Ohi, Olo);
-  const real f = exact_distance(kind, e, X, &g, &ok);
-  return fabs(f) - deviation_allowance(m, face, X, t);
+  return exact_bound_distance(kind, e, X) - deviation_allowance(m, face, X, t);
 }
 
 // A lower bound of the distance from M to patch p of a cylindrical face, tighter than exact_gap
@@ -2475,15 +2491,13 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
             if (kind == EXACT_NONE || !(dev >= (real)0))
               continue;
             __global const real* e = m->faceDomain + FACE_REALS * f + FACE_EXACT;
-            real3 g;
-            int ok;
             const real3 X = mr - anchor_minus(e, Ohi, Olo);
 #ifdef BRT_DOUBLE
             const real allow = dev + (real)64 * REAL_EPS * (length(X) + t);
 #else
             const real allow = fmax(dev, (real)0.5 * m->slack);
 #endif
-            edgeGap = fmax(edgeGap, fabs(exact_distance(kind, e, X, &g, &ok)) - allow);
+            edgeGap = fmax(edgeGap, exact_bound_distance(kind, e, X) - allow);
           }
           __global const real* c = m->edgeSeg + 12 * es;
           const real3 a = anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo);

@@ -3,7 +3,18 @@
 #include <vector>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <Geom_ConicalSurface.hxx>
+#include <ShapeFix_Solid.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Ax3.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Pln.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
@@ -56,6 +67,41 @@ TopoDS_Shape ConicalShell(double R1, double R2, double height, double h)
   return BRepAlgoAPI_Cut(BRepPrimAPI_MakeCone(axis, R1, R2, height).Shape(),
     BRepPrimAPI_MakeCone(axis, R1 - inset, R2 - inset, height).Shape())
     .Shape();
+}
+
+TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double bottom)
+{
+  // Cones of radius 0 at their apexes: a point at height z below the apex has v = z / cos(angle)
+  // < 0, radius v sin(angle) < 0, so it lies on the nappe opposite the axis's direction.
+  auto cone = [&](double apex) {
+    return new Geom_ConicalSurface(gp_Ax3(gp_Pnt(0, 0, apex), gp_Dir(0, 0, 1)), angle, 0.0);
+  };
+  auto side = [&](double apex) {
+    return BRepBuilderAPI_MakeFace(cone(apex), 0.0, 2.0 * M_PI, (top - apex) / std::cos(angle),
+      (bottom - apex) / std::cos(angle), 1e-7)
+      .Face();
+  };
+  auto circle = [&](double z, double r) {
+    return BRepBuilderAPI_MakeWire(
+      BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), r)).Edge())
+      .Wire();
+  };
+  auto annulus = [&](double z) {
+    const double outer = -z * std::tan(angle), inner = -(z + drop) * std::tan(angle);
+    BRepBuilderAPI_MakeFace f(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), circle(z, outer));
+    f.Add(TopoDS::Wire(circle(z, inner).Reversed()));
+    return f.Face();
+  };
+  BRepBuilderAPI_Sewing sew(1e-6);
+  sew.Add(side(0.0));
+  sew.Add(side(-drop));
+  sew.Add(annulus(top));
+  sew.Add(annulus(bottom));
+  sew.Perform();
+  BRepBuilderAPI_MakeSolid solid(TopoDS::Shell(sew.SewedShape()));
+  ShapeFix_Solid fix(solid.Solid());
+  fix.Perform();
+  return fix.Solid();
 }
 
 TopoDS_Shape ToroidalShell(double major, double R, double r)

@@ -12,6 +12,11 @@ TopoDS_Shape SphericalShell(double R, double r);                 ///< thickness 
 TopoDS_Shape ToroidalShell(double major, double R, double r);    ///< thickness R - r
 /// Coaxial cones (radius R1 at z = 0 to R2 at z = height), walls h apart normal to them.
 TopoDS_Shape ConicalShell(double R1, double R2, double height, double h);
+/// The same shell as a CAD system may write it: each cone's face past its apex (OpenCASCADE's
+/// radius R + v sin(angle) negative over the face), the cones opening downwards from apexes at
+/// z = 0 and z = -drop on the axis, semi-angle `angle`, between the planes z = top and
+/// z = bottom (both below -drop). Thickness drop sin(angle).
+TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double bottom);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);

@@ -55,6 +55,10 @@ std::vector<ClosedForm> Shapes()
   v.push_back({ "spherical shell R25 r20", analytic::SphericalShell(25, 20), 5.0 });
   v.push_back({ "toroidal shell 40 R10 r6", analytic::ToroidalShell(40, 10, 6), 4.0 });
   v.push_back({ "conical shell R30 R15 H40 h3", analytic::ConicalShell(30, 15, 40, 3), 3.0 });
+  // Its cones written past their apexes (screw.step's countersink): the kernels' distance to
+  // such a cone was the other nappe's, and their exact finish failed on it.
+  v.push_back({ "conical shell past the apex, 30 deg, drop 4",
+    analytic::ConicalShellPastApex(M_PI / 6, 4, -10, -30), 2.0 });
   // The sphere touches the surface it is tangent to, across (the exact finish's closed form).
   v.push_back({ "rod R5 L60", analytic::Rod(5, 60), 10.0 });
   // Its side written as two half cylinders, as many CAD systems write it: a sample on one half
@@ -170,6 +174,9 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     { "toroidal shell 40 R10 r6 as NURBS",
       BRepBuilderAPI_NurbsConvert(analytic::ToroidalShell(40, 10, 6)).Shape(), 4.0 },
     { "ring 30 / 4 as NURBS", BRepBuilderAPI_NurbsConvert(analytic::Ring(30, 4)).Shape(), 8.0 },
+    // Cones past their apexes: the face's bound from the exact surface must be the cone's own
+    // nappe's, not the other's, nor the generator line's through the apex.
+    { "conical shell past the apex", analytic::ConicalShellPastApex(M_PI / 6, 4, -10, -30), 2.0 },
   };
   for (const ClosedForm& c : shapes)
   {
@@ -196,8 +203,10 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
           double faceBound, patchBound;
           solver.PatchBounds(smp, t, static_cast<int>(p), faceBound, patchBound);
           const double bound = std::max(faceBound, patchBound);
-          // No claim, or one far beyond the sphere (the certification decides at about t).
-          if (!(bound > 0.0) || bound > 2.0 * t)
+          // No claim, or one far beyond the sphere (the certification decides at about t): of
+          // those, one in 32 is checked too (a bound far too large skips a patch the sphere
+          // holds, as the generator's distance did on cones past their apexes).
+          if (!(bound > 0.0) || (bound > 2.0 * t && (p + i) % 32 != 0))
             continue;
           const double truth = DistanceToPatch(s.Model.Patches[p], M);
           ++checked;
@@ -213,7 +222,8 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
                 "%zu, max bound - distance %.3g\n",
       c.Name.c_str(), checked, patchTighter, worst);
     EXPECT_GT(checked, 100u);
-    EXPECT_GT(patchTighter, 0u);
+    if (c.Name.find("conical") == std::string::npos) // cones have no bound of their own patches
+      EXPECT_GT(patchTighter, 0u);
   }
 }
 
