@@ -74,8 +74,9 @@ public:
   };
 
   ///@{
-  /// Spacing of the coarse sample set s1 on the patches, in model units; 0 (default) picks 1/300
-  /// of the bounding-box diagonal. Smaller is slower and finds thin features more surely.
+  /// Spacing of the coarse sample set s1 on the patches, in model units (a third of it along the
+  /// edges); 0 (default) picks 1/150 of the bounding-box diagonal on the patches and a third of
+  /// 1/300 along the edges. Smaller is slower and starts each sphere nearer its answer.
   vtkSetClampMacro(S1Spacing, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(S1Spacing, double);
   ///@}

@@ -56,7 +56,7 @@ def parse_args(argv=None):
                     help="corners of at least this material angle (degrees) make edge zones")
     ap.add_argument("--count-edge-zones", action="store_true",
                     help="edge zones count against --min-thickness/--max-thickness (default: not)")
-    ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing (mm; 0: diagonal/300)")
+    ap.add_argument("--s1-spacing", type=float, default=0.0, help="coarse sample spacing on the faces (mm; a third of it along the edges; 0: diagonal/150, edges diagonal/900)")
     ap.add_argument("--clearance", type=float, default=-1.0,
                     help="boundary points less deep than this in a sphere do not limit it "
                          "(mm; negative: twice --tolerance; 0: the paper's eq. 1)")

@@ -272,7 +272,13 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   data.Scale = model.Patches.empty() ? 1.0 : std::sqrt(Dot(Sub(hi, lo), Sub(hi, lo)));
   for (int k = 0; k < 3; ++k)
     data.Centre[k] = 0.5 * (lo[k] + hi[k]);
-  const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 300.0;
+  // The faces' points only start the solve (the certification checks each sphere against the
+  // patches themselves): by default 1/150 of the diagonal. The edges' points also verify, next
+  // to O, where the certification counts nothing: by default a third of 1/300 of it, as before
+  // the faces' went coarser (docs/Solver.md, "s1's spacing").
+  const double spacing = options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 150.0;
+  const double edgeSpacing =
+    (options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 300.0) / 3.0;
   data.S1Spacing = spacing;
 
   // Patch grid breakpoints per face.
@@ -370,7 +376,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   data.S1.reserve(total);
   for (const auto& v : perPatch)
     data.S1.insert(data.S1.end(), v.begin(), v.end());
-  AddEdgePoints(model, spacing / 3.0, data.S1);
+  AddEdgePoints(model, edgeSpacing, data.S1);
   BuildS1Tree(model, data);
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);

@@ -81,8 +81,9 @@ struct SampleResult
 
 struct SolverOptions
 {
-  /// Spacing of the coarse sample set s1 on every patch (model units); <= 0 picks 1/300 of the
-  /// bounding-box diagonal. Each patch gets between 2x2 and S1MaxPerPatch^2 candidates.
+  /// Spacing of the coarse sample set s1 on every patch (model units), and a third of it along
+  /// the edges; <= 0 picks 1/150 of the bounding-box diagonal on the patches and a third of 1/300
+  /// of it along the edges. Each patch gets between 2x2 and S1MaxPerPatch^2 candidates.
   double S1Spacing = 0.0;
   int S1MaxPerPatch = 64;
   /// A Newton result is accepted when |R| (SampleResult::Residual) is at most this (model units).
@@ -143,7 +144,7 @@ struct SolverData
   std::vector<S1Point> S1;
   std::vector<BVHNode> Nodes;
   double Scale = 1.0; ///< bounding-box diagonal of the model
-  double S1Spacing = 0.0; ///< the spacing s1 was sampled at (SolverOptions::S1Spacing or its default)
+  double S1Spacing = 0.0; ///< the spacing s1's face points were sampled at (SolverOptions::S1Spacing or its default)
   std::array<double, 3> Centre{};
   /// Per face: the patch grid breakpoints (NU+1 u values then NV+1 v values), at FaceBreaks[f].
   std::vector<double> Breaks;
