@@ -857,6 +857,9 @@ TEST(Parallel, SpatialOrderKeepsNeighboursTogether)
   for (size_t i = 0; i < samples.size(); ++i)
     if (i % 10 != 9 || samples[i].Face == 3 || samples[i].Face == 7)
       which.push_back(i);
+  // (Up to 256 samples keep their order.)
+  const std::vector<size_t> few = { 7, 3, 5 };
+  EXPECT_EQ(SpatialOrder(samples, &few), few);
   const std::vector<size_t>* lists[] = { nullptr, &which };
   for (const std::vector<size_t>* w : lists)
   {
