@@ -852,7 +852,8 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
     for (int k = 0; k < 3; ++k)
     {
       const double x = ext > 0.0 ? (s.Point[k] - b[k]) / ext * 1023.0 : 0.0;
-      code |= SpreadBits(static_cast<uint32_t>(std::min(std::max(x, 0.0), 1023.0))) << k;
+      // (A point that is not finite goes to the cell at the box's corner.)
+      code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
     }
     keys[j] = { (static_cast<uint64_t>(f) << 30) | code, index(j) };
     largest = std::max(largest, keys[j].first);

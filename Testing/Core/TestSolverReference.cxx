@@ -25,6 +25,7 @@
 #include <TColgp_Array2OfPnt.hxx>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <numeric>
 #include <atomic>
@@ -857,6 +858,16 @@ TEST(Parallel, SpatialOrderKeepsNeighboursTogether)
   for (size_t i = 0; i < samples.size(); ++i)
     if (i % 10 != 9 || samples[i].Face == 3 || samples[i].Face == 7)
       which.push_back(i);
+  // A point that is not finite still gets its place (no cast of a NaN to an integer).
+  {
+    std::vector<Sample> odd = samples;
+    odd[1].Point[2] = std::numeric_limits<double>::quiet_NaN();
+    odd[3].Point[0] = std::numeric_limits<double>::infinity();
+    std::vector<size_t> order = SpatialOrder(odd, nullptr);
+    std::sort(order.begin(), order.end());
+    for (size_t i = 0; i < order.size(); ++i)
+      ASSERT_EQ(order[i], i);
+  }
   // (Up to 256 samples keep their order.)
   const std::vector<size_t> few = { 7, 3, 5 };
   EXPECT_EQ(SpatialOrder(samples, &few), few);
