@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The VTK-free core and its GoogleTest suite under AddressSanitizer + UndefinedBehaviorSanitizer.
+# The VTK-free core and its GoogleTest suite under AddressSanitizer + UndefinedBehaviorSanitizer
+# (with float-cast-overflow, which -fsanitize=undefined leaves out in GCC: a NaN cast to an
+# integer is undefined).
 #   bash Utilities/run-sanitizers.sh
 # (The ParaView plugin is not built in this mode: pvpython would need the ASan runtime
 # preloaded into a non-instrumented interpreter.)
