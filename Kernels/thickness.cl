@@ -2268,7 +2268,7 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   {
     // The generator rho = R + z tan(angle) in the meridian half-plane, cos and sin in e[10],
     // e[11]: the nappe the face lies on (the packing turns the description where the face lies
-    // past the apex, PackModel). The other nappe is exact_bound_distance's.
+    // past the apex, PackExactSurface). The other nappe is exact_bound_distance's.
     *g = *ok ? e[10] * er - e[11] * a : a;
     return (rho - e[9]) * e[10] - z * e[11];
   }

@@ -360,11 +360,11 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
       sizes[0] = e[6];
       break;
     case SurfaceKind::Cone:
+    {
       kind = 3;
       for (int i = 0; i < 3; ++i)
         o[i] += s * a[i];
-    {
-      sizes[0] = e[6] + s * std::tan(e[7]);
+      sizes[0] = e[6] + s * std::tan(e[7]); // the radius at the first control point's height
       sizes[1] = std::cos(e[7]);
       sizes[2] = std::sin(e[7]);
       // OpenCASCADE's cone goes on past its apex (v below -RefRadius / sin(angle)) as the other
@@ -374,12 +374,13 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
       // the same double cone, its generator now the face's), so that the kernels' distance to
       // the generator is the face's own surface (exact_distance).
       double radius = 0.0;
-      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+      const double slope = std::tan(e[7]);
+      for (int pi = F.FirstPatch; pi < F.FirstPatch + F.PatchCount; ++pi)
         for (int i = 0; i < 16; ++i)
         {
-          const double* q = &m.Patches[static_cast<size_t>(p)].ControlPoints[3 * i];
+          const double* q = &m.Patches[static_cast<size_t>(pi)].ControlPoints[3 * i];
           const double z = (q[0] - o[0]) * a[0] + (q[1] - o[1]) * a[1] + (q[2] - o[2]) * a[2];
-          const double r = sizes[0] + z * std::tan(e[7]);
+          const double r = sizes[0] + z * slope;
           if (std::fabs(r) > std::fabs(radius))
             radius = r;
         }

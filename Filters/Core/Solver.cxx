@@ -839,7 +839,8 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
     }
   }
   // Keys (face << 30 | Morton code), sorted with their positions by a stable radix sort of 13-bit
-  // digits: a comparison sort took 6 ms for 93k samples, a tenth of the gain.
+  // digits: 2.6 ms for the ExpansionCard's 93k samples, where a comparison sort took 6 ms, more
+  // than half of what the order saves there (10 ms).
   std::vector<std::pair<uint64_t, size_t>> keys(n), tmp(n);
   uint64_t largest = 0;
   for (size_t j = 0; j < n; ++j)

@@ -186,9 +186,10 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
 
 /// The indices of the samples to solve (which, or 0..n-1 where null) in the order the solvers
 /// take them: by face, and within a face along a Morton curve over the face's samples' bounding
-/// box (10 bits per axis), the given order kept within a cell (and for up to 256 samples). Neighbouring samples walk the same
-/// nodes of the trees; in the mesh's order they take 7-13% longer on the native device, shuffled
-/// twice as long (docs/Solver.md, "Sample order").
+/// box (10 bits per axis), the given order kept within a cell (and for up to 256 samples).
+/// Neighbouring samples walk the same nodes of the trees; in the mesh's order they took 6-13%
+/// longer on the native device, shuffled 1.3-1.8 times as long (docs/Solver.md, Host layer,
+/// "Sample order").
 std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::vector<size_t>* which);
 
 /// The solver's reference: steps 3-8 (docs/Solver.md) for every sample, by the native device
