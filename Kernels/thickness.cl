@@ -2272,7 +2272,8 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
     *g = *ok ? e[10] * er - e[11] * a : a;
     return (rho - e[9]) * e[10] - z * e[11];
   }
-  // Torus: the tube circle of radius e[10] around the circle of radius e[9].
+  // Torus: the tube circle of radius e[10] around the circle of radius e[9] (negative: the
+  // lemon of a spindle torus, PackExactSurface).
   const real q = rho - e[9];
   const real l = sqrt(q * q + z * z);
   *ok = *ok && l > (real)0;
@@ -2283,17 +2284,24 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
 // A lower bound of the distance from X to the whole exact surface: |exact_distance|, and for a
 // cone also to its other nappe, past the apex, which meets the half-plane on the mirrored line
 // rho = -(R + z tan(angle)). A centre past the apex of a flat cone (a countersink) lies near that
-// line and far from the generator's: the generator's distance alone is no bound there.
+// line and far from the generator's: the generator's distance alone is no bound there. Likewise
+// a spindle torus (|R| below the tube's radius) meets the half-plane on both tube circles, around
+// rho = R and rho = -R: the apple and the lemon (screw.step's head).
 inline real exact_bound_distance(int kind, __global const real* e, real3 X)
 {
   real3 g;
   int ok;
   const real f = fabs(exact_distance(kind, e, X, &g, &ok));
-  if (kind != EXACT_CONE)
+  if (kind != EXACT_CONE && !(kind == EXACT_TORUS && fabs(e[9]) < e[10]))
     return f;
   const real3 a = make_real3(e[6], e[7], e[8]);
   const real z = dot(X, a);
   const real rho = length(X - z * a);
+  if (kind == EXACT_TORUS)
+  {
+    const real q = rho + e[9];
+    return fmin(f, fabs(sqrt(q * q + z * z) - e[10]));
+  }
   return fmin(f, fabs((rho + e[9]) * e[10] + z * e[11]));
 }
 

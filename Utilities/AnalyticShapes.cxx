@@ -9,6 +9,7 @@
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <Geom_ConicalSurface.hxx>
+#include <Geom_ToroidalSurface.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Wire.hxx>
@@ -97,6 +98,42 @@ TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double 
   sew.Add(side(-drop));
   sew.Add(annulus(top));
   sew.Add(annulus(bottom));
+  sew.Perform();
+  BRepBuilderAPI_MakeSolid solid(TopoDS::Shell(sew.SewedShape()));
+  ShapeFix_Solid fix(solid.Solid());
+  fix.Perform();
+  return fix.Solid();
+}
+
+TopoDS_Shape LemonShell(double major, double inner, double outer, double half)
+{
+  // On a spindle torus (major radius below the minor) the points with major + minor cos(v) < 0
+  // lie across the axis from their angle u: the lemon, around v = pi. Each band spans
+  // |z| = minor |sin(v)| <= half.
+  auto band = [&](double minor) {
+    const double a = std::asin(half / minor);
+    return BRepBuilderAPI_MakeFace(
+      new Geom_ToroidalSurface(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), major, minor), 0.0,
+      2.0 * M_PI, M_PI - a, M_PI + a, 1e-7)
+      .Face();
+  };
+  auto circle = [&](double z, double r) {
+    return BRepBuilderAPI_MakeWire(
+      BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), r)).Edge())
+      .Wire();
+  };
+  auto annulus = [&](double z) {
+    const double ro = std::sqrt(outer * outer - half * half) - major;
+    const double ri = std::sqrt(inner * inner - half * half) - major;
+    BRepBuilderAPI_MakeFace f(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), circle(z, ro));
+    f.Add(TopoDS::Wire(circle(z, ri).Reversed()));
+    return f.Face();
+  };
+  BRepBuilderAPI_Sewing sew(1e-6);
+  sew.Add(band(outer));
+  sew.Add(band(inner));
+  sew.Add(annulus(half));
+  sew.Add(annulus(-half));
   sew.Perform();
   BRepBuilderAPI_MakeSolid solid(TopoDS::Shell(sew.SewedShape()));
   ShapeFix_Solid fix(solid.Solid());

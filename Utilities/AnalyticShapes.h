@@ -17,6 +17,10 @@ TopoDS_Shape ConicalShell(double R1, double R2, double height, double h);
 /// z = 0 and z = -drop on the axis, semi-angle `angle`, between the planes z = top and
 /// z = bottom (both below -drop). Thickness drop sin(angle).
 TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double bottom);
+/// A shell between the lemons of two spindle tori (major radius `major` below both minor radii
+/// `inner` < `outer`: the part of each torus across the axis from its angle, OpenCASCADE's
+/// major + minor cos(v) < 0), between the planes z = -half and z = half. Thickness outer - inner.
+TopoDS_Shape LemonShell(double major, double inner, double outer, double half);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);

@@ -396,10 +396,37 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
       sizes[0] = e[6];
       break;
     case SurfaceKind::Torus:
+    {
       kind = 5;
       sizes[0] = e[6];
       sizes[1] = e[7];
+      // A spindle torus (major radius below the minor: a lemon-shaped dome, screw.step's head)
+      // passes through its axis: in a meridian half-plane its points with R + r cos(v) < 0 lie
+      // on the tube circle mirrored across the axis, around rho = -R. A face there (the lemon)
+      // gets the description turned (R negated: the same surface), so that the kernels' distance
+      // to the tube circle is to the face's own (exact_distance); its patches' corners, which
+      // lie on the surface, tell the circle.
+      if (e[6] < e[7])
+      {
+        int mirrored = 0, corners = 0;
+        for (int pi = F.FirstPatch; pi < F.FirstPatch + F.PatchCount; ++pi)
+          for (int i : { 0, 3, 12, 15 })
+          {
+            const double* q = &m.Patches[static_cast<size_t>(pi)].ControlPoints[3 * i];
+            const double w[3] = { q[0] - o[0], q[1] - o[1], q[2] - o[2] };
+            const double z = w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+            const double rho = std::sqrt(std::max(0.0,
+              w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - z * z));
+            const double own = std::fabs(std::hypot(rho - e[6], z) - e[7]);
+            const double other = std::fabs(std::hypot(rho + e[6], z) - e[7]);
+            mirrored += other < own ? 1 : 0;
+            ++corners;
+          }
+        if (2 * mirrored > corners)
+          sizes[0] = -e[6];
+      }
       break;
+    }
     default:
       return 0;
   }

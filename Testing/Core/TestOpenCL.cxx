@@ -470,6 +470,9 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
     { "spherical shell", analytic::SphericalShell(25, 20), 5 },
     { "toroidal shell", analytic::ToroidalShell(40, 10, 6), 4 },
     { "conical shell", analytic::ConicalShell(30, 15, 40, 3), 3 },
+    // Faces past a cone's apex and on a spindle torus's lemon (PackExactSurface turns them).
+    { "conical shell past the apex", analytic::ConicalShellPastApex(M_PI / 6, 4, -10, -30), 2 },
+    { "lemon shell", analytic::LemonShell(5, 20, 22, 8), 2 },
     { "rod", analytic::Rod(5, 60), 10 }, { "ball", analytic::Ball(10), 20 },
     { "ring", analytic::Ring(30, 4), 8 },
     // Written as rational B-splines: the reader finds the analytic surfaces in them.
