@@ -70,39 +70,49 @@ TopoDS_Shape ConicalShell(double R1, double R2, double height, double h)
     .Shape();
 }
 
-TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double bottom)
+namespace
 {
-  // Cones of radius 0 at their apexes: a point at height z below the apex has v = z / cos(angle)
-  // < 0, radius v sin(angle) < 0, so it lies on the nappe opposite the axis's direction.
-  auto cone = [&](double apex) {
-    return new Geom_ConicalSurface(gp_Ax3(gp_Pnt(0, 0, apex), gp_Dir(0, 0, 1)), angle, 0.0);
-  };
-  auto side = [&](double apex) {
-    return BRepBuilderAPI_MakeFace(cone(apex), 0.0, 2.0 * M_PI, (top - apex) / std::cos(angle),
-      (bottom - apex) / std::cos(angle), 1e-7)
-      .Face();
-  };
-  auto circle = [&](double z, double r) {
+/// The planar annulus at height z between radii `outer` and `inner` around the z axis.
+TopoDS_Face Annulus(double z, double outer, double inner)
+{
+  auto circle = [&](double r) {
     return BRepBuilderAPI_MakeWire(
       BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), r)).Edge())
       .Wire();
   };
-  auto annulus = [&](double z) {
-    const double outer = -z * std::tan(angle), inner = -(z + drop) * std::tan(angle);
-    BRepBuilderAPI_MakeFace f(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), circle(z, outer));
-    f.Add(TopoDS::Wire(circle(z, inner).Reversed()));
-    return f.Face();
-  };
+  BRepBuilderAPI_MakeFace f(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), circle(outer));
+  f.Add(TopoDS::Wire(circle(inner).Reversed()));
+  return f.Face();
+}
+
+/// The solid bounded by `faces`, sewn into one shell.
+TopoDS_Shape SewnSolid(const std::vector<TopoDS_Face>& faces)
+{
   BRepBuilderAPI_Sewing sew(1e-6);
-  sew.Add(side(0.0));
-  sew.Add(side(-drop));
-  sew.Add(annulus(top));
-  sew.Add(annulus(bottom));
+  for (const TopoDS_Face& f : faces)
+    sew.Add(f);
   sew.Perform();
   BRepBuilderAPI_MakeSolid solid(TopoDS::Shell(sew.SewedShape()));
   ShapeFix_Solid fix(solid.Solid());
   fix.Perform();
   return fix.Solid();
+}
+} // namespace
+
+TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double bottom)
+{
+  // Cones of radius 0 at their apexes: a point at height z below the apex has v = z / cos(angle)
+  // < 0, radius v sin(angle) < 0, so it lies on the nappe opposite the axis's direction.
+  auto side = [&](double apex) {
+    return BRepBuilderAPI_MakeFace(
+      new Geom_ConicalSurface(gp_Ax3(gp_Pnt(0, 0, apex), gp_Dir(0, 0, 1)), angle, 0.0), 0.0,
+      2.0 * M_PI, (top - apex) / std::cos(angle), (bottom - apex) / std::cos(angle), 1e-7)
+      .Face();
+  };
+  auto annulus = [&](double z) {
+    return Annulus(z, -z * std::tan(angle), -(z + drop) * std::tan(angle));
+  };
+  return SewnSolid({ side(0.0), side(-drop), annulus(top), annulus(bottom) });
 }
 
 TopoDS_Shape LemonShell(double major, double inner, double outer, double half)
@@ -117,28 +127,11 @@ TopoDS_Shape LemonShell(double major, double inner, double outer, double half)
       2.0 * M_PI, M_PI - a, M_PI + a, 1e-7)
       .Face();
   };
-  auto circle = [&](double z, double r) {
-    return BRepBuilderAPI_MakeWire(
-      BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), r)).Edge())
-      .Wire();
-  };
   auto annulus = [&](double z) {
-    const double ro = std::sqrt(outer * outer - half * half) - major;
-    const double ri = std::sqrt(inner * inner - half * half) - major;
-    BRepBuilderAPI_MakeFace f(gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), circle(z, ro));
-    f.Add(TopoDS::Wire(circle(z, ri).Reversed()));
-    return f.Face();
+    return Annulus(z, std::sqrt(outer * outer - half * half) - major,
+      std::sqrt(inner * inner - half * half) - major);
   };
-  BRepBuilderAPI_Sewing sew(1e-6);
-  sew.Add(band(outer));
-  sew.Add(band(inner));
-  sew.Add(annulus(half));
-  sew.Add(annulus(-half));
-  sew.Perform();
-  BRepBuilderAPI_MakeSolid solid(TopoDS::Shell(sew.SewedShape()));
-  ShapeFix_Solid fix(solid.Solid());
-  fix.Perform();
-  return fix.Solid();
+  return SewnSolid({ band(outer), band(inner), annulus(half), annulus(-half) });
 }
 
 TopoDS_Shape ToroidalShell(double major, double R, double r)
