@@ -1,5 +1,7 @@
 #include "KernelData.h"
 
+#include "NativeSolver.h"
+
 #include <algorithm>
 #include <array>
 #include <cfloat>
@@ -480,7 +482,13 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   {
     const Face& F = m.Faces[f];
     std::array<double, 12> exact{};
-    const int kind = PackExactSurface(m, static_cast<int>(f), c, exact);
+    int kind = PackExactSurface(m, static_cast<int>(f), c, exact);
+    if (kind != 0 && !ExactSurfaceFitsPatches(m, static_cast<int>(f)))
+    {
+      // A description the kernels would misread: the patches alone (ExactSurfaceFitsPatches).
+      kind = 0;
+      exact = {};
+    }
     k.FaceInfo.insert(k.FaceInfo.end(),
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
         F.Reversed ? 1 : 0, F.Solid, kind, -1 });

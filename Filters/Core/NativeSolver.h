@@ -88,4 +88,12 @@ bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 
 double FarthestFromExactSurface(const BRepModel& model, int face, const double* points,
   size_t count);
 
+/// Whether face f's exact surface, as the kernels read it (PackExactSurface, exact_distance),
+/// passes through its patches: every patch corner (on the face's surface within the conversion's
+/// deviation) within max(10 x the face's measured deviation, the model's tolerance) of it. A
+/// description the kernels misread (a cone's other nappe, a spindle torus's lemon, before either
+/// was known) fails by millimetres; the packing then gives the face no exact surface, so that the
+/// certification bounds it by its patches alone and the exact finish leaves it.
+bool ExactSurfaceFitsPatches(const BRepModel& model, int face);
+
 } // namespace brt
