@@ -483,7 +483,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     const Face& F = m.Faces[f];
     std::array<double, 12> exact{};
     int kind = PackExactSurface(m, static_cast<int>(f), c, exact);
-    if (kind != 0 && !ExactSurfaceFitsPatches(m, static_cast<int>(f)))
+    if (kind != 0 && !ExactSurfaceFitsPatches(m, static_cast<int>(f), kind, exact, c))
     {
       // A description the kernels would misread: the patches alone (ExactSurfaceFitsPatches).
       kind = 0;

@@ -229,15 +229,22 @@ bool ExactSurfaceFitsPatches(const BRepModel& model, int face)
 {
   std::array<double, 12> e{};
   const int kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, e);
+  return ExactSurfaceFitsPatches(model, face, kind, e, { 0.0, 0.0, 0.0 });
+}
+
+bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,
+  const std::array<double, 12>& e, const std::array<double, 3>& c)
+{
   if (kind == 0)
     return false;
   const Face& F = model.Faces[static_cast<size_t>(face)];
   const double allowed = std::max(10.0 * F.MaxDeviation, model.Tolerance);
+  const double o[3] = { c[0] + e[0], c[1] + e[1], c[2] + e[2] };
   for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
     for (const int i : { 0, 3, 12, 15 })
     {
       const double* q = &model.Patches[static_cast<size_t>(p)].ControlPoints[3 * i];
-      const kernel::real3 X{ q[0] - e[0], q[1] - e[1], q[2] - e[2] };
+      const kernel::real3 X{ q[0] - o[0], q[1] - o[1], q[2] - o[2] };
       kernel::real3 g{ 0.0, 0.0, 0.0 };
       int ok = 0; // (no gradient on an axis; the distance still holds there)
       if (!(std::fabs(kernel::exact_distance(kind, e.data(), X, &g, &ok)) <= allowed))

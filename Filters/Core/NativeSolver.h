@@ -95,5 +95,9 @@ double FarthestFromExactSurface(const BRepModel& model, int face, const double* 
 /// was known) fails by millimetres; the packing then gives the face no exact surface, so that the
 /// certification bounds it by its patches alone and the exact finish leaves it.
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face);
+/// The same for a description already packed by PackExactSurface(model, face, c, e) (kind its
+/// result), as the packing has it.
+bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,
+  const std::array<double, 12>& e, const std::array<double, 3>& c);
 
 } // namespace brt
