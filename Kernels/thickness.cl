@@ -2796,10 +2796,13 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   }
   const real3 moved = foot - r->foot;
   // The patches lie within the tolerance (slack / 2) of the surface: a sphere that grows by more
-  // is not the same contact. A foot on a face moves by about the patches' error; one found on a
-  // seam may slide along the smooth surface (t is flat that way), staying on the same surface.
-  const real reach =
-    r->type == CONTACT_SURFACE_EDGE ? fmax((real)2 * m->slack, (real)0.05 * t) : (real)2 * m->slack;
+  // is not the same contact. The foot may slide further: along the surface the distance from the
+  // centre is flat to second order (t + s^2 / 2t on a plane or a cone's generator), so the
+  // patches' error e moves the foot by up to about sqrt(4 e t), far more than e on a small
+  // sphere; and one found on a seam slides along the smooth surface. Up to 5% of t (or twice the
+  // slack) it is the same contact: the new foot must still lie strictly inside the face's trim
+  // (below), and a sphere that shrinks lies inside the one certified.
+  const real reach = fmax((real)2 * m->slack, (real)0.05 * t);
   if (!(length(moved) <= reach) || !(t <= sphere_radius(d, r->foot, (real)0) + (real)0.5 * m->slack))
     return;
   // The new foot's (u, v): projected onto the face's patches from the old foot's (Gauss-Newton on

@@ -149,6 +149,19 @@ TopoDS_Shape HolePlate(double side, double h, double holeRadius)
   return BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(side, side, h).Shape(), hole).Shape();
 }
 
+TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double sink)
+{
+  const gp_Ax2 axis(gp_Pnt(side / 2, side / 2, -1), gp_Dir(0, 0, 1));
+  const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(axis, holeRadius, h + 2).Shape();
+  // The cone continues 1 above the top (radius grows 1 per 1 in z) so that it cuts cleanly.
+  const gp_Ax2 coneAxis(gp_Pnt(side / 2, side / 2, h - sink), gp_Dir(0, 0, 1));
+  const TopoDS_Shape cone =
+    BRepPrimAPI_MakeCone(coneAxis, holeRadius, holeRadius + sink + 1, sink + 1).Shape();
+  const TopoDS_Shape drilled =
+    BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(side, side, h).Shape(), hole).Shape();
+  return BRepAlgoAPI_Cut(drilled, cone).Shape();
+}
+
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)
 {
   BRepBuilderAPI_MakePolygon poly;

@@ -22,6 +22,11 @@ TopoDS_Shape ConicalShellPastApex(double angle, double drop, double top, double 
 /// major + minor cos(v) < 0), between the planes z = -half and z = half. Thickness outer - inner.
 TopoDS_Shape LemonShell(double major, double inner, double outer, double half);
 TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness h
+/// A side x side x h block with a through hole of radius holeRadius along z at its middle,
+/// countersunk at the top: a 45 degree cone from the hole's radius at z = h - sink to
+/// holeRadius + sink at z = h. A sphere tangent to the hole s below the cone's edge touches the
+/// cone: 2t = 2 s (1 + sqrt 2) while its foot (s / sqrt 2 above the edge) lies on the cone.
+TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double sink);
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
 /// Solids whose medial axis is a curve or a point: a rod (cylinder of radius R and length L
