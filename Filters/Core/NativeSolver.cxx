@@ -253,17 +253,25 @@ bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,
   return true;
 }
 
-bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
+CheckedExactSurface CheckExactSurface(const BRepModel& model, int face)
+{
+  CheckedExactSurface s;
+  s.Kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, s.E);
+  if (s.Kind != 0 && !ExactSurfaceFitsPatches(model, face, s.Kind, s.E, { 0.0, 0.0, 0.0 }))
+    s = CheckedExactSurface();
+  return s;
+}
+
+bool ProjectOnExactSurface(const CheckedExactSurface& s, std::array<double, 3>& point,
   std::array<double, 3>& normal, double maxMove)
 {
-  std::array<double, 12> e{};
-  const int kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, e);
-  if (kind == 0)
+  if (s.Kind == 0)
     return false;
+  const std::array<double, 12>& e = s.E;
   const kernel::real3 X{ point[0] - e[0], point[1] - e[1], point[2] - e[2] };
   kernel::real3 g{ 0.0, 0.0, 0.0 };
   int ok = 0;
-  const double f = kernel::exact_distance(kind, e.data(), X, &g, &ok);
+  const double f = kernel::exact_distance(s.Kind, e.data(), X, &g, &ok);
   if (!ok || !(std::fabs(f) <= maxMove))
     return false;
   const double side = g.x * normal[0] + g.y * normal[1] + g.z * normal[2] < 0.0 ? -1.0 : 1.0;

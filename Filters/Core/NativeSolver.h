@@ -76,11 +76,21 @@ private:
   std::unique_ptr<Impl> P;
 };
 
-/// Moves `point`, near face f, onto the face's exact analytic surface along that surface's normal
-/// (the kernel's exact_distance), and sets `normal` to the exact unit normal on the side of the
-/// given one. False, and both unchanged, where the face has no exact surface or the move would
-/// exceed maxMove.
-bool ProjectOnExactSurface(const BRepModel& model, int face, std::array<double, 3>& point,
+/// A face's exact surface as the kernels read it (PackExactSurface about the origin). Kind 0
+/// where the face has none, or where the description misses the face's own patches
+/// (ExactSurfaceFitsPatches), as the packing decides.
+struct CheckedExactSurface
+{
+  int Kind = 0;
+  std::array<double, 12> E{};
+};
+CheckedExactSurface CheckExactSurface(const BRepModel& model, int face);
+
+/// Moves `point`, near a face, onto the face's exact surface `s` along that surface's normal (the
+/// kernel's exact_distance), and sets `normal` to the exact unit normal on the side of the given
+/// one. False, and both unchanged, where s has no surface (Kind 0) or the move would exceed
+/// maxMove.
+bool ProjectOnExactSurface(const CheckedExactSurface& s, std::array<double, 3>& point,
   std::array<double, 3>& normal, double maxMove);
 
 /// The largest distance of `count` points (x, y, z each) from `face`'s exact surface (the

@@ -929,6 +929,11 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
         adjacent[static_cast<size_t>(e.first)] = adjacent[static_cast<size_t>(e.second)] =
           static_cast<int>(t);
     }
+  // Each face's exact surface as the packing gives it to the kernels (none where its description
+  // misses the face's own patches), for the projection below.
+  std::vector<CheckedExactSurface> exact(model.Faces.size());
+  ParallelFor(model.Faces.size(), 0,
+    [&](size_t f) { exact[f] = CheckExactSurface(model, static_cast<int>(f)); });
   // Every core: each sample on its own.
   ParallelFor(nv, 0, [&](size_t i) {
     const int t = adjacent[i];
@@ -955,7 +960,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     s.Point = e.P;
     s.Direction = { sign * n[0] / len, sign * n[1] / len, sign * n[2] / len };
     // On an analytic face, back onto the exact surface (the patches lie up to the tolerance off).
-    ProjectOnExactSurface(model, s.Face, s.Point, s.Direction, 2.0 * model.Tolerance);
+    ProjectOnExactSurface(exact[static_cast<size_t>(s.Face)], s.Point, s.Direction,
+      2.0 * model.Tolerance);
   });
   return out;
 }

@@ -510,6 +510,48 @@ TEST(KernelData, MisreadExactSurfacesAreLeftOut)
   EXPECT_EQ(failed, 0u);
 }
 
+/// The samples ask the same guard: SamplesFromMesh moves a vertex on a face's boundary onto the
+/// patches and from there onto the exact surface (at most two tolerances), which a description
+/// off by more than the guard allows but less than that would have moved it to. The tube's outer
+/// cylinder given a radius half-way between the guard's allowance and two tolerances larger:
+/// its boundary samples stay on the patches.
+TEST(KernelData, SamplesStayOffMisreadExactSurfaces)
+{
+  BRepModel model = ConvertShape(analytic::Tube(20, 15, 80), ConversionOptions());
+  int outer = -1;
+  for (size_t f = 0; f < model.Faces.size(); ++f)
+    if (model.Faces[f].Kind == SurfaceKind::Cylinder && std::fabs(model.FaceExact[f][6] - 20.0) < 1e-9)
+      outer = static_cast<int>(f);
+  ASSERT_GE(outer, 0);
+  const double allowed =
+    std::max(10.0 * model.Faces[static_cast<size_t>(outer)].MaxDeviation, model.Tolerance);
+  ASSERT_LT(allowed, 2.0 * model.Tolerance);
+  const double off = 0.5 * (allowed + 2.0 * model.Tolerance);
+  model.FaceExact[static_cast<size_t>(outer)][6] = 20.0 + off;
+  EXPECT_FALSE(ExactSurfaceFitsPatches(model, outer));
+  const SolverData data = PrepareSolver(model, SolverOptions());
+  const std::vector<Sample> samples = SamplesFromMesh(model, data);
+  // The cylinder's axis: z through the origin (analytic::Tube).
+  size_t moved = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    const Sample& q = samples[i];
+    if (q.Face != outer)
+      continue;
+    const bool boundary = q.U != model.Mesh.UV[2 * i] || q.V != model.Mesh.UV[2 * i + 1];
+    if (!boundary)
+      continue;
+    ++moved;
+    worst = std::max(worst, std::fabs(std::hypot(q.Point[0], q.Point[1]) - 20.0));
+  }
+  std::printf("[misread surface] tube's outer cylinder given radius 20 + %.2e: %zu boundary "
+              "samples, farthest %.2e from radius 20\n",
+    off, moved, worst);
+  EXPECT_GT(moved, 10u);
+  EXPECT_LT(worst, 0.5 * off);
+}
+
 TEST(KernelData, TorusArcsHoldTheirPatches)
 {
   BRep_Builder b;
