@@ -2,6 +2,7 @@
 
 #include <APIHeaderSection_MakeHeader.hxx>
 #include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Check.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -148,6 +149,28 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
         if (!model->IsErrorEntity(i) && !model->IsUnknownEntity(i))
         {
           continue;
+        }
+        // An entity of a known type whose only faults are text parameters that are not quoted
+        // strings (a name or description left unset, $): OpenCASCADE builds it without that text,
+        // and the geometry does not read it (AnalysisSitus's flipping joystick assembly writes
+        // its transformations' names so).
+        if (!model->IsUnknownEntity(i))
+        {
+          bool onlyText = true;
+          int fails = 0;
+          for (const bool syntactic : { true, false })
+          {
+            const Handle(Interface_Check) check = model->Check(i, syntactic);
+            for (int k = 1; !check.IsNull() && k <= check->NbFails(); ++k)
+            {
+              ++fails;
+              onlyText = onlyText && std::strstr(check->CFail(k), "not a quoted String") != nullptr;
+            }
+          }
+          if (fails > 0 && onlyText)
+          {
+            continue;
+          }
         }
         const long id = model->IdentLabel(model->Value(i));
         const auto target = result.Scan.GeometryTargets.find(id);

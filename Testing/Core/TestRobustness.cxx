@@ -17,12 +17,15 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
 #include <gp_Pnt.hxx>
+#include <gp_Trsf.hxx>
+#include <TopLoc_Location.hxx>
 
 #include <chrono>
 #include <cmath>
@@ -435,6 +438,47 @@ TEST(Robustness, ProductStructureLeadingNowhereReadsTheSolids)
   const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
   EXPECT_EQ(m.Stats.Solids, 1);
   EXPECT_EQ(m.Stats.Faces, 4);
+}
+
+/// Names left unset ($ where the schema asks for a string) on entities the geometry refers to:
+/// OpenCASCADE flags each as an error entity ("not a quoted String") and still reads it; the
+/// reader refused such files as damaged (AnalysisSitus's flipping joystick assembly writes its
+/// transformations' names so). An edge's name, and an assembly's placements, unset: the same
+/// model as the file with its names.
+TEST(Robustness, UnsetNamesRead)
+{
+  const std::string edge = Mutated("plate.step", "unset-edge-name.step",
+    R"(#21 = EDGE_CURVE\('',)", "#21 = EDGE_CURVE($,");
+  const BRepModel plate = ConvertStepFileIsolated(test::DataFile("plate.step"), ConversionOptions());
+  const BRepModel unset = ConvertStepFileIsolated(edge, ConversionOptions());
+  EXPECT_EQ(unset.Stats.Faces, plate.Stats.Faces);
+  EXPECT_EQ(unset.Patches.size(), plate.Patches.size());
+  EXPECT_EQ(unset.Mesh.Points, plate.Mesh.Points);
+
+  // Two boxes written as an assembly of two placed instances.
+  Interface_Static::SetIVal("write.step.assembly", 1);
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 10, 2).Shape();
+  gp_Trsf up;
+  up.SetTranslation(gp_Vec(0, 0, 5));
+  TopoDS_Compound two;
+  BRep_Builder b;
+  b.MakeCompound(two);
+  b.Add(two, box);
+  b.Add(two, box.Moved(TopLoc_Location(up)));
+  const std::string named = WriteShape(two, "assembly.step");
+  Interface_Static::SetIVal("write.step.assembly", 0);
+  std::string text = ReadAll(named);
+  const std::string before = text;
+  text = std::regex_replace(text, std::regex(R"(ITEM_DEFINED_TRANSFORMATION\('','',)"),
+    "ITEM_DEFINED_TRANSFORMATION($,$,");
+  ASSERT_NE(text, before);
+  const std::string unsetAsm = (TempDir() / "unset-transformation-names.step").string();
+  std::ofstream(unsetAsm, std::ios::binary) << text;
+  const BRepModel a = ConvertStepFileIsolated(named, ConversionOptions());
+  const BRepModel u = ConvertStepFileIsolated(unsetAsm, ConversionOptions());
+  EXPECT_EQ(a.Stats.Solids, 2);
+  EXPECT_EQ(u.Stats.Solids, 2);
+  EXPECT_EQ(u.Mesh.Points, a.Mesh.Points);
 }
 
 TEST(Robustness, SolidWithACavity)
