@@ -1656,6 +1656,16 @@ void CheckConvertedModel(const std::string& path, BRepModel& model)
       << diagonal / 1e4 << " or less)";
     fail(w.str());
   }
+  // Edges where bodies of a solid touch, one per pair of faces (their wedges from the faces'
+  // orientation, which the volume's sign tells before OrientSolids turns it).
+  std::vector<int> faceCounts;
+  for (const Edge& e : model.Edges)
+    faceCounts.push_back(e.FaceCount);
+  for (const int e : SplitNonManifoldEdges(model, CheckSolids(model)))
+    model.Stats.Warnings.push_back("edge " + std::to_string(e) + " bounds " +
+      std::to_string(faceCounts[static_cast<size_t>(e)]) +
+      " faces where bodies of its solid touch along it: split into one edge per pair of faces "
+      "(the thickness goes to 0 along it)");
   const std::vector<SolidCheck> checks = CheckSolids(model);
   int closed = 0;
   std::string firstBad;

@@ -1,6 +1,7 @@
 #include "ModelIO.h"
 
 #include "BinaryIO.h"
+#include "Bezier.h"
 
 #include <algorithm>
 #include <cmath>
@@ -283,6 +284,155 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m)
                                                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
   }
   return checks;
+}
+
+std::vector<int> SplitNonManifoldEdges(BRepModel& m, const std::vector<SolidCheck>& checks)
+{
+  using V3 = std::array<double, 3>;
+  auto sub = [](const V3& a, const V3& b) { return V3{ a[0] - b[0], a[1] - b[1], a[2] - b[2] }; };
+  auto dot = [](const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  auto cross = [](const V3& a, const V3& b) {
+    return V3{ a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+  };
+  auto scaled = [](const V3& a, double k) { return V3{ k * a[0], k * a[1], k * a[2] }; };
+  std::vector<int> split;
+  // Each edge's trimming segments.
+  std::vector<std::vector<int>> onEdge(m.Edges.size());
+  for (size_t s = 0; s < m.TrimSegments.size(); ++s)
+  {
+    const int e = m.TrimSegments[s].Edge;
+    if (e >= 0 && static_cast<size_t>(e) < m.Edges.size())
+      onEdge[static_cast<size_t>(e)].push_back(static_cast<int>(s));
+  }
+  const size_t edges = m.Edges.size();
+  for (size_t e = 0; e < edges; ++e)
+  {
+    const Edge E = m.Edges[e];
+    if (E.FaceCount < 4 || E.FaceCount % 2 != 0 || E.Seam || E.SegmentCount == 0)
+      continue;
+    // The edge's middle, its point and tangent.
+    const double Tm = 0.5 * (E.T0 + E.T1);
+    int at = -1;
+    for (int k = E.FirstSegment; k < E.FirstSegment + E.SegmentCount; ++k)
+      if (m.EdgeSegments[static_cast<size_t>(k)].T0 <= Tm && Tm <= m.EdgeSegments[static_cast<size_t>(k)].T1)
+        at = k;
+    if (at < 0)
+      continue;
+    const EdgeSegment& es = m.EdgeSegments[static_cast<size_t>(at)];
+    const CurveEval<3> c =
+      EvaluateCubic<3>(es.ControlPoints.data(), (Tm - es.T0) / (es.T1 - es.T0));
+    const double lt = std::sqrt(dot(c.D1, c.D1));
+    if (!(lt > 0.0))
+      continue;
+    const V3 T = scaled(c.D1, 1.0 / lt);
+    // A basis of the plane across the edge.
+    V3 b1 = std::fabs(T[0]) < 0.9 ? cross(T, V3{ 1, 0, 0 }) : cross(T, V3{ 0, 1, 0 });
+    b1 = scaled(b1, 1.0 / std::sqrt(dot(b1, b1)));
+    const V3 b2 = cross(T, b1);
+    // Per face: the angle of its direction into itself across the edge, and on which side of
+    // that direction (turning about T) its material lies.
+    struct Around
+    {
+      int Face, Side;
+      double Angle;
+    };
+    std::vector<Around> around;
+    bool ok = true;
+    for (const int s : onEdge[e])
+    {
+      const TrimSegment& ts = m.TrimSegments[static_cast<size_t>(s)];
+      const double lo = std::min(ts.T0, ts.T1), hi = std::max(ts.T0, ts.T1);
+      if (!(lo <= Tm && Tm <= hi) || !(hi > lo))
+        continue;
+      bool seen = false;
+      for (const Around& a : around)
+        seen = seen || a.Face == ts.Face;
+      if (seen)
+      {
+        ok = false; // the edge twice on one face
+        break;
+      }
+      const CurveEval<2> uv = EvaluateCubic<2>(ts.ControlPoints.data(), (Tm - ts.T0) / (ts.T1 - ts.T0));
+      const Face& F = m.Faces[static_cast<size_t>(ts.Face)];
+      const PatchEval pe = EvaluatePatch(
+        m.Patches[static_cast<size_t>(FindPatch(m, ts.Face, uv.P[0], uv.P[1]))], uv.P[0], uv.P[1]);
+      // Into the face: the left of the loop's direction in (u, v).
+      const V3 into = sub(scaled(pe.Dv, uv.D1[0]), scaled(pe.Du, uv.D1[1]));
+      V3 outward = cross(pe.Du, pe.Dv);
+      if (F.Reversed)
+        outward = scaled(outward, -1.0);
+      const int solid = F.Solid;
+      const bool inverted = solid >= 0 && static_cast<size_t>(solid) < checks.size() &&
+        checks[static_cast<size_t>(solid)].Volume < 0.0;
+      const V3 material = scaled(outward, inverted ? 1.0 : -1.0);
+      const double x = dot(into, b1), y = dot(into, b2);
+      if (!(std::hypot(x, y) > 0.0))
+      {
+        ok = false;
+        break;
+      }
+      const double turn = dot(cross(T, scaled(V3{ x * b1[0] + y * b2[0], x * b1[1] + y * b2[1],
+                                                   x * b1[2] + y * b2[2] }, 1.0)),
+        material);
+      if (!(std::fabs(turn) > 0.0))
+      {
+        ok = false;
+        break;
+      }
+      around.push_back({ ts.Face, turn > 0.0 ? 1 : -1, std::atan2(y, x) });
+    }
+    if (!ok || static_cast<int>(around.size()) != E.FaceCount)
+      continue;
+    std::sort(around.begin(), around.end(),
+      [](const Around& a, const Around& b) { return a.Angle < b.Angle; });
+    const int n = static_cast<int>(around.size());
+    std::vector<int> partner(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+      partner[static_cast<size_t>(i)] = (i + (around[static_cast<size_t>(i)].Side > 0 ? 1 : n - 1)) % n;
+    for (int i = 0; i < n && ok; ++i)
+      ok = partner[static_cast<size_t>(partner[static_cast<size_t>(i)])] == i &&
+        partner[static_cast<size_t>(i)] != i;
+    if (!ok)
+      continue;
+    // The first pair keeps the edge, each other pair a copy.
+    bool first = true;
+    for (int i = 0; i < n; ++i)
+    {
+      const int j = partner[static_cast<size_t>(i)];
+      if (j < i)
+        continue;
+      const int a = around[static_cast<size_t>(i)].Face, b = around[static_cast<size_t>(j)].Face;
+      int target = static_cast<int>(e);
+      if (first)
+      {
+        first = false;
+      }
+      else
+      {
+        target = static_cast<int>(m.Edges.size());
+        Edge copy = E;
+        copy.FirstSegment = static_cast<int>(m.EdgeSegments.size());
+        for (int k = E.FirstSegment; k < E.FirstSegment + E.SegmentCount; ++k)
+        {
+          EdgeSegment seg = m.EdgeSegments[static_cast<size_t>(k)];
+          seg.Edge = target;
+          m.EdgeSegments.push_back(seg);
+        }
+        m.Edges.push_back(copy);
+        for (const int s : onEdge[e])
+        {
+          TrimSegment& ts = m.TrimSegments[static_cast<size_t>(s)];
+          if (ts.Face == a || ts.Face == b)
+            ts.Edge = target;
+        }
+      }
+      Edge& to = m.Edges[static_cast<size_t>(target)];
+      to.Faces = { a, b };
+      to.FaceCount = 2;
+    }
+    split.push_back(static_cast<int>(e));
+  }
+  return split;
 }
 
 std::vector<int> OrientSolids(BRepModel& m, const std::vector<SolidCheck>& checks)

@@ -52,6 +52,18 @@ struct SolidCheck
 /// One entry per solid index 0 .. max(Face::Solid).
 std::vector<SolidCheck> CheckSolids(const BRepModel& model);
 
+/// Splits each edge that bounds four or more faces of one solid where two bodies of it touch
+/// along the edge (a casting blank's ribs meeting along a line, two blocks touching at an edge):
+/// around the edge the faces, in order of angle, bound wedges of material in pairs, each pair
+/// the faces of one wedge. The first pair keeps the edge; each other pair gets a copy of it (its
+/// 3D segments copied, its faces' trimming segments moved to the copy), so that every edge bounds
+/// two faces and the solid is closed. The wedges come from the faces' patches and trims at the
+/// edge's middle: a face's direction into itself (the left of its trimming loop) and its
+/// material side (against its outward normal, or along it in a solid whose display mesh encloses
+/// a negative volume, checks[s].Volume). An edge whose faces do not pair so is left as it is (the
+/// solid stays non-manifold). Returns the edges split.
+std::vector<int> SplitNonManifoldEdges(BRepModel& model, const std::vector<SolidCheck>& checks);
+
 /// Reverses every closed solid whose display mesh encloses a negative volume (its faces'
 /// normals pointed inwards): Face::Reversed, the mesh normals and the triangles' winding.
 /// Returns the indices of the solids reversed.

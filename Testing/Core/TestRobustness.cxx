@@ -332,29 +332,77 @@ TEST(Robustness, OpenShellBesideASolidIsFlagged)
   EXPECT_GT(closedSolved, samples.size() / 4);
 }
 
-TEST(Robustness, NonManifoldEdgeIsFlagged)
+TEST(Robustness, EdgeWhereTwoBodiesTouchIsSplit)
 {
-  // Two boxes touching along an edge, sewn in non-manifold mode into one shell: an edge bounds
-  // four faces. Its solid's samples are flagged failed (NonManifold), never measured as if the
-  // solid had a well-defined inside; nothing reads more than a box's diagonal.
+  // Two 10 mm cubes touching along an edge, sewn in non-manifold mode into one shell: an edge
+  // bounds four faces (a casting blank's ribs meeting along a line do the same). The reader
+  // splits it into one edge per pair of faces, each pair a wedge of one cube, and the solid is
+  // closed. Neither cube reaches into the other, so every sphere is the one cube's: tangent at O
+  // = (x, y) on a face, 2t = 2 min(x, 10 - x, y, 10 - y, 5) in that face's coordinates. (Before,
+  // the solid was non-manifold and every sample was flagged failed.)
   BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
   sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape());
   sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(10, 10, 0), 10, 10, 10).Shape());
   sew.Perform();
   const std::string p = WriteShape(sew.SewedShape(), "bow-tie.step");
   const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
-  Solved solved = SolveAll(m);
-  const std::vector<Sample>& samples = solved.Samples;
-  std::vector<SampleResult>& results = solved.Results;
-  const ResultCheckSummary s = CheckResults(m, samples, results);
-  EXPECT_GT(s.NonManifold, 0u);
-  for (const SampleResult& r : results)
+  for (const SolidCheck& c : CheckSolids(m))
+    EXPECT_TRUE(c.Closed()) << c.Faces << " faces, " << c.NonManifoldEdges
+                            << " non-manifold edges, " << c.FreeEdges << " free edges";
+  // Every edge's two faces on one cube (each face's mesh centroid tells its cube).
+  std::vector<std::array<double, 3>> centroid(m.Faces.size(), { 0.0, 0.0, 0.0 });
+  std::vector<int> count(m.Faces.size(), 0);
+  for (size_t v = 0; v < m.Mesh.FaceIds.size(); ++v)
   {
-    if (r.Type != ContactType::Failed)
-    {
-      ASSERT_LE(r.Thickness, std::sqrt(300.0) + 1e-6);
-    }
+    const size_t f = static_cast<size_t>(m.Mesh.FaceIds[v]);
+    for (int k = 0; k < 3; ++k)
+      centroid[f][static_cast<size_t>(k)] += m.Mesh.Points[3 * v + static_cast<size_t>(k)];
+    ++count[f];
   }
+  auto cube = [&](int f) {
+    const auto& c = centroid[static_cast<size_t>(f)];
+    return std::max(c[0], c[1]) / count[static_cast<size_t>(f)] > 10.0 ? 1 : 0;
+  };
+  for (const Edge& e : m.Edges)
+  {
+    ASSERT_EQ(e.FaceCount, 2);
+    EXPECT_EQ(cube(e.Faces[0]), cube(e.Faces[1]));
+  }
+  bool warned = false;
+  for (const std::string& w : m.Stats.Warnings)
+    warned = warned || w.find("split into one edge per pair of faces") != std::string::npos;
+  EXPECT_TRUE(warned);
+  Solved solved = SolveAll(m);
+  const ResultCheckSummary summary = CheckResults(m, solved.Samples, solved.Results);
+  EXPECT_EQ(summary.NonManifold, 0u);
+  size_t checked = 0, failed = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  {
+    const Sample& q = solved.Samples[i];
+    const SampleResult& r = solved.Results[i];
+    failed += r.Type == ContactType::Failed;
+    // The sample's cube, and its coordinates across the face: the two axes along which d is 0.
+    const double x0 = q.Point[0] > 10.0 || q.Point[1] > 10.0 ? 10.0 : 0.0;
+    const double origin[3] = { x0, x0, 0.0 };
+    double h = 5.0;
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(q.Direction[k]) < 0.5)
+      {
+        const double c = q.Point[k] - origin[k];
+        h = std::min({ h, c, 10.0 - c });
+      }
+    if (h < 0.5 || r.Type == ContactType::Failed)
+      continue;
+    ++checked;
+    worst = std::max(worst, std::fabs(r.Thickness - 2.0 * h) / (2.0 * h));
+  }
+  std::printf("[non-manifold edge] two cubes touching along an edge: %zu samples, %zu failed, "
+              "%zu checked (t >= 0.5), max |2t - 2 min(...)| / 2t = %.2e\n",
+    solved.Samples.size(), failed, checked, worst);
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(checked, 1000u);
+  EXPECT_LE(worst, 1e-6);
 }
 
 TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
