@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
@@ -403,6 +405,50 @@ TEST(Robustness, EdgeWhereTwoBodiesTouchIsSplit)
   EXPECT_EQ(failed, 0u);
   EXPECT_GT(checked, 1000u);
   EXPECT_LE(worst, 1e-6);
+}
+
+TEST(Robustness, FinStaysNonManifold)
+{
+  // A box with a fin sewn along one of its edges: that edge bounds three faces, which pair into
+  // no wedges, so the solid stays non-manifold (and open: the fin's other edges bound it alone).
+  // Alone it is refused; beside a closed box its samples are flagged failed and the box's are
+  // measured.
+  BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
+  sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape());
+  BRepBuilderAPI_MakePolygon fin;
+  fin.Add(gp_Pnt(10, 10, 0));
+  fin.Add(gp_Pnt(20, 20, 0));
+  fin.Add(gp_Pnt(20, 20, 10));
+  fin.Add(gp_Pnt(10, 10, 10));
+  fin.Close();
+  sew.Add(BRepBuilderAPI_MakeFace(fin.Wire()).Shape());
+  sew.Perform();
+  ExpectIsolatedError(WriteShape(sew.SewedShape(), "fin.step"), "is non-manifold");
+  TopoDS_Compound both;
+  BRep_Builder b;
+  b.MakeCompound(both);
+  b.Add(both, sew.SewedShape());
+  b.Add(both, BRepPrimAPI_MakeBox(gp_Pnt(50, 0, 0), 10, 10, 10).Shape());
+  const BRepModel m = ConvertStepFileIsolated(WriteShape(both, "fin-beside-box.step"), ConversionOptions());
+  Solved solved = SolveAll(m);
+  const ResultCheckSummary summary = CheckResults(m, solved.Samples, solved.Results);
+  size_t finSide = 0, boxSolved = 0;
+  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  {
+    if (solved.Samples[i].Point[0] < 30.0)
+    {
+      ++finSide;
+      const FailReason why = solved.Results[i].Reason;
+      EXPECT_TRUE(solved.Results[i].Type == ContactType::Failed &&
+        (why == FailReason::NonManifold || why == FailReason::OpenShell))
+        << "sample " << i << ": " << FailReasonName(why);
+    }
+    else
+      boxSolved += solved.Results[i].Type != ContactType::Failed;
+  }
+  EXPECT_EQ(summary.NonManifold + summary.OpenShell, finSide);
+  EXPECT_GT(finSide, 100u);
+  EXPECT_GT(boxSolved, 100u);
 }
 
 TEST(Robustness, ZeroLengthEdgeGivesNothingImpossible)
