@@ -2798,12 +2798,19 @@ void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, R
   // The patches lie within the tolerance (slack / 2) of the surface: a sphere that grows by more
   // is not the same contact. The foot may slide further: along the surface the distance from the
   // centre is flat to second order (t + s^2 / 2t on a plane or a cone's generator), so the
-  // patches' error e moves the foot by up to about sqrt(4 e t), far more than e on a small
-  // sphere; and one found on a seam slides along the smooth surface. Up to 5% of t (or twice the
-  // slack) it is the same contact: the new foot must still lie strictly inside the face's trim
-  // (below), and a sphere that shrinks lies inside the one certified.
-  const real reach = fmax((real)2 * m->slack, (real)0.05 * t);
-  if (!(length(moved) <= reach) || !(t <= sphere_radius(d, r->foot, (real)0) + (real)0.5 * m->slack))
+  // patches' error e (up to half the slack) moves the foot by up to about sqrt(4 e t), far more
+  // than e on a small sphere; and one found on a seam slides along the smooth surface. Up to 5%
+  // of t, or twice sqrt(slack t), or twice the slack, it is the same contact: the new foot must
+  // still lie strictly inside the face's trim (below), and a sphere that shrinks lies inside the
+  // one certified. A sphere that shrinks by more than the slack is no longer the patches'
+  // contact made exact: next to a convex edge, where the face across meets the sphere at a
+  // grazing angle, the clearance's sphere (which may hold that face up to the clearance deep,
+  // step 0) is much larger than the strict one, and the clearance's stays.
+  const real reach =
+    fmax(fmax((real)2 * m->slack, (real)0.05 * t), (real)2 * sqrt(m->slack * t));
+  const real tPatches = sphere_radius(d, r->foot, (real)0);
+  if (!(length(moved) <= reach) || !(t <= tPatches + (real)0.5 * m->slack) ||
+    !(t >= tPatches - m->slack))
     return;
   // The new foot's (u, v): projected onto the face's patches from the old foot's (Gauss-Newton on
   // |S(u, v) - foot|^2). It must lie inside the face's trim: beyond it the surface continued
