@@ -1475,9 +1475,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         }
       }
     }
-    if (E.FaceCount > 2)
-      warn("edge " + std::to_string(ei) + " is shared by " + std::to_string(E.FaceCount) +
-        " faces (non-manifold); only the first two are recorded");
+    // (An edge of more than two faces: CheckConvertedModel splits it where its faces pair into
+    // wedges, and warns of the solid as non-manifold where they do not.)
     double f, l;
     Handle(Geom_Curve) c = BRep_Tool::Curve(edge, f, l);
     E.T0 = f;
