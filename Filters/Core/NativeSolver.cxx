@@ -227,9 +227,7 @@ double FarthestFromExactSurface(const BRepModel& model, int face, const double* 
 
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face)
 {
-  std::array<double, 12> e{};
-  const int kind = PackExactSurface(model, face, { 0.0, 0.0, 0.0 }, e);
-  return ExactSurfaceFitsPatches(model, face, kind, e, { 0.0, 0.0, 0.0 });
+  return CheckExactSurface(model, face).Kind != 0;
 }
 
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,

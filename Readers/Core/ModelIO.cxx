@@ -366,15 +366,9 @@ std::vector<int> SplitNonManifoldEdges(BRepModel& m, const std::vector<SolidChec
         checks[static_cast<size_t>(solid)].Volume < 0.0;
       const V3 material = scaled(outward, inverted ? 1.0 : -1.0);
       const double x = dot(into, b1), y = dot(into, b2);
-      if (!(std::hypot(x, y) > 0.0))
-      {
-        ok = false;
-        break;
-      }
-      const double turn = dot(cross(T, scaled(V3{ x * b1[0] + y * b2[0], x * b1[1] + y * b2[1],
-                                                   x * b1[2] + y * b2[2] }, 1.0)),
-        material);
-      if (!(std::fabs(turn) > 0.0))
+      // T x into turns `into` a quarter about T (its part along T drops out).
+      const double turn = dot(cross(T, into), material);
+      if (!(std::hypot(x, y) > 0.0) || !(std::fabs(turn) > 0.0))
       {
         ok = false;
         break;
