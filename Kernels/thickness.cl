@@ -54,8 +54,9 @@ typedef float3 real3;
 // Per-face integers (FACE_INTS of them): first patch, patches along u, along v, offset of the
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid, the
 // kind of its exact surface (EXACT_*), the root of its trimming segments' tree (-1: none;
-// brt::PackTrimTrees).
-#define FACE_INTS 10
+// brt::PackTrimTrees), 1 where its patches are its surface (a polynomial B-spline or Bezier of
+// degree 3 at most, converted exactly: brt::PatchesAreTheSurface).
+#define FACE_INTS 11
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
@@ -1949,12 +1950,20 @@ inline real box_gap2(__global const real* b, real3 p)
   return dot(e, e);
 }
 
+// How much deeper than another face's a point of O's own face must lie to count: twice the
+// tolerance (a slack), since O lies on the exact surface and the patches up to a tolerance off it;
+// nothing where the patches are the face's surface (FACE_INTS slot 10), which O lies on.
+inline real own_face_margin(const Model* m, int face)
+{
+  return m->faceInfo[FACE_INTS * face + 10] ? (real)0 : m->slack;
+}
+
 // A candidate point w = P - O on `face` at (u, v), the centre at M = O + mr: kept when it lies
 // inside the trim, deeper than the depth in d, deeper than the best so far, and not the sample's
 // own point: on O's own face a point must lie deeper by twice the tolerance more (the patches
 // there may lie a little more than the tolerance off O's exact point: a toroidal shell converted
-// within 1e-6 showed 2.75e-6 at O's own patch point), and within 4 tolerances of O nothing
-// counts.
+// within 1e-6 showed 2.75e-6 at O's own patch point), unless its patches are its surface
+// (own_face_margin), and within 4 tolerances of O nothing counts.
 void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
   real3 d, real depth, real reach, PointInside* st)
 {
@@ -1964,7 +1973,7 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
   // The cheap tests first, then the trim test.
   const real dn = dot(d, w);
   const real tol = (real)0.5 * m->slack;
-  if (!(dn > depth) || (face == ownFace && !(dist < reach - (real)2 * tol)) ||
+  if (!(dn > depth) || (face == ownFace && !(dist < reach - own_face_margin(m, face))) ||
     dot(w, w) <= (real)16 * tol * tol)
     return;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -2481,7 +2490,8 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
         if (item < m->patchCount)
         {
           const int face = m->patchFace[item];
-          const real need = face == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          const real need =
+            face == ownFace ? fmin(st->best, reach - own_face_margin(m, face)) : st->best;
           if (!in_scope(m->faceInfo, face, solid) ||
             !(box_gap2(m->patchBoxes + 6 * item, M) < need * need))
             continue;
@@ -3138,11 +3148,13 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
       // an edge of O's own face that rises into the sphere, however shallow, is its curve
       // standing off the face (the file's tolerance), geometry the sphere must not hold; so is
       // a point where O's own face ends (on its trim), whose place the trim fixes, not the
-      // face's curvature.
+      // face's curvature; and so is a shallow point of an own face whose patches are its surface
+      // (own_face_margin), where their accuracy fixes the radius.
       if (c.edge >= 0 ? edge_at_sample(m, ownFace, c.edge, c.foot)
-          : (last.onTrim ? at_sample(m, ownFace, c.face, c.foot)
-                         : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
-                             sphere_radius(d, c.foot, (real)0))))
+          : (last.onTrim || own_face_margin(m, c.face) == (real)0
+                ? at_sample(m, ownFace, c.face, c.foot)
+                : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
+                    sphere_radius(d, c.foot, (real)0))))
         return 0;
       *r = c;
       return 1;

@@ -3,6 +3,9 @@
 #include <vector>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -160,6 +163,41 @@ TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double s
   const TopoDS_Shape drilled =
     BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(side, side, h).Shape(), hole).Shape();
   return BRepAlgoAPI_Cut(drilled, cone).Shape();
+}
+
+TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt,
+  double stepHeight)
+{
+  // z(x) = H - a x^2 - c x^3 on [-L, e] (e = stepAt, or L without a step) as a cubic Bezier curve
+  // in x = -L + (e + L) s: its control points from the polynomial's values and derivatives at
+  // the ends (the Bezier form of a cubic).
+  auto z = [&](double x) { return H - a * x * x - c * x * x * x; };
+  auto dz = [&](double x) { return -2.0 * a * x - 3.0 * c * x * x; };
+  const bool step = stepHeight > 0.0 && stepAt > -L && stepAt < L;
+  const double e = step ? stepAt : L;
+  const double h = (e + L) / 3.0; // dx/ds / 3
+  TColgp_Array1OfPnt poles(1, 4);
+  poles(1) = gp_Pnt(-L, 0, z(-L));
+  poles(2) = gp_Pnt(-L + h, 0, z(-L) + h * dz(-L));
+  poles(3) = gp_Pnt(e - h, 0, z(e) - h * dz(e));
+  poles(4) = gp_Pnt(e, 0, z(e));
+  Handle(Geom_BezierCurve) top = new Geom_BezierCurve(poles);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(top).Edge());
+  double zr = z(e);
+  if (step)
+  {
+    // A wall up from the ridge's end, then a plateau to x = L.
+    zr = z(e) + stepHeight;
+    wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(e, 0, z(e)), gp_Pnt(e, 0, zr)).Edge());
+    wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(e, 0, zr), gp_Pnt(L, 0, zr)).Edge());
+  }
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(L, 0, zr), gp_Pnt(L, 0, 0)).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(L, 0, 0), gp_Pnt(-L, 0, 0)).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(-L, 0, 0), gp_Pnt(-L, 0, z(-L))).Edge());
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), true);
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, W, 0));
+  return BRepBuilderAPI_NurbsConvert(prism).Shape();
 }
 
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius)

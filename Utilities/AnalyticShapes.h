@@ -27,6 +27,15 @@ TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness
 /// holeRadius + sink at z = h. A sphere tangent to the hole s below the cone's edge touches the
 /// cone: 2t = 2 s (1 + sqrt 2) while its foot (s / sqrt 2 above the edge) lies on the cone.
 TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double sink);
+/// A block under a ridge: its top the polynomial z = H - a x^2 - c x^3 over x in [-L, L], y in
+/// [0, W] (a Bezier curve of degree 3 extruded along y), its bottom z = 0 and planes at x = +-L,
+/// y = 0 and y = W; every face a polynomial B-spline (BRepBuilderAPI_NurbsConvert), the top of
+/// degree 3 along x. A sphere tangent to the top is bounded by the top itself wherever the ridge
+/// bends down faster than the sphere (the 2D problem in the plane y = const: eq. 1 over the curve).
+/// With stepHeight > 0 the ridge ends at x = stepAt, where a wall rises by stepHeight to a
+/// plateau that runs to x = L: a re-entrant corner where the ridge ends.
+TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt = 0.0,
+  double stepHeight = 0.0);
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
 /// Solids whose medial axis is a curve or a point: a rod (cylinder of radius R and length L

@@ -452,7 +452,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.PatchDomain.reserve(4 * np);
   k.PatchFace.reserve(np);
   k.PatchSector.assign(KernelPatchSectorReals * np, T(0));
-  k.FaceInfo.reserve(10 * nf);
+  k.FaceInfo.reserve(KernelFaceInts * nf);
   k.FaceDomain.reserve(20 * nf);
   k.Loops.reserve(2 * m.Loops.size());
   k.Trim.reserve(12 * nt);
@@ -491,7 +491,8 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     }
     k.FaceInfo.insert(k.FaceInfo.end(),
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
-        F.Reversed ? 1 : 0, F.Solid, kind, -1 });
+        F.Reversed ? 1 : 0, F.Solid, kind, -1,
+        PatchesAreTheSurface(m, static_cast<int>(f)) ? 1 : 0 });
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });

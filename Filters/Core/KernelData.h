@@ -19,8 +19,9 @@ constexpr size_t KernelSampleReals = 11;
 constexpr size_t KernelOutReals = 7;
 /// Ints per result (OUT_INTS): type, reason, face, patch, edge, iterations, exact pass.
 constexpr size_t KernelOutInts = 7;
-/// Ints per face (FACE_INTS): its grid, loops, orientation, solid, exact kind, trim tree root.
-constexpr size_t KernelFaceInts = 10;
+/// Ints per face (FACE_INTS): its grid, loops, orientation, solid, exact kind, trim tree root,
+/// whether its patches are its surface (PatchesAreTheSurface).
+constexpr size_t KernelFaceInts = 11;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control

@@ -225,6 +225,13 @@ double FarthestFromExactSurface(const BRepModel& model, int face, const double* 
   return worst;
 }
 
+bool PatchesAreTheSurface(const BRepModel& model, int face)
+{
+  const Face& F = model.Faces[face];
+  return !F.Rational && F.DegreeU >= 1 && F.DegreeU <= 3 && F.DegreeV >= 1 && F.DegreeV <= 3 &&
+    F.MaxDeviation >= 0.0 && F.MaxDeviation <= 1e-3 * model.Tolerance;
+}
+
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face)
 {
   return CheckExactSurface(model, face).Kind != 0;

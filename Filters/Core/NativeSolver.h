@@ -110,4 +110,12 @@ bool ExactSurfaceFitsPatches(const BRepModel& model, int face);
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,
   const std::array<double, 12>& e, const std::array<double, 3>& c);
 
+/// Whether face f's patches are its surface: a polynomial (not rational) B-spline or Bezier
+/// surface of degree 1 to 3 both ways, which the conversion splits into bicubic patches exactly
+/// (knot insertion and degree elevation), and whose measured deviation says so (within a
+/// thousandth of the tolerance). There O, on the face's surface, lies on its patches, and the
+/// certification asks a point of O's own face to lie no deeper than another face's
+/// (own_face_margin in Kernels/thickness.cl).
+bool PatchesAreTheSurface(const BRepModel& model, int face);
+
 } // namespace brt
