@@ -591,11 +591,11 @@ int vtkThicknessFilter::RequestData(
     }
     if (!gapOnly)
       row("Failed", sums[Stats::PerType + 0], "samples");
-    // One row per failure reason (brt::FailReason 1..10), named for scripts.
+    // One row per failure reason (brt::FailReason 1..11), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
       "FailedLeftModel", "FailedNotMaximal", "FailedOpenShell", "FailedNonManifold",
-      "FailedUnbounded" };
+      "FailedUnbounded", "FailedThinWall" };
     for (int k = 1; k < Stats::FailReasons && !gapOnly; ++k)
       row(reasonRows[k], sums[Stats::PerReason + k], "samples");
     row("Solids", solidCount, "solids");
@@ -916,6 +916,13 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     vtkWarningMacro(<< I.SourceFile << ": " << check.Unbounded
                     << " samples had a thickness that was not finite or exceeded their solid's "
                        "bounding-box diagonal: flagged failed (FailReason 10)");
+  const auto thin = std::count_if(I.Results.begin(), I.Results.end(),
+    [](const brt::SampleResult& r) { return r.Reason == brt::FailReason::ThinWall; });
+  if (thin > 0)
+    vtkWarningMacro(<< I.SourceFile << ": " << thin << " samples lie on walls thinner than 4 times "
+                    << "the conversion tolerance (" << 4.0 * model.Tolerance
+                    << " model units), below what the conversion resolves: flagged failed "
+                       "(FailReason 11). Read the model with a smaller Tolerance to measure them.");
   return true;
 }
 

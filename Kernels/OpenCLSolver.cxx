@@ -249,6 +249,9 @@ struct OpenCLSolver::Impl
   Buffer Model[2][ModelBuffers];
   int PatchCount = 0;
   bool HasBoxes = false;
+  /// What the buffers hold (Upload): Solve and RayThickness upload another model first.
+  const BRepModel* UploadedModel = nullptr;
+  const SolverData* UploadedData = nullptr;
   /// The float kernels' finish on the host, where the device has no double precision.
   std::unique_ptr<NativeSolver> Native;
   Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo;
@@ -571,6 +574,8 @@ void OpenCLSolver::RayThickness(const BRepModel& model, const SolverData& data,
   thickness.assign(samples.size(), std::numeric_limits<double>::quiet_NaN());
   if (face)
     face->assign(samples.size(), -1);
+  if (!samples.empty() && (&model != P->UploadedModel || &data != P->UploadedData))
+    Upload(model, data);
   if (samples.empty() || !P->HasBoxes)
     return;
   // In double wherever the device has it (the float kernels' model is there for their finish):
@@ -631,6 +636,8 @@ void OpenCLSolver::Upload(const BRepModel& model, const SolverData& data)
     P->UploadAs<float>(model, data);
   if (!P->Double)
     P->Native = std::make_unique<NativeSolver>(model, data); // the float finish on the host
+  P->UploadedModel = &model;
+  P->UploadedData = &data;
 }
 
 void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
@@ -641,6 +648,10 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   P->ExactPass.assign(samples.size(), 0);
   if (samples.empty())
     return;
+  // Without Upload (or after one of another model) the kernels would read buffers that are not
+  // this model's: a crash in the kernels.
+  if (&model != P->UploadedModel || &data != P->UploadedData)
+    Upload(model, data);
   if (data.Nodes.empty())
   {
     for (auto& r : results)

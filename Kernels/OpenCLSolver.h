@@ -41,8 +41,9 @@ public:
   /// alive, unchanged, while Solve is called with them (the float finish reads them).
   void Upload(const BRepModel& model, const SolverData& data);
 
-  /// Solves `samples` (after Upload with the same model and data), `chunk` samples per launch
-  /// (0: as many as fit in 64 MiB of result and sample buffers).
+  /// Solves `samples` (after Upload with the same model and data; without it, or with another
+  /// model or data, it uploads them first), `chunk` samples per launch (0: as many as fit in
+  /// 64 MiB of result and sample buffers).
   void Solve(const BRepModel& model, const SolverData& data, const SolverOptions& options,
     const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk = 0);
 

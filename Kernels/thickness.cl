@@ -48,6 +48,7 @@ typedef float3 real3;
 #define FAIL_SINGULAR 5
 #define FAIL_LEFT_MODEL 6
 #define FAIL_NOT_MAXIMAL 7
+#define FAIL_THIN_WALL 11 // the wall across O is thinner than 2 slack (thin_wall_across)
 // The s1 tree's root First where it splits the faces' points from the edges' (brt::S1SplitRoot).
 #define S1_SPLIT_ROOT (-2)
 
@@ -2901,8 +2902,8 @@ real exact_ray_hit(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real
 // The first point where the ray from O along d (the inward normal) meets patch p beyond sMin and
 // before *best: Newton on S(u, v) - O - s d = 0 in (u, v, s) from the grid points nearest the ray,
 // kept inside the patch, accepted within the patches' accuracy and inside the face's trim.
-void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real* best,
-  int* hitFace, int* hitPatch, real2* hitUV)
+void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real minCos,
+  real* best, int* hitFace, int* hitPatch, real2* hitUV)
 {
   const int face = m->patchFace[p];
   __global const real* pd = m->patchDomain + 4 * p;
@@ -2965,6 +2966,15 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
     const real3 F = anchor + eval_patch_point(m, p, u, v) - s * d;
     if (!(dot(F, F) <= accuracy * accuracy) || !(s > sMin) || !(s < *best))
       continue;
+    if (minCos > (real)-1)
+    {
+      // Only where the ray leaves the material through the face at an angle (its outward normal
+      // within acos(minCos) of d), not along a face it grazes.
+      const PatchEval e = eval_patch(m, p, u, v);
+      const real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1);
+      if (!(dot(n, d) >= minCos * length(n)))
+        continue;
+    }
     // Inside the trim, or on it within the face's UV tolerance (a hit on a seam or an edge
     // belongs to the face, as in ss_on_face).
     int seg;
@@ -2981,13 +2991,15 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
   }
 }
 
-// The first point of the trimmed faces along the ray from O in direction d beyond sMin, over the
-// box BVH of the certification (slab test against the ray): faces of solid `solid` only
-// (others = 0) or of every solid but it (others = 1). REAL_MAX where nothing is hit.
-real ray_first_hit(const Model* m, int solid, int others, real3 Ohi, real3 Olo, real3 d,
-  real sMin, int* hitFace, int* hitPatch, real2* hitUV)
+// The first point of the trimmed faces along the ray from O in direction d beyond sMin and before
+// sMax, over the box BVH of the certification (slab test against the ray): faces of solid
+// `solid` only (others = 0) or of every solid but it (others = 1), face excludeFace left out
+// (-1: none), and with minCos > -1 only where the face's outward normal lies within acos(minCos)
+// of d. sMax where nothing is hit (REAL_MAX: no bound).
+real ray_first_hit(const Model* m, int solid, int others, int excludeFace, real3 Ohi, real3 Olo,
+  real3 d, real sMin, real sMax, real minCos, int* hitFace, int* hitPatch, real2* hitUV)
 {
-  real best = REAL_MAX;
+  real best = sMax;
   *hitFace = -1;
   *hitPatch = -1;
   const real3 O = Ohi + Olo; // relative to the model's centre, for the boxes
@@ -3018,9 +3030,23 @@ real ray_first_hit(const Model* m, int solid, int others, real3 Ohi, real3 Olo, 
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)
       {
         const int item = m->boxItems[i];
-        if (item < m->patchCount &&
-          (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid) != (others != 0))
-          ray_patch(m, item, Ohi, Olo, d, sMin, &best, hitFace, hitPatch, hitUV);
+        if (!(item < m->patchCount && m->patchFace[item] != excludeFace &&
+              (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid) != (others != 0)))
+          continue;
+        if (sMax < REAL_MAX)
+        {
+          // A short ray: a patch whose control hull, or whose face's exact surface, lies farther
+          // from O than its end, or wholly behind its start, holds no hit (a hole's wall next
+          // to a sample on the plate around it, whose box reaches over the sample).
+          real ahead;
+          const real reach = sMax + m->slack;
+          if (patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo),
+                splat_real3(0), d, &ahead) > reach ||
+            ahead < sMin - m->slack ||
+            exact_gap(m, m->patchFace[item], Ohi, Olo, splat_real3(0), sMax) > reach)
+            continue;
+        }
+        ray_patch(m, item, Ohi, Olo, d, sMin, minCos, &best, hitFace, hitPatch, hitUV);
       }
       continue;
     }
@@ -3044,11 +3070,48 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, r
     return REAL_MAX;
   int patch;
   real2 uv;
-  real best = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, Ohi, Olo, d,
-    (real)2 * m->slack, hitFace, &patch, &uv);
+  real best = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, -1, Ohi, Olo, d,
+    (real)2 * m->slack, REAL_MAX, (real)-2, hitFace, &patch, &uv);
   if (*hitFace >= 0 && best < REAL_MAX)
     best = exact_ray_hit(m, *hitFace, Ohi, Olo, d, best, stepTol);
   return best;
+}
+
+// A wall across O thinner than the patches resolve: the first point of another face of O's solid
+// along d within 2 slack (4 tolerances) of O, beyond rounding (and a thousandth of the slack),
+// where the ray leaves the material through it (its outward normal within 60 degrees of d: not a
+// face through O that the ray grazes, as at a sample on an edge);
+// REAL_MAX where there is none, the certification is off, or the precision cannot tell (float on
+// a large model). Within 4 tolerances of O the certification counts nothing (consider_point), and
+// a contact there is the trivial one (near_sample), so a sphere across such a wall is not the
+// wall's: it fails, or passes through the wall to whatever lies beyond (a 0.2 um plate read 2.7
+// to 4.9 mm, which CheckResults flags Unbounded).
+real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale)
+{
+  if (!(m->mode & MODE_CERTIFY) || (m->mode & MODE_EXTERIOR))
+    return REAL_MAX;
+  const real sMin = fmax((real)256 * REAL_EPS * scale, (real)1e-3 * m->slack);
+  const real sMax = (real)2 * m->slack;
+  if (!(sMin < sMax))
+    return REAL_MAX;
+  int face, patch;
+  real2 uv;
+  const real s = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, ownFace, Ohi, Olo, d,
+    sMin, sMax, (real)0.5, &face, &patch, &uv);
+  return face >= 0 && s < sMax ? s : REAL_MAX;
+}
+
+// A failed sample across a wall thinner than 2 slack (thin_wall_across) fails as FAIL_THIN_WALL,
+// which says why and what to do (a finer conversion tolerance). Only failed samples are asked:
+// the ray on every sample cost 8% (NIST_MBE_PMI_11) to 20% (the ExpansionCard) of the solve, and
+// a sphere that passes through such a wall to whatever lies beyond stays as solved unless its
+// solid's box bounds it (CheckResults' Unbounded; docs/Solver.md, Open items).
+inline void flag_thin_wall(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  Result* r)
+{
+  if (r->type == CONTACT_FAILED &&
+    thin_wall_across(m, ownFace, Ohi, Olo, d, scale) < REAL_MAX)
+    r->reason = FAIL_THIN_WALL;
 }
 
 // The gap with all solids: whether O, on a face of its solid, lies on or inside another solid
@@ -3077,7 +3140,8 @@ int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
       k == 0 ? d : normalize(d + (real)0.55 * (k == 1 ? u : v)); // 0.5 rad: tan = 0.55
     int f, p;
     real2 uv;
-    const real s = ray_first_hit(m, solid, 1, Ohi, Olo, dir, sMin, &f, &p, &uv);
+    const real s =
+      ray_first_hit(m, solid, 1, -1, Ohi, Olo, dir, sMin, REAL_MAX, (real)-2, &f, &p, &uv);
     if (f < 0 || !(s < REAL_MAX))
     {
       if (k == 0)
@@ -3640,6 +3704,7 @@ void solve_sample(Model mm, __global const real* s1Point, __global const int* s1
     }
   }
   exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
+  flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
   write_result(&r, d, iterations, exactPass, oR, oI);
 }
 
@@ -3745,6 +3810,10 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
       fmax(mm.delta, mm.slack), &inside);
     exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
   }
+  // (A wall across thinner than the float pass could tell: failed here, not solved again.)
+  flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
+  if (r.reason == FAIL_THIN_WALL)
+    again = 0;
   write_result(&r, d, iterations, fI[6], oR, oI);
   redo[gid] = again;
 }

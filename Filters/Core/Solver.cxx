@@ -43,6 +43,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::OpenShell: return "the sample's solid is an open shell";
     case FailReason::NonManifold: return "the sample's solid is non-manifold";
     case FailReason::Unbounded: return "thickness not finite or beyond the solid's bounding-box diagonal";
+    case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance)";
   }
   return "unknown";
 }

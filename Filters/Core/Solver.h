@@ -53,7 +53,10 @@ enum class FailReason : int
   // Set after the solve by CheckResults (ResultCheck.h), never by the kernels:
   OpenShell = 8,        ///< the sample's solid is an open shell: it has no inside
   NonManifold = 9,      ///< the sample's solid is non-manifold (a fin, bodies touching at an edge)
-  Unbounded = 10        ///< thickness not finite or beyond its solid's bounding-box diagonal
+  Unbounded = 10,       ///< thickness not finite or beyond its solid's bounding-box diagonal
+  // Set by the kernels again:
+  ThinWall = 11         ///< the wall across the sample (along its normal) is thinner than 4
+                        ///< conversion tolerances, below what the patches resolve
 };
 const char* FailReasonName(FailReason reason);
 

@@ -3,6 +3,7 @@
 #include "AnalyticShapes.h"
 #include "NativeSolver.h"
 #include "OpenCLSolver.h"
+#include "ResultCheck.h"
 #include "SolverTestHelpers.h"
 #include "TestHelpers.h"
 
@@ -575,5 +576,49 @@ TEST(OpenCLKernels, DeviceChoiceFailureListsDevices)
     EXPECT_NE(msg.find(OpenCLSolver::ListDevices().front()), std::string::npos) << msg;
   }
 }
+/// The thin-wall flag is part of the kernel source: a plate 2e-4 thick at the default tolerance
+/// fails with FailReason ThinWall on every device and precision, as on the native device (double:
+/// the same samples; float solves some more of them, each within the wall), and after
+/// CheckResults no sample reads thicker than the wall and 4 tolerances.
+TEST(OpenCLKernels, WallBelowTheAccuracyIsFlagged)
+{
+  const double h = 2e-4, tol = ConversionOptions().Tolerance;
+  const BRepModel m = ConvertShape(analytic::Plate(2, 1.5, h), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const std::vector<Sample> samples = SamplesFromMesh(m, data);
+  std::vector<SampleResult> native;
+  NativeSolver(m, data).Solve(SolverOptions(), samples, native);
+  size_t thinNative = 0;
+  for (const SampleResult& r : native)
+    thinNative += r.Reason == FailReason::ThinWall;
+  EXPECT_GT(thinNative, samples.size() / 2);
+  for (const bool useDouble : { false, true })
+  {
+    std::string why;
+    auto cl = Device(useDouble, &why);
+    if (!cl)
+      GTEST_SKIP() << why;
+    std::vector<SampleResult> device;
+    cl->Upload(m, data);
+    cl->Solve(m, data, SolverOptions(), samples, device);
+    CheckResults(m, samples, device);
+    size_t thin = 0, other = 0, thick = 0;
+    for (const SampleResult& r : device)
+    {
+      thin += r.Reason == FailReason::ThinWall;
+      other += r.Type == ContactType::Failed && r.Reason != FailReason::ThinWall &&
+        r.Reason != FailReason::Unbounded;
+      thick += r.Type != ContactType::Failed && r.Thickness > h + 4.0 * tol;
+    }
+    std::printf("[thin wall] plate 2e-4, OpenCL %s: %zu of %zu samples ThinWall (native %zu), %zu "
+                "failed otherwise, %zu thicker than the wall and 4 tolerances\n",
+      useDouble ? "double" : "float", thin, samples.size(), thinNative, other, thick);
+    EXPECT_EQ(other, 0u);
+    EXPECT_EQ(thick, 0u);
+    if (useDouble)
+      EXPECT_EQ(thin, thinNative);
+    else
+      EXPECT_GT(thin, samples.size() / 3);
+  }
+}
 } // namespace
-

@@ -633,4 +633,46 @@ TEST(Robustness, RegressionFilesOfTheFuzzer)
   }
   EXPECT_GT(n, 0);
 }
+/// A wall thinner than 4 conversion tolerances (a plate 2e-4 thick at the default 1e-4, as a
+/// KiCad inductor's terminal pads are): the certification counts nothing within 4 tolerances of
+/// O, so no sphere across it is the wall's. Its failed samples say so (FailReason ThinWall, not
+/// NoOppositePoint), and no sample on its faces reads more than the wall after CheckResults (the
+/// spheres that passed through it to the plate's far rim, 2t up to 4.9 mm, are Unbounded). A
+/// plate of 4e-4 and one of 1e-3 solve as before, with no sample flagged.
+TEST(Robustness, WallBelowTheAccuracyIsFlagged)
+{
+  const double tol = ConversionOptions().Tolerance;
+  for (const double h : { 2e-4, 4e-4, 1e-3 })
+  {
+    const BRepModel m = ConvertShape(analytic::Plate(2, 1.5, h), ConversionOptions());
+    const SolverData data = PrepareSolver(m, SolverOptions());
+    const std::vector<Sample> samples = SamplesFromMesh(m, data);
+    std::vector<SampleResult> results;
+    SolveReference(m, data, SolverOptions(), samples, results);
+    CheckResults(m, samples, results);
+    size_t flat = 0, thin = 0, otherFailed = 0, tooThick = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+    {
+      if (!(std::fabs(samples[i].Direction[2]) > 0.999))
+        continue; // the plate's top and bottom
+      ++flat;
+      const SampleResult& r = results[i];
+      if (r.Reason == FailReason::ThinWall)
+        ++thin;
+      else if (r.Type == ContactType::Failed && r.Reason != FailReason::Unbounded)
+        ++otherFailed;
+      else if (r.Type != ContactType::Failed && r.Thickness > h + 4.0 * tol)
+        ++tooThick;
+    }
+    std::printf("[thin wall] plate %.0e at tolerance %.0e: %zu top and bottom samples, %zu flagged "
+                "ThinWall, %zu failed otherwise, %zu read thicker than h + 4 tolerances\n",
+      h, tol, flat, thin, otherFailed, tooThick);
+    EXPECT_EQ(otherFailed, 0u);
+    EXPECT_EQ(tooThick, 0u);
+    if (h < 2.5 * tol)
+      EXPECT_GE(thin, flat * 3 / 4);
+    else
+      EXPECT_EQ(thin, 0u);
+  }
+}
 } // namespace
