@@ -904,7 +904,23 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     return true;
   }
   // Open or non-manifold solids and impossible values are flagged, never shown as thickness.
-  const brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
+  brt::ResultCheckSummary check = brt::CheckResults(model, samples, I.Results);
+  if (check.Unbounded > 0)
+  {
+    // A sphere that passed through a wall below the conversion's accuracy to the solid's far
+    // side says so (the kernels flag only the samples they fail; docs/Robustness.md, item 8).
+    std::unique_ptr<brt::NativeSolver> local;
+    const brt::NativeSolver* ns = cpu.get();
+    if (!ns)
+      ns = (local = std::make_unique<brt::NativeSolver>(model, data)).get();
+    for (size_t i = 0; i < n; ++i)
+      if (I.Results[i].Reason == brt::FailReason::Unbounded &&
+        std::isfinite(ns->ThinWallAcross(samples[i])))
+      {
+        I.Results[i].Reason = brt::FailReason::ThinWall;
+        --check.Unbounded;
+      }
+  }
   if (check.OpenShell > 0)
     vtkWarningMacro(<< I.SourceFile << ": " << check.OpenShell
                     << " samples lie on open shells (no inside, no thickness): flagged failed "

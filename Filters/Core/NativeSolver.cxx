@@ -129,6 +129,21 @@ bool NativeSolver::HoldsBoundary(
            std::max(s.Clearance, s.Slack), &inside) != 0;
 }
 
+double NativeSolver::ThinWallAcross(const Sample& sample) const
+{
+  if (P->Data.Nodes.empty())
+    return std::numeric_limits<double>::infinity();
+  KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, SolverOptions());
+  s.Certify = 1;
+  const kernel::Model view = P->View(s);
+  double in[KernelSampleReals];
+  PackSample(P->Data, sample, in);
+  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
+    d{ in[6], in[7], in[8] };
+  const double t = kernel::thin_wall_across(&view, sample.Face, Ohi, Olo, d, s.Scale);
+  return t < std::numeric_limits<double>::max() ? t : std::numeric_limits<double>::infinity();
+}
+
 void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
   double& patchBound) const
 {

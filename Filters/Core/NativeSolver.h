@@ -41,6 +41,12 @@ public:
   /// float kernels). False for a failed result.
   bool HoldsBoundary(const SolverOptions& options, const Sample& sample, const SampleResult& r) const;
 
+  /// The distance along the sample's normal to the first point of another face of its solid
+  /// within 4 conversion tolerances where the ray leaves the material (the kernels'
+  /// thin_wall_across); infinity where there is none. Finite: a wall below what the conversion
+  /// resolves (FailReason ThinWall).
+  double ThinWallAcross(const Sample& sample) const;
+
   /// The certification's lower bounds of the distance from the centre of the sphere of radius t
   /// tangent at the sample to `patch` (find_point_inside in Kernels/thickness.cl): faceBound from
   /// its face's exact surface (exact_gap), patchBound from the patch's piece of a cylinder
