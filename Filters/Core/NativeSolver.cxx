@@ -94,6 +94,19 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
 
 namespace
 {
+/// A sample as the kernels take it: O as hi + lo parts relative to the model's centre, and d.
+struct SampleFrame
+{
+  kernel::real3 Ohi, Olo, d;
+};
+
+SampleFrame Frame(const SolverData& data, const Sample& sample)
+{
+  double in[KernelSampleReals];
+  PackSample(data, sample, in);
+  return { { in[0], in[1], in[2] }, { in[3], in[4], in[5] }, { in[6], in[7], in[8] } };
+}
+
 /// A result as the kernel source's Result (foot relative to O, t at the clearance `delta`).
 kernel::Result ToKernel(const Sample& s, const SampleResult& r, double delta)
 {
@@ -120,10 +133,8 @@ bool NativeSolver::HoldsBoundary(
   KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   s.Certify = 1;
   const kernel::Model view = P->View(s);
-  double in[KernelSampleReals];
-  PackSample(P->Data, sample, in);
-  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
-    d{ in[6], in[7], in[8] };
+  const SampleFrame f = Frame(P->Data, sample);
+  const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
   kernel::PointInside inside;
   return kernel::find_point_inside(&view, sample.Face, Ohi, Olo, d, r.Radius,
            std::max(s.Clearance, s.Slack), &inside) != 0;
@@ -136,10 +147,8 @@ double NativeSolver::ThinWallAcross(const Sample& sample) const
   KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, SolverOptions());
   s.Certify = 1;
   const kernel::Model view = P->View(s);
-  double in[KernelSampleReals];
-  PackSample(P->Data, sample, in);
-  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
-    d{ in[6], in[7], in[8] };
+  const SampleFrame f = Frame(P->Data, sample);
+  const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
   const double t = kernel::thin_wall_across(&view, sample.Face, Ohi, Olo, d, s.Scale);
   return t < std::numeric_limits<double>::max() ? t : std::numeric_limits<double>::infinity();
 }
@@ -148,10 +157,8 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
   double& patchBound) const
 {
   const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
-  double in[KernelSampleReals];
-  PackSample(P->Data, sample, in);
-  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
-    d{ in[6], in[7], in[8] };
+  const SampleFrame f = Frame(P->Data, sample);
+  const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
   const kernel::real3 mr = t * d;
   const int face = view.patchFace[patch];
   faceBound = kernel::exact_gap(&view, face, Ohi, Olo, mr, t);
@@ -174,10 +181,8 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
     return;
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
-  double in[KernelSampleReals];
-  PackSample(P->Data, sample, in);
-  const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
-    d{ in[6], in[7], in[8] };
+  const SampleFrame f = Frame(P->Data, sample);
+  const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
   kernel::Result k = ToKernel(sample, r, s.Clearance);
   int iterations = 0;
   kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
@@ -204,10 +209,8 @@ void NativeSolver::RayThickness(const std::vector<Sample>& samples,
   s.Certify = 1;
   const kernel::Model view = P->View(s);
   ParallelFor(samples.size(), threads, [&](size_t i) {
-    double in[KernelSampleReals];
-    PackSample(P->Data, samples[i], in);
-    const kernel::real3 Ohi{ in[0], in[1], in[2] }, Olo{ in[3], in[4], in[5] },
-      d{ in[6], in[7], in[8] };
+    const SampleFrame f = Frame(P->Data, samples[i]);
+    const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
     int hit = -1;
     const double t = kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, s.StepTol, &hit);
     if (hit >= 0 && t < std::numeric_limits<double>::max())

@@ -1,7 +1,7 @@
 """Shared by the pvpython tests (imported from the script's own folder): checks that record their
 failures, the end of a test, and the Summary table as a dict.
 
-    from brt_checks import check, finish, summary_rows, table_rows
+    from brt_checks import check, finish, messages, summary_rows, table_rows
 """
 import sys
 
@@ -37,3 +37,18 @@ def summary_rows(filt):
     """The Summary port of a B-Rep Thickness proxy as {quantity: value}."""
     from paraview import servermanager as sm
     return table_rows(sm.Fetch(filt, idx=3))
+
+
+def messages(proxy, event="WarningEvent"):
+    """A list that collects the text of every `event` (WarningEvent, ErrorEvent) the proxy's
+    algorithm emits from now on."""
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+    got = []
+
+    @calldata_type(VTK_STRING)
+    def on_message(obj, ev, message):
+        got.append(message)
+
+    proxy.GetClientSideObject().AddObserver(event, on_message)
+    return got

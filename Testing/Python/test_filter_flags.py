@@ -12,23 +12,13 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
-from brt_checks import check, finish, table_rows
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.util.vtkConstants import VTK_STRING
+from brt_checks import check, finish, messages, table_rows
 
 LoadPlugin(sys.argv[1], ns=globals())
 
 
 reader = STEPReader(FileName=sys.argv[2])
-warnings = []
-
-
-@calldata_type(VTK_STRING)
-def on_warning(obj, event, message):
-    warnings.append(message)
-
-
-reader.GetClientSideObject().AddObserver("WarningEvent", on_warning)
+warnings = messages(reader)
 f = BRepThickness(Input=reader, Device="native")
 f.UpdatePipeline()
 check(any("is open" in w for w in warnings), "the reader warns about the open shell")
