@@ -913,13 +913,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     const brt::NativeSolver* ns = cpu.get();
     if (!ns)
       ns = (local = std::make_unique<brt::NativeSolver>(model, data)).get();
-    for (size_t i = 0; i < n; ++i)
-      if (I.Results[i].Reason == brt::FailReason::Unbounded &&
-        std::isfinite(ns->ThinWallAcross(samples[i])))
-      {
-        I.Results[i].Reason = brt::FailReason::ThinWall;
-        --check.Unbounded;
-      }
+    check.Unbounded -= brt::NameThinWalls(*ns, samples, I.Results);
   }
   if (check.OpenShell > 0)
     vtkWarningMacro(<< I.SourceFile << ": " << check.OpenShell

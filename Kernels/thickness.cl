@@ -3105,7 +3105,8 @@ real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
 // which says why and what to do (a finer conversion tolerance). Only failed samples are asked:
 // the ray on every sample cost 8% (NIST_MBE_PMI_11) to 20% (the ExpansionCard) of the solve, and
 // a sphere that passes through such a wall to whatever lies beyond stays as solved unless its
-// solid's box bounds it (CheckResults' Unbounded; docs/Solver.md, Open items).
+// solid's box bounds it (CheckResults' Unbounded, which brt::NameThinWalls then names;
+// docs/Robustness.md, item 8 and Open).
 inline void flag_thin_wall(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   Result* r)
 {

@@ -188,7 +188,6 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
   kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
     s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
   kernel::exact_finish(&view, Ohi, Olo, d, s.StepTol, &k);
-  kernel::flag_thin_wall(&view, sample.Face, Ohi, Olo, d, s.Scale, &k);
   // Back through the kernel's own output layout, so that one function reads results; a contact
   // the polish kept gets its radius from its foot in double, as brt_finish gives it.
   double outR[KernelOutReals];
@@ -242,6 +241,20 @@ double FarthestFromExactSurface(const BRepModel& model, int face, const double* 
     worst = std::max(worst, std::fabs(f));
   }
   return worst;
+}
+
+std::size_t NameThinWalls(const NativeSolver& solver, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results)
+{
+  std::size_t named = 0;
+  for (size_t i = 0; i < samples.size() && i < results.size(); ++i)
+    if (results[i].Reason == FailReason::Unbounded &&
+      std::isfinite(solver.ThinWallAcross(samples[i])))
+    {
+      results[i].Reason = FailReason::ThinWall;
+      ++named;
+    }
+  return named;
 }
 
 bool PatchesAreTheSurface(const BRepModel& model, int face)

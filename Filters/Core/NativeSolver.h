@@ -9,6 +9,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <cstddef>
 #include <vector>
 
 namespace brt
@@ -115,6 +116,12 @@ bool ExactSurfaceFitsPatches(const BRepModel& model, int face);
 /// result), as the packing has it.
 bool ExactSurfaceFitsPatches(const BRepModel& model, int face, int kind,
   const std::array<double, 12>& e, const std::array<double, 3>& c);
+
+/// The samples CheckResults flagged Unbounded whose ray meets a wall thinner than 4 conversion
+/// tolerances (NativeSolver::ThinWallAcross) get FailReason ThinWall instead: their spheres
+/// passed through it to the solid's far side. Returns how many.
+std::size_t NameThinWalls(const NativeSolver& solver, const std::vector<Sample>& samples,
+  std::vector<SampleResult>& results);
 
 /// Whether face f's patches are its surface: a polynomial (not rational) B-spline or Bezier
 /// surface of degree 1 to 3 both ways, which the conversion splits into bicubic patches exactly
