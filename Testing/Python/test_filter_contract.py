@@ -9,10 +9,8 @@ import sys
 
 from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.util.vtkConstants import VTK_STRING
 
-from brt_checks import check, finish
+from brt_checks import check, finish, messages
 
 LoadPlugin(sys.argv[1], ns=globals())
 
@@ -66,13 +64,7 @@ for name, script in SPOIL.items():
     spoiled = ProgrammableFilter(Input=reader, OutputDataSetType="vtkPolyData", Script=script)
     spoiled.UpdatePipeline()
     f = BRepThickness(Input=spoiled, Device="native")
-    errors = []
-
-    @calldata_type(VTK_STRING)
-    def on_error(obj, event, message):
-        errors.append(message)
-
-    f.GetClientSideObject().AddObserver("ErrorEvent", on_error)
+    errors = messages(f, "ErrorEvent")
     f.UpdatePipeline()
     points = sm.Fetch(f, idx=0).GetNumberOfPoints()
     if name == "whole":
