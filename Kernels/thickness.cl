@@ -56,8 +56,10 @@ typedef float3 real3;
 // grid breakpoints, first loop, loop count, reversed (outward normal = -(Su x Sv)), solid, the
 // kind of its exact surface (EXACT_*), the root of its trimming segments' tree (-1: none;
 // brt::PackTrimTrees), 1 where its patches are its surface (a polynomial B-spline or Bezier of
-// degree 3 at most, converted exactly: brt::PatchesAreTheSurface).
-#define FACE_INTS 11
+// degree 3 at most, converted exactly: brt::PatchesAreTheSurface), and on a plane whose patches
+// are its isometric parametrisation the sign s of its frame (Y = s (axis x X), X in the exact
+// surface's sizes; 0: none; brt::PlaneFrame, plane_trim_gap).
+#define FACE_INTS 12
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
@@ -74,8 +76,8 @@ typedef float3 real3;
 // (torus_patch_gap; brt::KernelPatchSectorReals).
 #define PATCH_SECTOR_REALS 12
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
-// plane none; cylinder radius; cone the radius at the origin, cos and sin of the semi-angle;
-// sphere radius; torus major and minor radius.
+// plane its frame's X where it has one (FACE_INTS); cylinder radius; cone the radius at the
+// origin, cos and sin of the semi-angle; sphere radius; torus major and minor radius.
 #define EXACT_NONE 0
 #define EXACT_PLANE 1
 #define EXACT_CYLINDER 2
@@ -2438,6 +2440,266 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
   return gap - deviation_allowance(m, face, X, t);
 }
 
+// --- a plane's trimmed face against a sphere -------------------------------------------------
+// 1 when the cubic trimming segment c (four (u, v) control points) lies at least r from P: each
+// piece lies in the hull of its control points, so in their box along its chord and across it;
+// pieces whose box comes nearer are halved (de Casteljau), up to 10 times. 0 where a piece's end
+// (a point of the curve) lies nearer, or the halvings run out.
+int segment_clear_of(__global const real* c, real2 P, real r)
+{
+  real2 st[12][4];
+  int depthOf[12];
+  for (int i = 0; i < 4; ++i)
+    st[0][i] = make_real2(c[2 * i], c[2 * i + 1]);
+  depthOf[0] = 0;
+  int top = 1;
+  const real r2 = r * r;
+  while (top > 0)
+  {
+    --top;
+    real2 q[4];
+    for (int i = 0; i < 4; ++i)
+      q[i] = st[top][i];
+    const int level = depthOf[top];
+    if (dot(q[0] - P, q[0] - P) < r2 || dot(q[3] - P, q[3] - P) < r2)
+      return 0;
+    const real2 chord = q[3] - q[0];
+    const real L = length(chord);
+    const real2 e = L > (real)0 ? chord / L : make_real2((real)1, (real)0);
+    const real2 n = make_real2(-e.y, e.x);
+    real s0 = REAL_MAX, s1 = -REAL_MAX, n0 = REAL_MAX, n1 = -REAL_MAX;
+    for (int i = 0; i < 4; ++i)
+    {
+      const real2 w = q[i] - P;
+      const real si = dot(w, e), ni = dot(w, n);
+      s0 = fmin(s0, si);
+      s1 = fmax(s1, si);
+      n0 = fmin(n0, ni);
+      n1 = fmax(n1, ni);
+    }
+    const real gs = fmax(fmax(s0, -s1), (real)0), gn = fmax(fmax(n0, -n1), (real)0);
+    if (gs * gs + gn * gn >= r2)
+      continue;
+    if (level == 10 || top + 2 > 12)
+      return 0;
+    const real2 a = (real)0.5 * (q[0] + q[1]), b = (real)0.5 * (q[1] + q[2]);
+    const real2 f = (real)0.5 * (q[2] + q[3]);
+    const real2 ab = (real)0.5 * (a + b), bf = (real)0.5 * (b + f), mid = (real)0.5 * (ab + bf);
+    st[top][0] = q[0];
+    st[top][1] = a;
+    st[top][2] = ab;
+    st[top][3] = mid;
+    depthOf[top] = level + 1;
+    st[top + 1][0] = mid;
+    st[top + 1][1] = bf;
+    st[top + 1][2] = f;
+    st[top + 1][3] = q[3];
+    depthOf[top + 1] = level + 1;
+    top += 2;
+  }
+  return 1;
+}
+
+// 1 when every trimming segment of `face` lies at least r from P in (u, v) (segment_clear_of,
+// over the face's segment tree where it has one).
+int trim_clear_of(const Model* m, int face, real2 P, real r)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  const real r2 = r * r;
+  if (fi[9] >= 0)
+  {
+    int stack[32];
+    int top = 0;
+    stack[top++] = fi[9];
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      if (uv_box_gap2(m->trimNodeBox + 4 * n, P) >= r2)
+        continue;
+      __global const int* ni = m->trimNodeInfo + 3 * n;
+      if (ni[1] > 0)
+      {
+        for (int j = 0; j < ni[1]; ++j)
+        {
+          __global const real* c = m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)];
+          if (box_distance2(c, P) < r2 && !segment_clear_of(c, P, r))
+            return 0;
+        }
+        continue;
+      }
+      if (top + 2 > 32)
+        return 0; // never: the tree is balanced
+      stack[top++] = ni[2];
+      stack[top++] = n + 1;
+    }
+    return 1;
+  }
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      __global const real* c = m->trim + TRIM_REALS * s;
+      if (box_distance2(c, P) < r2 && !segment_clear_of(c, P, r))
+        return 0;
+    }
+  }
+  return 1;
+}
+
+// The parity of the crossings of the ray from P along +u with the cubic segment c (four (u, v)
+// control points), or -1 undecided: pieces whose control points' v run monotone across P's v
+// cross its line once, left or right of P by their box; the others, and those whose box spans
+// P's u, are halved (de Casteljau), up to 12 times. P lies off the curve (trim_clear_of), so the
+// halving ends. Half-open in v, as inside_by_crossings: an end at P's v counts on the side above.
+int segment_crossings(__global const real* c, real2 P)
+{
+  // The ray can cross only a segment whose box spans P's v and reaches past its u.
+  if (c[9] > P.y || !(c[11] > P.y) || !(c[10] > P.x))
+    return 0;
+  real2 st[14][4];
+  int depthOf[14];
+  for (int i = 0; i < 4; ++i)
+    st[0][i] = make_real2(c[2 * i], c[2 * i + 1]);
+  depthOf[0] = 0;
+  int top = 1, parity = 0;
+  while (top > 0)
+  {
+    --top;
+    real2 q[4];
+    for (int i = 0; i < 4; ++i)
+      q[i] = st[top][i];
+    const int level = depthOf[top];
+    // Which side of P's v each control point lies on (above: v > P's); the ends are the curve's.
+    const int a0 = q[0].y > P.y, a1 = q[1].y > P.y, a2 = q[2].y > P.y, a3 = q[3].y > P.y;
+    if (a0 == a1 && a1 == a2 && a2 == a3)
+      continue; // the piece stays on one side: no crossing
+    const real lu = fmin(fmin(q[0].x, q[1].x), fmin(q[2].x, q[3].x));
+    const real hu = fmax(fmax(q[0].x, q[1].x), fmax(q[2].x, q[3].x));
+    if (!(hu > P.x))
+      continue; // wholly left of P
+    // Monotone in v (the control points' v in order): the curve crosses P's line exactly as
+    // often as its ends differ in side, once.
+    const int monotone = (q[0].y <= q[1].y && q[1].y <= q[2].y && q[2].y <= q[3].y) ||
+      (q[0].y >= q[1].y && q[1].y >= q[2].y && q[2].y >= q[3].y);
+    if (monotone && lu > P.x)
+    {
+      parity ^= a0 != a3;
+      continue;
+    }
+    if (level == 12 || top + 2 > 14)
+      return -1;
+    const real2 a = (real)0.5 * (q[0] + q[1]), b = (real)0.5 * (q[1] + q[2]);
+    const real2 f = (real)0.5 * (q[2] + q[3]);
+    const real2 ab = (real)0.5 * (a + b), bf = (real)0.5 * (b + f), mid = (real)0.5 * (ab + bf);
+    st[top][0] = q[0];
+    st[top][1] = a;
+    st[top][2] = ab;
+    st[top][3] = mid;
+    depthOf[top] = level + 1;
+    st[top + 1][0] = mid;
+    st[top + 1][1] = bf;
+    st[top + 1][2] = f;
+    st[top + 1][3] = q[3];
+    depthOf[top + 1] = level + 1;
+    top += 2;
+  }
+  return parity;
+}
+
+// P inside `face` by the parity of its trimming segments' crossings with the ray from P along +u
+// (over the segment tree where the face has one): 1 inside, 0 outside, -1 undecided
+// (segment_crossings). P lies off every segment (trim_clear_of).
+int inside_by_crossings_exact(const Model* m, int face, real2 P)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  int inside = 0;
+  if (fi[9] >= 0)
+  {
+    int stack[32];
+    int top = 0;
+    stack[top++] = fi[9];
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      __global const real* b = m->trimNodeBox + 4 * n;
+      if (b[1] > P.y || !(b[3] > P.y) || !(b[2] > P.x))
+        continue;
+      __global const int* ni = m->trimNodeInfo + 3 * n;
+      if (ni[1] > 0)
+      {
+        for (int j = 0; j < ni[1]; ++j)
+        {
+          const int k = segment_crossings(m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)], P);
+          if (k < 0)
+            return -1;
+          inside ^= k & 1;
+        }
+        continue;
+      }
+      if (top + 2 > 32)
+        return -1;
+      stack[top++] = ni[2];
+      stack[top++] = n + 1;
+    }
+    return inside;
+  }
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    for (int s = first; s < first + count; ++s)
+    {
+      const int k = segment_crossings(m->trim + TRIM_REALS * s, P);
+      if (k < 0)
+        return -1;
+      inside ^= k & 1;
+    }
+  }
+  return inside;
+}
+
+// A lower bound of the distance from the centre M (O + mr) to a plane `face` whose patches are
+// its isometric parametrisation (FACE_INTS slot 11), given gap, the plane's own bound (exact_gap),
+// and need, the distance below which a point would count: where M's foot on the plane lies
+// outside the trim and no trimming curve comes within rho of it, rho the radius of the disk in
+// which the sphere of radius need (and the patches' deviation) meets the plane, no point of the
+// face lies in that disk, and the face is at least sqrt(h^2 + rho^2) from M, h M's height over
+// the plane. A plane's patches cover its whole (u, v) box, holes included: a sphere that crosses
+// the plane inside a hole reached its patches there, and each was searched (certify_patch) to find
+// its nearest point off the face (a mould's parting plane around the cavity's outline: the engine
+// block's mould model, +12%; docs/Solver.md, item 13, "A plane's hole").
+real plane_trim_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, real t, real gap,
+  real need)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  if (fi[8] != EXACT_PLANE || fi[11] == 0 || !(gap < need))
+    return gap;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  __global const real* e = fd + FACE_EXACT;
+  const real3 a = make_real3(e[6], e[7], e[8]), X = make_real3(e[9], e[10], e[11]);
+  const real3 Y = (real)fi[11] * cross(a, X);
+  const real3 XM = mr - anchor_minus(e, Ohi, Olo);
+  const real h = fabs(dot(XM, a));
+  // The plane's origin is its first patch's first control point, at that patch's (u0, v0).
+  __global const real* pd = m->patchDomain + 4 * fi[0];
+  const real2 P = make_real2(pd[0] + dot(XM, X), pd[2] + dot(XM, Y));
+  const real allow = deviation_allowance(m, face, XM, t);
+  const real reach = need + allow;
+  // The margin: points within 1e-9 of the domain's size of the trim count as on it
+  // (consider_point), and P's rounding.
+  const real size = fd[1] - fd[0] + fd[3] - fd[2];
+#ifdef BRT_DOUBLE
+  const real margin = (real)1e-9 * size + (real)64 * REAL_EPS * (length(XM) + t);
+#else
+  const real margin = (real)1e-9 * size + (real)16 * FLT_EPSILON * (length(XM) + t + size);
+#endif
+  const real rho = sqrt(fmax(reach * reach - h * h, (real)0)) + margin;
+  if (!trim_clear_of(m, face, P, rho) || inside_by_crossings_exact(m, face, P) != 0)
+    return gap;
+  const real clear = rho - margin;
+  return fmax(gap, sqrt(h * h + clear * clear) - allow);
+}
+
 // The certification of the sphere of radius t tangent at O: the deepest
 // point of the trimmed faces of O's solid more than `depth` inside it (by more than half the
 // conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
@@ -2499,7 +2761,8 @@ int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
           if (face != gapFace)
           {
             gapFace = face;
-            gapOfFace = exact_gap(m, face, Ohi, Olo, mr, t);
+            gapOfFace = plane_trim_gap(m, face, Ohi, Olo, mr, t,
+              exact_gap(m, face, Ohi, Olo, mr, t), need);
           }
           real ahead;
           if (gapOfFace < need &&

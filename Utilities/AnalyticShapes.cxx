@@ -165,6 +165,28 @@ TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double s
   return BRepAlgoAPI_Cut(drilled, cone).Shape();
 }
 
+TopoDS_Shape PocketBlock(double side, double h, double slotLength, double slotRadius,
+  double depth, double holeRadius)
+{
+  const double cx = side / 2, cy = side / 2, z0 = h - depth;
+  const TopoDS_Shape middle = BRepPrimAPI_MakeBox(gp_Pnt(cx - slotLength / 2, cy - slotRadius, z0),
+    gp_Pnt(cx + slotLength / 2, cy + slotRadius, h + 1))
+                                .Shape();
+  const TopoDS_Shape left = BRepPrimAPI_MakeCylinder(
+    gp_Ax2(gp_Pnt(cx - slotLength / 2, cy, z0), gp_Dir(0, 0, 1)), slotRadius, depth + 1)
+                              .Shape();
+  const TopoDS_Shape right = BRepPrimAPI_MakeCylinder(
+    gp_Ax2(gp_Pnt(cx + slotLength / 2, cy, z0), gp_Dir(0, 0, 1)), slotRadius, depth + 1)
+                               .Shape();
+  const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(
+    gp_Ax2(gp_Pnt(side / 4, side / 4, -1), gp_Dir(0, 0, 1)), holeRadius, h + 2)
+                              .Shape();
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(side, side, h).Shape();
+  for (const TopoDS_Shape& tool : { middle, left, right, hole })
+    block = BRepAlgoAPI_Cut(block, tool).Shape();
+  return block;
+}
+
 TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt,
   double stepHeight)
 {

@@ -27,6 +27,12 @@ TopoDS_Shape HolePlate(double side, double h, double holeRadius); ///< thickness
 /// holeRadius + sink at z = h. A sphere tangent to the hole s below the cone's edge touches the
 /// cone: 2t = 2 s (1 + sqrt 2) while its foot (s / sqrt 2 above the edge) lies on the cone.
 TopoDS_Shape CountersunkPlate(double side, double h, double holeRadius, double sink);
+/// A side x side x h block with a slot pocket depth deep in its top, centred: a stadium of
+/// straight length slotLength between two half-circles of radius slotRadius, along x (the top
+/// face a plane whose trim has the slot's outline as a hole, as a mould's parting plane has the
+/// cavity's), and a through hole of radius holeRadius at (side / 4, side / 4).
+TopoDS_Shape PocketBlock(double side, double h, double slotLength, double slotRadius,
+  double depth, double holeRadius);
 /// A block under a ridge: its top the polynomial z = H - a x^2 - c x^3 over x in [-L, L], y in
 /// [0, W] (a Bezier curve of degree 3 extruded along y), its bottom z = 0 and planes at x = +-L,
 /// y = 0 and y = W; every face a polynomial B-spline (BRepBuilderAPI_NurbsConvert), the top of

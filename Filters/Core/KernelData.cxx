@@ -437,6 +437,57 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
   return kind;
 }
 
+/// A plane face whose patches are the plane's own parametrisation, an isometry: every control point
+/// at Q0 + u X + v Y with X, Y orthonormal and in the plane (OpenCASCADE's planes; not a B-spline
+/// read as a plane). Then a point's (u, v) distance from the trim is its distance in the plane
+/// (the certification's plane_trim_gap). Returns 0 where not, else the sign s of Y = s (a x X),
+/// a the plane's unit normal; X out.
+int PlaneFrame(const BRepModel& m, int f, const double* a, double* X)
+{
+  const Face& F = m.Faces[static_cast<size_t>(f)];
+  if (F.PatchCount <= 0)
+    return 0;
+  const BezierPatch& P0 = m.Patches[static_cast<size_t>(F.FirstPatch)];
+  const double du = P0.Domain[1] - P0.Domain[0], dv = P0.Domain[3] - P0.Domain[2];
+  if (!(du > 0.0) || !(dv > 0.0))
+    return 0;
+  const double* c = P0.ControlPoints.data();
+  double Y[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    X[k] = (c[36 + k] - c[k]) / du; // P30: u at its end
+    Y[k] = (c[9 + k] - c[k]) / dv;  // P03: v at its end
+  }
+  const auto dot = [](const double* p, const double* q) { return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]; };
+  const double eps = 1e-12;
+  if (std::fabs(dot(X, X) - 1.0) > eps || std::fabs(dot(Y, Y) - 1.0) > eps ||
+    std::fabs(dot(X, Y)) > eps || std::fabs(dot(X, a)) > eps || std::fabs(dot(Y, a)) > eps)
+    return 0;
+  const double axX[3] = { a[1] * X[2] - a[2] * X[1], a[2] * X[0] - a[0] * X[2],
+    a[0] * X[1] - a[1] * X[0] };
+  const int sign = dot(axX, Y) > 0.0 ? 1 : -1;
+  // Every control point where the map puts it, to rounding of the face's size.
+  double size = std::fabs(F.Domain[1] - F.Domain[0]) + std::fabs(F.Domain[3] - F.Domain[2]);
+  for (int k = 0; k < 3; ++k)
+    size += std::fabs(c[k]);
+  const double tol = 1e-12 * size;
+  for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+  {
+    const BezierPatch& B = m.Patches[static_cast<size_t>(p)];
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+      {
+        const double u = B.Domain[0] + (B.Domain[1] - B.Domain[0]) * i / 3.0 - P0.Domain[0];
+        const double v = B.Domain[2] + (B.Domain[3] - B.Domain[2]) * j / 3.0 - P0.Domain[2];
+        const double* q = &B.ControlPoints[3 * (4 * i + j)];
+        for (int k = 0; k < 3; ++k)
+          if (std::fabs(c[k] + u * X[k] + v * Y[k] - q[k]) > tol)
+            return 0;
+      }
+  }
+  return sign;
+}
+
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
 {
@@ -489,10 +540,21 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
       kind = 0;
       exact = {};
     }
+    // A plane's frame (PlaneFrame): X in the sizes, which a plane leaves unused, the sign in
+    // the face's slot 11.
+    int frame = 0;
+    if (kind == 1)
+    {
+      double X[3];
+      frame = PlaneFrame(m, static_cast<int>(f), &exact[6], X);
+      if (frame != 0)
+        for (int i = 0; i < 3; ++i)
+          exact[9 + i] = X[i];
+    }
     k.FaceInfo.insert(k.FaceInfo.end(),
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
         F.Reversed ? 1 : 0, F.Solid, kind, -1,
-        PatchesAreTheSurface(m, static_cast<int>(f)) ? 1 : 0 });
+        PatchesAreTheSurface(m, static_cast<int>(f)) ? 1 : 0, frame });
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });

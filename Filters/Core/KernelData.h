@@ -20,8 +20,9 @@ constexpr size_t KernelOutReals = 7;
 /// Ints per result (OUT_INTS): type, reason, face, patch, edge, iterations, exact pass.
 constexpr size_t KernelOutInts = 7;
 /// Ints per face (FACE_INTS): its grid, loops, orientation, solid, exact kind, trim tree root,
-/// whether its patches are its surface (PatchesAreTheSurface).
-constexpr size_t KernelFaceInts = 11;
+/// whether its patches are its surface (PatchesAreTheSurface), and for a plane whose patches
+/// are its isometric parametrisation the sign of its frame (PlaneFrame in KernelData.cxx; 0: none).
+constexpr size_t KernelFaceInts = 12;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control

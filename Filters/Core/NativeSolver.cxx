@@ -168,6 +168,15 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
                                     : -1.0;
 }
 
+double NativeSolver::FaceBound(const Sample& sample, double t, int face, double need) const
+{
+  const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
+  const SampleFrame f = Frame(P->Data, sample);
+  const kernel::real3 mr = t * f.d;
+  return kernel::plane_trim_gap(&view, face, f.Ohi, f.Olo, mr, t,
+    kernel::exact_gap(&view, face, f.Ohi, f.Olo, mr, t), need);
+}
+
 void NativeSolver::Classify(int face, double u, double v, bool& inside, int& segment,
   double& parameter, double& distance) const
 {

@@ -56,6 +56,13 @@ public:
   void PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
     double& patchBound) const;
 
+  /// The certification's lower bound of the distance from the centre of the sphere of radius t
+  /// tangent at the sample to `face` (find_point_inside): its exact surface's (exact_gap), and on
+  /// a plane whose patches are its isometric parametrisation, where the disk in which the sphere
+  /// of radius `need` meets the plane lies off the trimmed face, `need` (plane_trim_gap); -1
+  /// where the face has no exact surface. For tests against OpenCASCADE's distance to the face.
+  double FaceBound(const Sample& sample, double t, int face, double need) const;
+
   /// The kernel's point-in-face test at (u, v) on `face` (classify in Kernels/thickness.cl, the
   /// per-face segment tree included): inside, and the nearest trimming segment (-1: none), the
   /// local parameter on it and the distance. The same steps as brt::ClassifyPoint (the reader's),

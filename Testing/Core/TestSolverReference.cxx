@@ -12,7 +12,11 @@
 #include "TestHelpers.h"
 #include "TrimClassifier.h"
 
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <Bnd_Box.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
@@ -434,6 +438,77 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     {
       EXPECT_GT(patchTighter, 0u);
     }
+  }
+}
+
+/// The certification skips a plane face where the disk in which a sphere meets the plane lies
+/// off its trim (plane_trim_gap: a sphere that crosses a plate inside a hole, or a mould's parting
+/// plane inside the cavity's outline). The bound must stay at or below OpenCASCADE's distance
+/// from the centre to the face itself (BRepExtrema on the healed face), for centres anywhere
+/// around the faces and radii from none to wider than the part: over the hole and the slot, over
+/// material (where the bound must not act), and next to the trims, where the disk nearly touches
+/// them. And it must do its work: it acts on a good share of the centres whose foot lies in the
+/// hole or the slot. Taken out of the kernel (the crossing parity inverted, a throwaway tree),
+/// the bound claims `need` over material and this test fails.
+TEST(SolverBounds, PlaneTrimBelowTheDistanceToTheFace)
+{
+  const std::vector<std::pair<std::string, TopoDS_Shape>> shapes = {
+    { "hole plate 40 x 3, hole R8", analytic::HolePlate(40, 3, 8) },
+    { "block with a slot pocket", analytic::PocketBlock(60, 20, 24, 7, 12, 4) },
+  };
+  for (const auto& shape : shapes)
+  {
+    SCOPED_TRACE(shape.first);
+    std::vector<TopoDS_Face> faces;
+    ConversionOptions conv;
+    const BRepModel model = ConvertShape(shape.second, conv, &faces);
+    ASSERT_EQ(faces.size(), model.Faces.size());
+    const SolverData data = PrepareSolver(model, SolverOptions());
+    const NativeSolver solver(model, data);
+    const KernelModel<double> k = PackKernelModel<double>(model, data);
+    std::mt19937 rng(20261203);
+    size_t framed = 0, checked = 0, acted = 0;
+    double worst = -1e300;
+    for (size_t f = 0; f < model.Faces.size(); ++f)
+    {
+      if (k.FaceInfo[KernelFaceInts * f + 11] == 0)
+        continue;
+      ++framed;
+      // Centres around the face: its box, 3 beyond it every way.
+      Bnd_Box box;
+      BRepBndLib::Add(faces[f], box);
+      double x0, y0, z0, x1, y1, z1;
+      box.Get(x0, y0, z0, x1, y1, z1);
+      std::uniform_real_distribution<double> X(x0 - 3, x1 + 3), Y(y0 - 3, y1 + 3),
+        Z(z0 - 3, z1 + 3), N(0.0, 1.0);
+      for (int i = 0; i < 600; ++i)
+      {
+        Sample smp;
+        smp.Face = static_cast<int>(f);
+        const double M[3] = { X(rng), Y(rng), Z(rng) };
+        smp.Direction = { 0.0, 0.0, 1.0 };
+        smp.Point = { M[0], M[1], M[2] - 1.0 }; // M = O + 1 d
+        // Radii mostly about the centre's distance from the face, where the bound decides.
+        const double truth = BRepExtrema_DistShapeShape(
+          BRepBuilderAPI_MakeVertex(gp_Pnt(M[0], M[1], M[2])).Vertex(), faces[f])
+                               .Value();
+        const double need = i % 3 == 0 ? 30.0 * N(rng) : truth * (0.5 + N(rng));
+        const double gap = solver.FaceBound(smp, 1.0, static_cast<int>(f), -1.0);
+        const double bound = solver.FaceBound(smp, 1.0, static_cast<int>(f), need);
+        ++checked;
+        if (bound > gap)
+          ++acted;
+        worst = std::max(worst, bound - truth);
+        EXPECT_LE(bound, truth + 1e-9) << "face " << f << ", centre " << M[0] << " " << M[1]
+                                       << " " << M[2] << ", need " << need << ": bound " << bound
+                                       << ", the plane's " << gap << ", distance " << truth;
+      }
+    }
+    std::printf("[plane trim] %s: %zu framed planes, %zu centres, the trim's bound acted on %zu, "
+                "max bound - distance %.3g\n",
+      shape.first.c_str(), framed, checked, acted, worst);
+    EXPECT_GE(framed, 4u);
+    EXPECT_GT(acted, checked / 20);
   }
 }
 
