@@ -13,7 +13,9 @@
 #include <TopoDS_Edge.hxx>
 #include <gp_Pnt2d.hxx>
 
+#include <algorithm>
 #include <limits>
+#include <utility>
 
 namespace brt
 {
@@ -27,8 +29,65 @@ std::vector<Bnd_Box> FaceBoxes(const std::vector<TopoDS_Face>& faces)
   return boxes;
 }
 
+double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
+{
+  const Handle(Geom_Surface) S = BRep_Tool::Surface(F);
+  if (S.IsNull() || n < 1)
+    return std::numeric_limits<double>::max();
+  double u0, u1, v0, v1;
+  BRepTools::UVBounds(F, u0, u1, v0, v1);
+  const double tol = BRep_Tool::Tolerance(F);
+  // The nearest of the points (u, v) that the classifier keeps: candidates by distance, each
+  // classified in turn until one is on the face.
+  auto nearestOn = [&](double ua, double ub, double va, double vb, int m, double& bu, double& bv) {
+    std::vector<std::pair<double, std::pair<double, double>>> cand;
+    cand.reserve(static_cast<size_t>((m + 1) * (m + 1)));
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; j <= m; ++j)
+      {
+        const double u = ua + (ub - ua) * i / m, v = va + (vb - va) * j / m;
+        cand.push_back({ X.Distance(S->Value(u, v)), { u, v } });
+      }
+    std::sort(cand.begin(), cand.end());
+    for (const auto& c : cand)
+    {
+      const BRepClass_FaceClassifier in(F, gp_Pnt2d(c.second.first, c.second.second), tol);
+      if (in.State() == TopAbs_IN || in.State() == TopAbs_ON)
+      {
+        bu = c.second.first;
+        bv = c.second.second;
+        return c.first;
+      }
+    }
+    return std::numeric_limits<double>::max();
+  };
+  double bu = 0.0, bv = 0.0;
+  double best = nearestOn(u0, u1, v0, v1, n, bu, bv);
+  if (!(best < std::numeric_limits<double>::max()))
+    return best;
+  double du = (u1 - u0) / n, dv = (v1 - v0) / n;
+  for (int level = 0; level < 3; ++level)
+  {
+    double nu = bu, nv = bv;
+    const double d = nearestOn(std::max(u0, bu - du), std::min(u1, bu + du), std::max(v0, bv - dv),
+      std::min(v1, bv + dv), 8, nu, nv);
+    if (d < best)
+    {
+      best = d;
+      bu = nu;
+      bv = nv;
+    }
+    du /= 4.0;
+    dv /= 4.0;
+  }
+  if (at)
+    *at = S->Value(bu, bv);
+  return best;
+}
+
 double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<Bnd_Box>& boxes,
-  const gp_Pnt& X, double reach, const std::function<bool(size_t)>& use, gp_Pnt* at, int* atFace)
+  const gp_Pnt& X, double reach, const std::function<bool(size_t)>& use, gp_Pnt* at, int* atFace,
+  int grid)
 {
   double best = std::numeric_limits<double>::max();
   auto keep = [&](double dist, const gp_Pnt& P, int face) {
@@ -46,6 +105,13 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
     if ((use && !use(f)) || boxes[f].IsVoid() || boxes[f].Distance(Bnd_Box(X, X)) > reach)
       continue;
     const TopoDS_Face& F = faces[f];
+    if (grid > 0)
+    {
+      gp_Pnt P;
+      const double d = GridDistance(F, X, grid, &P);
+      if (d < std::numeric_limits<double>::max())
+        keep(d, P, static_cast<int>(f));
+    }
     double u0, u1, v0, v1;
     BRepTools::UVBounds(F, u0, u1, v0, v1);
     const Handle(Geom_Surface) S = BRep_Tool::Surface(F);

@@ -19,10 +19,19 @@ namespace exact
 /// to each face's surface (GeomAPI_ProjectPointOnSurf over the face's parameter box) that the
 /// face's classifier puts on the face, and every extremum along its edges' curves and their ends.
 /// Returns that distance (the largest double where there is none); *at gets the point and
-/// *atFace its face's index (-1: on an edge or at a vertex).
+/// *atFace its face's index (-1: on an edge or at a vertex). With grid > 0 also a third opinion
+/// on each such face (GridDistance), for points both extremum searches miss.
 double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<Bnd_Box>& boxes,
   const gp_Pnt& X, double reach, const std::function<bool(size_t)>& use = {},
-  gp_Pnt* at = nullptr, int* atFace = nullptr);
+  gp_Pnt* at = nullptr, int* atFace = nullptr, int grid = 0);
+
+/// The nearest point to X of face F's surface among the points of an n x n grid over its
+/// parameter box that the face's classifier keeps, refined three times by a 9 x 9 grid over the
+/// neighbouring cells of the best; independent of OpenCASCADE's extremum searches, which can
+/// both miss a face's nearest point (a round's saddle: docs/Solver.md, Open items, "Their failed
+/// samples"). An upper bound of the face's distance (the largest double where no grid point lies
+/// on the face); *at gets the point.
+double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at = nullptr);
 
 /// The faces' boxes for ExtremaDistance.
 std::vector<Bnd_Box> FaceBoxes(const std::vector<TopoDS_Face>& faces);
