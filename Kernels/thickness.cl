@@ -2441,6 +2441,26 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
 }
 
 // --- a plane's trimmed face against a sphere -------------------------------------------------
+// Pushes the halves of the cubic piece q (four (u, v) control points; de Casteljau at its
+// middle) onto the stack st at *top, one level below `level`, the second half on top.
+inline void push_halves(real2 (*st)[4], int* depthOf, int* top, const real2* q, int level)
+{
+  const real2 a = (real)0.5 * (q[0] + q[1]), b = (real)0.5 * (q[1] + q[2]);
+  const real2 f = (real)0.5 * (q[2] + q[3]);
+  const real2 ab = (real)0.5 * (a + b), bf = (real)0.5 * (b + f), mid = (real)0.5 * (ab + bf);
+  const int k = *top;
+  st[k][0] = q[0];
+  st[k][1] = a;
+  st[k][2] = ab;
+  st[k][3] = mid;
+  st[k + 1][0] = mid;
+  st[k + 1][1] = bf;
+  st[k + 1][2] = f;
+  st[k + 1][3] = q[3];
+  depthOf[k] = depthOf[k + 1] = level + 1;
+  *top = k + 2;
+}
+
 // 1 when the cubic trimming segment c (four (u, v) control points) lies at least r from P: each
 // piece lies in the hull of its control points, so in their box along its chord and across it;
 // pieces whose box comes nearer are halved (de Casteljau), up to 10 times. 0 where a piece's end
@@ -2482,67 +2502,7 @@ int segment_clear_of(__global const real* c, real2 P, real r)
       continue;
     if (level == 10 || top + 2 > 12)
       return 0;
-    const real2 a = (real)0.5 * (q[0] + q[1]), b = (real)0.5 * (q[1] + q[2]);
-    const real2 f = (real)0.5 * (q[2] + q[3]);
-    const real2 ab = (real)0.5 * (a + b), bf = (real)0.5 * (b + f), mid = (real)0.5 * (ab + bf);
-    st[top][0] = q[0];
-    st[top][1] = a;
-    st[top][2] = ab;
-    st[top][3] = mid;
-    depthOf[top] = level + 1;
-    st[top + 1][0] = mid;
-    st[top + 1][1] = bf;
-    st[top + 1][2] = f;
-    st[top + 1][3] = q[3];
-    depthOf[top + 1] = level + 1;
-    top += 2;
-  }
-  return 1;
-}
-
-// 1 when every trimming segment of `face` lies at least r from P in (u, v) (segment_clear_of,
-// over the face's segment tree where it has one).
-int trim_clear_of(const Model* m, int face, real2 P, real r)
-{
-  __global const int* fi = m->faceInfo + FACE_INTS * face;
-  const real r2 = r * r;
-  if (fi[9] >= 0)
-  {
-    int stack[32];
-    int top = 0;
-    stack[top++] = fi[9];
-    while (top > 0)
-    {
-      const int n = stack[--top];
-      if (uv_box_gap2(m->trimNodeBox + 4 * n, P) >= r2)
-        continue;
-      __global const int* ni = m->trimNodeInfo + 3 * n;
-      if (ni[1] > 0)
-      {
-        for (int j = 0; j < ni[1]; ++j)
-        {
-          __global const real* c = m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)];
-          if (box_distance2(c, P) < r2 && !segment_clear_of(c, P, r))
-            return 0;
-        }
-        continue;
-      }
-      if (top + 2 > 32)
-        return 0; // never: the tree is balanced
-      stack[top++] = ni[2];
-      stack[top++] = n + 1;
-    }
-    return 1;
-  }
-  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
-  {
-    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
-    for (int s = first; s < first + count; ++s)
-    {
-      __global const real* c = m->trim + TRIM_REALS * s;
-      if (box_distance2(c, P) < r2 && !segment_clear_of(c, P, r))
-        return 0;
-    }
+    push_halves(st, depthOf, &top, q, level);
   }
   return 1;
 }
@@ -2550,7 +2510,7 @@ int trim_clear_of(const Model* m, int face, real2 P, real r)
 // The parity of the crossings of the ray from P along +u with the cubic segment c (four (u, v)
 // control points), or -1 undecided: pieces whose control points' v run monotone across P's v
 // cross its line once, left or right of P by their box; the others, and those whose box spans
-// P's u, are halved (de Casteljau), up to 12 times. P lies off the curve (trim_clear_of), so the
+// P's u, are halved (de Casteljau), up to 12 times. P lies off the curve (trim_segment_clear), so the
 // halving ends. Half-open in v, as inside_by_crossings: an end at P's v counts on the side above.
 int segment_crossings(__global const real* c, real2 P)
 {
@@ -2589,31 +2549,33 @@ int segment_crossings(__global const real* c, real2 P)
     }
     if (level == 12 || top + 2 > 14)
       return -1;
-    const real2 a = (real)0.5 * (q[0] + q[1]), b = (real)0.5 * (q[1] + q[2]);
-    const real2 f = (real)0.5 * (q[2] + q[3]);
-    const real2 ab = (real)0.5 * (a + b), bf = (real)0.5 * (b + f), mid = (real)0.5 * (ab + bf);
-    st[top][0] = q[0];
-    st[top][1] = a;
-    st[top][2] = ab;
-    st[top][3] = mid;
-    depthOf[top] = level + 1;
-    st[top + 1][0] = mid;
-    st[top + 1][1] = bf;
-    st[top + 1][2] = f;
-    st[top + 1][3] = q[3];
-    depthOf[top + 1] = level + 1;
-    top += 2;
+    push_halves(st, depthOf, &top, q, level);
   }
   return parity;
 }
 
-// P inside `face` by the parity of its trimming segments' crossings with the ray from P along +u
-// (over the segment tree where the face has one): 1 inside, 0 outside, -1 undecided
-// (segment_crossings). P lies off every segment (trim_clear_of).
-int inside_by_crossings_exact(const Model* m, int face, real2 P)
+// One trimming segment c for trim_side_if_clear: 0 where it comes within r of P
+// (segment_clear_of), -1 where its crossings are undecided, else 1 with their parity added to
+// *parity.
+inline int trim_segment_clear(__global const real* c, real2 P, real r, int* parity)
+{
+  if (box_distance2(c, P) < r * r && !segment_clear_of(c, P, r))
+    return 0;
+  const int k = segment_crossings(c, P);
+  if (k < 0)
+    return -1;
+  *parity ^= k & 1;
+  return 1;
+}
+
+// Where no trimming segment of `face` comes within r of P in (u, v), which side of the trim P
+// lies on, by the parity of the segments' crossings with the ray from P along +u: 1 outside, 2
+// inside; 0 where a segment comes within r, -1 where a crossing is undecided. One walk of the
+// face's segment tree where it has one, over the nodes near P or across the ray.
+int trim_side_if_clear(const Model* m, int face, real2 P, real r)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
-  int inside = 0;
+  int parity = 0;
   if (fi[9] >= 0)
   {
     int stack[32];
@@ -2623,39 +2585,39 @@ int inside_by_crossings_exact(const Model* m, int face, real2 P)
     {
       const int n = stack[--top];
       __global const real* b = m->trimNodeBox + 4 * n;
-      if (b[1] > P.y || !(b[3] > P.y) || !(b[2] > P.x))
+      const int across = !(b[1] > P.y) && b[3] > P.y && b[2] > P.x;
+      if (!across && !(uv_box_gap2(b, P) < r * r))
         continue;
       __global const int* ni = m->trimNodeInfo + 3 * n;
       if (ni[1] > 0)
       {
         for (int j = 0; j < ni[1]; ++j)
         {
-          const int k = segment_crossings(m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)], P);
-          if (k < 0)
-            return -1;
-          inside ^= k & 1;
+          const int k = trim_segment_clear(m->trim + TRIM_REALS * m->trimItems[2 * (ni[0] + j)],
+            P, r, &parity);
+          if (k <= 0)
+            return k;
         }
         continue;
       }
       if (top + 2 > 32)
-        return -1;
+        return -1; // never: the tree is balanced
       stack[top++] = ni[2];
       stack[top++] = n + 1;
     }
-    return inside;
+    return 1 + parity;
   }
   for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
   {
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
     {
-      const int k = segment_crossings(m->trim + TRIM_REALS * s, P);
-      if (k < 0)
-        return -1;
-      inside ^= k & 1;
+      const int k = trim_segment_clear(m->trim + TRIM_REALS * s, P, r, &parity);
+      if (k <= 0)
+        return k;
     }
   }
-  return inside;
+  return 1 + parity;
 }
 
 // A lower bound of the distance from the centre M (O + mr) to a plane `face` whose patches are
@@ -2694,7 +2656,7 @@ real plane_trim_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, re
   const real margin = (real)1e-9 * size + (real)16 * FLT_EPSILON * (length(XM) + t + size);
 #endif
   const real rho = sqrt(fmax(reach * reach - h * h, (real)0)) + margin;
-  if (!trim_clear_of(m, face, P, rho) || inside_by_crossings_exact(m, face, P) != 0)
+  if (trim_side_if_clear(m, face, P, rho) != 1)
     return gap;
   const real clear = rho - margin;
   return fmax(gap, sqrt(h * h + clear * clear) - allow);
