@@ -2628,8 +2628,8 @@ int trim_side_if_clear(const Model* m, int face, real2 P, real r)
 // face lies in that disk, and the face is at least sqrt(h^2 + rho^2) from M, h M's height over
 // the plane. A plane's patches cover its whole (u, v) box, holes included: a sphere that crosses
 // the plane inside a hole reached its patches there, and each was searched (certify_patch) to find
-// its nearest point off the face (a mould's parting plane around the cavity's outline: the engine
-// block's mould model, +12%; docs/Solver.md, item 13, "A plane's hole").
+// its nearest point off the face (the engine block's mold model, a finned casting, +12%;
+// docs/Solver.md, item 13, "A plane's hole").
 real plane_trim_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, real t, real gap,
   real need)
 {

@@ -3,6 +3,7 @@
 #include <BRepBndLib.hxx>
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
@@ -37,22 +38,30 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
   double u0, u1, v0, v1;
   BRepTools::UVBounds(F, u0, u1, v0, v1);
   const double tol = BRep_Tool::Tolerance(F);
-  // The nearest of the points (u, v) that the classifier keeps: candidates by distance, each
-  // classified in turn until one is on the face.
+  // Two classifiers must agree: BRepClass_FaceClassifier put a corner of a plane's parameter box
+  // on the face where BRepTopAdaptor_FClass2d and the face's distance did not (the Ventilator's
+  // face 10: a point 0.75 mm "inside" a sphere that is 0.6 mm clear of the face).
+  BRepTopAdaptor_FClass2d polygon(F, tol);
+  auto onFace = [&](double u, double v) {
+    const TopAbs_State a = BRepClass_FaceClassifier(F, gp_Pnt2d(u, v), tol).State();
+    const TopAbs_State b = polygon.Perform(gp_Pnt2d(u, v));
+    return (a == TopAbs_IN || a == TopAbs_ON) && (b == TopAbs_IN || b == TopAbs_ON);
+  };
+  // The nearest of the cell centres of an m x m grid over [ua, ub] x [va, vb] that are on the
+  // face: candidates by distance, each classified in turn until one is on it.
   auto nearestOn = [&](double ua, double ub, double va, double vb, int m, double& bu, double& bv) {
     std::vector<std::pair<double, std::pair<double, double>>> cand;
-    cand.reserve(static_cast<size_t>((m + 1) * (m + 1)));
-    for (int i = 0; i <= m; ++i)
-      for (int j = 0; j <= m; ++j)
+    cand.reserve(static_cast<size_t>(m * m));
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j)
       {
-        const double u = ua + (ub - ua) * i / m, v = va + (vb - va) * j / m;
+        const double u = ua + (ub - ua) * (i + 0.5) / m, v = va + (vb - va) * (j + 0.5) / m;
         cand.push_back({ X.Distance(S->Value(u, v)), { u, v } });
       }
     std::sort(cand.begin(), cand.end());
     for (const auto& c : cand)
     {
-      const BRepClass_FaceClassifier in(F, gp_Pnt2d(c.second.first, c.second.second), tol);
-      if (in.State() == TopAbs_IN || in.State() == TopAbs_ON)
+      if (onFace(c.second.first, c.second.second))
       {
         bu = c.second.first;
         bv = c.second.second;
@@ -70,7 +79,7 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
   {
     double nu = bu, nv = bv;
     const double d = nearestOn(std::max(u0, bu - du), std::min(u1, bu + du), std::max(v0, bv - dv),
-      std::min(v1, bv + dv), 8, nu, nv);
+      std::min(v1, bv + dv), 9, nu, nv);
     if (d < best)
     {
       best = d;

@@ -25,9 +25,10 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
   const gp_Pnt& X, double reach, const std::function<bool(size_t)>& use = {},
   gp_Pnt* at = nullptr, int* atFace = nullptr, int grid = 0);
 
-/// The nearest point to X of face F's surface among the points of an n x n grid over its
-/// parameter box that the face's classifier keeps, refined three times by a 9 x 9 grid over the
-/// neighbouring cells of the best; independent of OpenCASCADE's extremum searches, which can
+/// The nearest point to X of face F's surface among the cell centres of an n x n grid over its
+/// parameter box that both of OpenCASCADE's face classifiers keep (BRepClass_FaceClassifier and
+/// BRepTopAdaptor_FClass2d), refined three times by a 9 x 9 grid over the neighbouring cells of
+/// the best; independent of OpenCASCADE's extremum searches, which can
 /// both miss a face's nearest point (a round's saddle: docs/Solver.md, Open items, "Their failed
 /// samples"). An upper bound of the face's distance (the largest double where no grid point lies
 /// on the face); *at gets the point.
