@@ -437,9 +437,11 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
   return kind;
 }
 
+namespace
+{
 /// A plane face whose patches are the plane's own parametrisation, an isometry: every control point
-/// at Q0 + u X + v Y with X, Y orthonormal and in the plane (OpenCASCADE's planes; not a B-spline
-/// read as a plane). Then a point's (u, v) distance from the trim is its distance in the plane
+/// at Q0 + u X + v Y with X, Y orthonormal and in the plane (OpenCASCADE's planes; a B-spline read
+/// as a plane only where its parameters happen to be such a map). Then a point's (u, v) distance from the trim is its distance in the plane
 /// (the certification's plane_trim_gap). Returns 0 where not, else the sign s of Y = s (a x X),
 /// a the plane's unit normal; X out.
 int PlaneFrame(const BRepModel& m, int f, const double* a, double* X)
@@ -487,6 +489,7 @@ int PlaneFrame(const BRepModel& m, int f, const double* a, double* X)
   }
   return sign;
 }
+} // namespace
 
 template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
