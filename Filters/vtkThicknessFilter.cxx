@@ -780,8 +780,8 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   if (native)
     cpu = std::make_unique<brt::NativeSolver>(model, data);
   I.DeviceUsed = native
-    ? "native CPU (double, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
-      " threads)"
+    ? "native CPU (double, " + std::string(cpu->KernelBuild()) + ", " +
+      std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads)"
     : std::string("OpenCL ") + (useDouble ? "double" : "float") + ": " + I.CL->DeviceName();
   I.PrepareSeconds = Seconds(t0);
 

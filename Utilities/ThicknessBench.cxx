@@ -10,6 +10,7 @@
 #include "BRepConverter.h"
 #endif
 #include "Solver.h"
+#include "NativeKernelWide.h"
 #include "SolverIO.h"
 #ifdef BRT_HAVE_OPENCL
 #include "OpenCLSolver.h"
@@ -142,6 +143,8 @@ int main(int argc, char** argv)
     }
   }
 #endif
+  if (native)
+    std::printf("native device: the kernel source's %s build\n", brt::NativeKernelBuild());
   std::printf("%-32s %8s %8s %8s %12s %8s %12s %8s %8s %9s %9s\n", "model", "samples", "s1",
     "patches", "nat_samp/s", "nat_fail", "cl_samp/s", "cl_fail", "agree", "host_MiB", "dev_MiB");
   for (const auto& file : files)

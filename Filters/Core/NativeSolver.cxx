@@ -2,9 +2,11 @@
 
 #include "KernelData.h"
 #include "KernelLanguage.h"
+#include "NativeKernelWide.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace brt
@@ -34,18 +36,17 @@ struct NativeSolver::Impl
   {
   }
 
+  /// The x86-64-v3 build of the kernel source runs the solve and the ray (NativeKernelWide.h).
+  bool Wide = std::strcmp(NativeKernelBuild(), "x86-64-v3") == 0;
+
+  int PatchCount() const { return static_cast<int>(Model.Patches.size()); }
+
   kernel::Model View(const KernelScalars& s) const
   {
-    return kernel::Model{ K.Patches.data(), K.PatchAnchor.data(), K.PatchDomain.data(),
-      K.FaceInfo.data(), K.FaceDomain.data(), K.Breaks.data(), K.Loops.data(), K.Trim.data(),
-      K.TrimEdge.data(), K.TrimRange.data(), K.TrimNodeBox.data(), K.TrimNodeInfo.data(),
-      K.TrimItems.data(), K.EdgeInfo.data(), K.EdgeRange.data(),
-      K.EdgeSeg.data(), K.EdgeAnchor.data(), K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack,
-      s.Clearance, s.S1Spacing, K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(),
-      K.PatchSector.data(), K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(),
-      static_cast<int>(Model.Patches.size()), s.Mode(K.HasBoxes()) };
+    return KernelView<kernel::Model>(K, s, PatchCount());
   }
 };
+
 
 NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data)
   : P(std::make_unique<Impl>(model, data))
@@ -53,6 +54,16 @@ NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data)
 }
 
 NativeSolver::~NativeSolver() = default;
+
+const char* NativeSolver::KernelBuild() const
+{
+  return P->Wide ? "x86-64-v3" : "baseline";
+}
+
+void NativeSolver::UseBaselineBuild()
+{
+  P->Wide = false;
+}
 
 bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results, const std::vector<size_t>* which, unsigned threads,
@@ -76,6 +87,10 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
   const KernelModel<double>& K = P->K;
+  const bool wide = P->Wide;
+  const int patchCount = P->PatchCount();
+  (void)wide;
+  (void)patchCount;
   // Blocks of 32 samples in SpatialOrder: neighbours share the trees' nodes near them.
   const std::vector<size_t> order = SpatialOrder(samples, which);
   return ParallelForWithProgress(n, threads, 32, [&](size_t j) {
@@ -83,9 +98,14 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
     double in[KernelSampleReals], outR[KernelOutReals];
     int outI[KernelOutInts];
     PackSample(P->Data, samples[i], in);
-    kernel::solve_sample(view, K.S1Point.data(), K.S1Face.data(), K.S1UV.data(), K.NodeBox.data(),
-      K.NodeInfo.data(), in, samples[i].Face, s.Scale, s.StepTol, s.NewtonTol, s.MaxIterations,
-      s.MaxEdgeIterations, outR, outI);
+#if BRT_NATIVE_WIDE
+    if (wide)
+      SolveSampleWide(K, s, patchCount, in, samples[i].Face, outR, outI);
+    else
+#endif
+      kernel::solve_sample(view, K.S1Point.data(), K.S1Face.data(), K.S1UV.data(),
+        K.NodeBox.data(), K.NodeInfo.data(), in, samples[i].Face, s.Scale, s.StepTol,
+        s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, outR, outI);
     const bool exact = UnpackResult(samples[i], outR, outI, results[i]);
     if (exactPass)
       (*exactPass)[i] = exact ? 1 : 0;
@@ -220,7 +240,15 @@ void NativeSolver::RayThickness(const std::vector<Sample>& samples,
     const SampleFrame f = Frame(P->Data, samples[i]);
     const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
     int hit = -1;
+#if BRT_NATIVE_WIDE
+    const double hi[3] = { Ohi.x, Ohi.y, Ohi.z }, lo[3] = { Olo.x, Olo.y, Olo.z },
+                 dir[3] = { d.x, d.y, d.z };
+    const double t = P->Wide
+      ? RayThicknessWide(P->K, s, P->PatchCount(), hi, lo, dir, samples[i].Face, &hit)
+      : kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, s.StepTol, &hit);
+#else
     const double t = kernel::ray_thickness(&view, samples[i].Face, Ohi, Olo, d, s.StepTol, &hit);
+#endif
     if (hit >= 0 && t < std::numeric_limits<double>::max())
     {
       thickness[i] = t;

@@ -36,6 +36,13 @@ public:
     unsigned threads = 0, std::vector<unsigned char>* exactPass = nullptr,
     const std::function<bool(size_t)>& progress = {}) const;
 
+  /// The build of the kernel source this solver runs: "x86-64-v3" (AVX2, BMI2; chosen where the
+  /// CPU has them and the environment variable BRT_NATIVE_BASELINE is unset) or "baseline". Both
+  /// give the same results bit for bit (docs/Solver.md, "The native device's instruction sets").
+  const char* KernelBuild() const;
+  /// Runs the baseline build even where the CPU has x86-64-v3 (for tests and comparisons).
+  void UseBaselineBuild();
+
   /// True when a point of the trimmed faces of the sample's solid lies inside r's sphere deeper
   /// than the verification allows (the larger of `options`' clearance and twice the conversion
   /// tolerance): the certification (SolverOptions::Certify) of a result found elsewhere (the

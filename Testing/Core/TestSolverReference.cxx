@@ -36,6 +36,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <tuple>
@@ -1197,6 +1198,73 @@ TEST(Parallel, BlocksEveryIndexOnceAndStops)
   EXPECT_GE(ran.load(), 1000u);
   EXPECT_LT(ran.load(), n);
 }
+/// The native device runs the x86-64-v3 build of the kernel source where the CPU has AVX2 and
+/// BMI2 (NativeKernelWide.cxx): the same operations in the same order, no fused multiply-add, so
+/// every field of every result must be the baseline build's bit for bit: the thickness, the ray
+/// and the exterior gap on every Data/ model (a quarter of its samples, spread over it).
+TEST(NativeDevice, WideBuildSameBitsAsBaseline)
+{
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile("plate.step"), ConversionOptions());
+    const SolverData data = PrepareSolver(m, SolverOptions());
+    if (std::string(NativeSolver(m, data).KernelBuild()) != "x86-64-v3")
+      GTEST_SKIP() << "the native device runs the baseline build here (not x86-64, no AVX2 and "
+                      "BMI2, or BRT_NATIVE_BASELINE set): nothing to compare";
+  }
+  auto same = [](const SampleResult& a, const SampleResult& b) {
+    auto bits = [](const void* x, const void* y, size_t n) { return std::memcmp(x, y, n) == 0; };
+    return bits(&a.Thickness, &b.Thickness, sizeof(double)) &&
+      bits(&a.Radius, &b.Radius, sizeof(double)) && bits(a.Center.data(), b.Center.data(), 24) &&
+      bits(a.Foot.data(), b.Foot.data(), 24) &&
+      bits(a.FootParameter.data(), b.FootParameter.data(), 16) &&
+      bits(&a.Residual, &b.Residual, sizeof(double)) && a.OppositeFace == b.OppositeFace &&
+      a.OppositePatch == b.OppositePatch && a.OppositeEdge == b.OppositeEdge &&
+      a.Type == b.Type && a.Reason == b.Reason && a.Iterations == b.Iterations;
+  };
+  for (const auto& name : test::DataModels())
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    const SolverData data = PrepareSolver(m, SolverOptions());
+    const std::vector<Sample> all = SamplesFromMesh(m, data);
+    std::vector<Sample> samples;
+    for (size_t i = 0; i < all.size(); i += 4)
+      samples.push_back(all[i]);
+    NativeSolver wide(m, data), baseline(m, data);
+    baseline.UseBaselineBuild();
+    ASSERT_STREQ(wide.KernelBuild(), "x86-64-v3");
+    ASSERT_STREQ(baseline.KernelBuild(), "baseline");
+    for (const bool exterior : { false, true })
+    {
+      SolverOptions options;
+      options.Exterior = exterior;
+      std::vector<Sample> asked = samples;
+      if (exterior)
+        for (Sample& sample : asked)
+          for (double& c : sample.Direction)
+            c = -c;
+      std::vector<SampleResult> a, b;
+      wide.Solve(options, asked, a);
+      baseline.Solve(options, asked, b);
+      size_t differ = 0, first = asked.size();
+      for (size_t i = 0; i < asked.size(); ++i)
+        if (!same(a[i], b[i]))
+        {
+          first = std::min(first, i);
+          ++differ;
+        }
+      EXPECT_EQ(differ, 0u) << name << (exterior ? " (gap)" : "") << ": first at sample "
+                            << first;
+    }
+    std::vector<double> ra, rb;
+    std::vector<int> fa, fb;
+    wide.RayThickness(samples, ra, &fa);
+    baseline.RayThickness(samples, rb, &fb);
+    EXPECT_TRUE(fa == fb && std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(double)) == 0)
+      << name << " (ray)";
+    std::printf("[wide build] %s: %zu samples compared\n", name.c_str(), samples.size());
+  }
+}
+
 /// The solvers' order: a permutation of the samples asked for, each face's together, a line of
 /// points along it whatever order they came in, and points in one cell in their given order.
 TEST(Parallel, SpatialOrderKeepsNeighboursTogether)

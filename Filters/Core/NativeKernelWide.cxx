@@ -1,0 +1,91 @@
+// BRepThickness: the native device's hot entry points (the solve and the ray, per sample) compiled
+// a second time for x86-64-v3 (AVX2, BMI2; no FMA contraction), chosen at run time where the CPU
+// has those instructions (NativeKernelWide.h). The same kernel source, the same operations in the
+// same order: the results are bit for bit those of the baseline build (docs/Solver.md, "The
+// native device's instruction sets"); only the encoding is wider (three-operand AVX, BMI).
+//
+// The kernel source goes into its own namespace, kernel_v3, so that none of its functions shares
+// a name with the baseline build's: an inline function compiled here with AVX2 must never be the
+// copy the linker keeps for the baseline. The helpers of KernelLanguage.h and the standard
+// headers are included before the target pragma, so their out-of-line copies are baseline ones
+// too; the functions after it may inline them. This file must be compiled with
+// -ffp-contract=off (Filters/Core/CMakeLists.txt): with FMA available, the compilers would
+// otherwise fuse a * b + c and round differently.
+#include "NativeKernelWide.h"
+
+#include "KernelLanguage.h"
+
+#include <cstdlib>
+
+#if BRT_NATIVE_WIDE
+
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx,avx2,bmi,bmi2,f16c,fma,lzcnt,movbe,popcnt"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx,avx2,bmi,bmi2,f16c,fma,lzcnt,movbe,popcnt")
+#endif
+
+namespace brt
+{
+namespace kernel_v3
+{
+using namespace ::brt::kernel;
+#include "thickness.cl"
+} // namespace kernel_v3
+} // namespace brt
+
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+
+namespace brt
+{
+namespace
+{
+bool WideChosen()
+{
+  __builtin_cpu_init();
+  const char* force = std::getenv("BRT_NATIVE_BASELINE");
+  return !(force && *force) && __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx2") &&
+    __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
+    __builtin_cpu_supports("fma") && __builtin_cpu_supports("popcnt");
+}
+} // namespace
+
+const char* NativeKernelBuild()
+{
+  static const bool wide = WideChosen();
+  return wide ? "x86-64-v3" : "baseline";
+}
+
+void SolveSampleWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
+  const double* sample, int ownFace, double* outR, int* outI)
+{
+  kernel_v3::solve_sample(KernelView<kernel_v3::Model>(K, s, patchCount), K.S1Point.data(),
+    K.S1Face.data(), K.S1UV.data(), K.NodeBox.data(), K.NodeInfo.data(), sample, ownFace,
+    s.Scale, s.StepTol, s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, outR, outI);
+}
+
+double RayThicknessWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
+  const double Ohi[3], const double Olo[3], const double d[3], int ownFace, int* hitFace)
+{
+  const kernel_v3::Model m = KernelView<kernel_v3::Model>(K, s, patchCount);
+  return kernel_v3::ray_thickness(&m, ownFace, make_real3(Ohi[0], Ohi[1], Ohi[2]),
+    make_real3(Olo[0], Olo[1], Olo[2]), make_real3(d[0], d[1], d[2]), s.StepTol, hitFace);
+}
+} // namespace brt
+
+#else
+
+namespace brt
+{
+const char* NativeKernelBuild()
+{
+  return "baseline";
+}
+} // namespace brt
+
+#endif
