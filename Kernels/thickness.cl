@@ -3405,9 +3405,10 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
   real t = r->t, step = 0;
   PointInside st, last;
   last.found = 0;
-  last.edge = -1;
+  last.face = last.edge = -1;
   last.onTrim = 0;
-  last.u = last.v = 0;
+  last.u = last.v = last.t = last.T = 0;
+  last.w = splat_real3(0); // (read only once found; set here for the compilers' sake)
   for (int k = 0; k < 32; ++k)
   {
     if (!find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &st))

@@ -1,6 +1,7 @@
 // BRepThickness: the native device's hot entry points (the solve and the ray, per sample) compiled
-// a second time for x86-64-v3 (AVX2, BMI2; no FMA contraction), chosen at run time where the CPU
-// has those instructions (NativeKernelWide.h). The same kernel source, the same operations in the
+// a second time for the AVX2 level of x86-64-v3 (AVX, AVX2, BMI, BMI2, POPCNT: the instructions the
+// run-time check asks the CPU for, and no others; no FMA), chosen at run time where the CPU has
+// them (NativeKernelWide.h). The same kernel source, the same operations in the
 // same order: the results are bit for bit those of the baseline build (docs/Solver.md, "The
 // native device's instruction sets"); only the encoding is wider (three-operand AVX, BMI).
 //
@@ -8,9 +9,9 @@
 // a name with the baseline build's: an inline function compiled here with AVX2 must never be the
 // copy the linker keeps for the baseline. The helpers of KernelLanguage.h and the standard
 // headers are included before the target pragma, so their out-of-line copies are baseline ones
-// too; the functions after it may inline them. This file must be compiled with
-// -ffp-contract=off (Filters/Core/CMakeLists.txt): with FMA available, the compilers would
-// otherwise fuse a * b + c and round differently.
+// too; the functions after it may inline them. FMA is left out of the target, and the file is
+// compiled with -ffp-contract=off as well (Filters/Core/CMakeLists.txt): a fused a * b + c would
+// round differently.
 #include "NativeKernelWide.h"
 
 #include "KernelLanguage.h"
@@ -20,10 +21,10 @@
 #if BRT_NATIVE_WIDE
 
 #if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx,avx2,bmi,bmi2,f16c,fma,lzcnt,movbe,popcnt"))), apply_to = function)
+#pragma clang attribute push(__attribute__((target("avx,avx2,bmi,bmi2,popcnt"))), apply_to = function)
 #else
 #pragma GCC push_options
-#pragma GCC target("avx,avx2,bmi,bmi2,f16c,fma,lzcnt,movbe,popcnt")
+#pragma GCC target("avx,avx2,bmi,bmi2,popcnt")
 #endif
 
 namespace brt
@@ -45,20 +46,21 @@ namespace brt
 {
 namespace
 {
+// Exactly the instructions of the target pragma above.
 bool WideChosen()
 {
   __builtin_cpu_init();
   const char* force = std::getenv("BRT_NATIVE_BASELINE");
   return !(force && *force) && __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx2") &&
     __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2") &&
-    __builtin_cpu_supports("fma") && __builtin_cpu_supports("popcnt");
+    __builtin_cpu_supports("popcnt");
 }
 } // namespace
 
-const char* NativeKernelBuild()
+bool NativeKernelWide()
 {
   static const bool wide = WideChosen();
-  return wide ? "x86-64-v3" : "baseline";
+  return wide;
 }
 
 void SolveSampleWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
@@ -82,10 +84,18 @@ double RayThicknessWide(const KernelModel<double>& K, const KernelScalars& s, in
 
 namespace brt
 {
-const char* NativeKernelBuild()
+bool NativeKernelWide()
 {
-  return "baseline";
+  return false;
 }
 } // namespace brt
 
 #endif
+
+namespace brt
+{
+const char* NativeKernelBuild()
+{
+  return NativeKernelWide() ? "x86-64-v3" : "baseline";
+}
+} // namespace brt

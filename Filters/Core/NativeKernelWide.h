@@ -1,6 +1,6 @@
 // BRepThickness: the native device's kernel source compiled twice, for the x86-64 baseline
-// (NativeSolver.cxx) and for x86-64-v3 (AVX2, BMI2: NativeKernelWide.cxx), the second used where
-// the CPU has those instructions. Both give the same results bit for bit (no FMA contraction);
+// (NativeSolver.cxx) and for the AVX2 level of x86-64-v3 (AVX, AVX2, BMI, BMI2, POPCNT; no FMA:
+// NativeKernelWide.cxx), the second used where the CPU has those instructions. Both give the same results bit for bit (no FMA contraction);
 // the wider one is faster (docs/Solver.md, "The native device's instruction sets"). Internal to
 // the native device.
 #pragma once
@@ -30,13 +30,14 @@ Model KernelView(const KernelModel<double>& K, const KernelScalars& s, int patch
     s.Mode(K.HasBoxes()) };
 }
 
-/// Which build of the kernel source the native device runs: "x86-64-v3" where this CPU has AVX2,
-/// BMI2 and FMA and the environment variable BRT_NATIVE_BASELINE is unset or empty, else
-/// "baseline". Decided once per process.
+/// True where the native device runs the wide build: this CPU has AVX, AVX2, BMI, BMI2 and POPCNT
+/// and the environment variable BRT_NATIVE_BASELINE is unset or empty. Decided once per process.
+bool NativeKernelWide();
+/// That build's name: "x86-64-v3" (the wide one) or "baseline".
 const char* NativeKernelBuild();
 
 #if BRT_NATIVE_WIDE
-/// solve_sample of the x86-64-v3 build (call only where NativeKernelBuild() says so).
+/// solve_sample of the x86-64-v3 build (call only where NativeKernelWide()).
 void SolveSampleWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
   const double* sample, int ownFace, double* outR, int* outI);
 /// ray_thickness of the x86-64-v3 build; Ohi, Olo, d as the kernel takes them.

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 namespace brt
@@ -37,7 +36,7 @@ struct NativeSolver::Impl
   }
 
   /// The x86-64-v3 build of the kernel source runs the solve and the ray (NativeKernelWide.h).
-  bool Wide = std::strcmp(NativeKernelBuild(), "x86-64-v3") == 0;
+  bool Wide = NativeKernelWide();
 
   int PatchCount() const { return static_cast<int>(Model.Patches.size()); }
 
@@ -46,7 +45,6 @@ struct NativeSolver::Impl
     return KernelView<kernel::Model>(K, s, PatchCount());
   }
 };
-
 
 NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data)
   : P(std::make_unique<Impl>(model, data))
@@ -87,10 +85,10 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   const KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   const kernel::Model view = P->View(s);
   const KernelModel<double>& K = P->K;
+#if BRT_NATIVE_WIDE
   const bool wide = P->Wide;
   const int patchCount = P->PatchCount();
-  (void)wide;
-  (void)patchCount;
+#endif
   // Blocks of 32 samples in SpatialOrder: neighbours share the trees' nodes near them.
   const std::vector<size_t> order = SpatialOrder(samples, which);
   return ParallelForWithProgress(n, threads, 32, [&](size_t j) {
