@@ -288,6 +288,7 @@ int vtkSTEPReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInfor
   options.LinearDeflection = this->LinearDeflection;
   options.AngularDeflection = this->AngularDeflection;
   options.MaxEdgeLength = this->MaxEdgeLength;
+  options.DelaunayRefinement = this->DelaunayRefinement;
   options.Progress = [this](double f) {
     this->UpdateProgress(f);
     return !this->GetAbortExecute();
@@ -342,5 +343,6 @@ void vtkSTEPReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LinearDeflection: " << this->LinearDeflection << "\n";
   os << indent << "AngularDeflection: " << this->AngularDeflection << "\n";
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";
+  os << indent << "DelaunayRefinement: " << this->DelaunayRefinement << "\n";
   os << indent << "TimeLimit: " << this->TimeLimit << "\n";
 }

@@ -61,6 +61,15 @@ public:
   ///@}
 
   ///@{
+  /// Display mesh: refine with Delaunay flips after each split (well-shaped triangles, far fewer
+  /// samples on cylinders and long faces at the same MaxEdgeLength) instead of bisection alone.
+  /// Default off (docs/Design.md, "Display mesh").
+  vtkSetMacro(DelaunayRefinement, bool);
+  vtkGetMacro(DelaunayRefinement, bool);
+  vtkBooleanMacro(DelaunayRefinement, bool);
+  ///@}
+
+  ///@{
   /// Seconds that reading, healing and converting may take (0: no limit). Default 300.
   /// OpenCASCADE runs in the worker process brt_step_worker (StepIsolation.h): a crash or a
   /// time-out there is an error naming the file, never a crash of this process.
@@ -84,6 +93,7 @@ protected:
   double LinearDeflection = 0.0;
   double AngularDeflection = 0.35;
   double MaxEdgeLength = 0.0;
+  bool DelaunayRefinement = false;
   double TimeLimit = 300.0;
 
 private:

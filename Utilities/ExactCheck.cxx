@@ -65,7 +65,7 @@ namespace
 const char* const Usage =
   "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
   "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] [--indices I,J,...]\n"
-  "       [--grid N]\n"
+  "       [--grid N] [--delaunay]\n"
   "       FILE.step ...\n"
   "Solves N random samples of each file (default 2500, native CPU device) and measures each sphere\n"
   "against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid\n"
@@ -80,7 +80,9 @@ const char* const Usage =
   "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n"
   "--indices I,J,...: those samples (indices into every mesh vertex, as brt_thickness_bench\n"
   "--counts 0 numbers them) instead of a random draw; with --thickness, each failed one also\n"
-  "gets its exact thickness.\n";
+  "gets its exact thickness.\n"
+  "--delaunay: the display mesh (whose vertices are the samples) refined with Delaunay flips\n"
+  "(the reader's DelaunayRefinement).\n";
 }
 
 int main(int argc, char** argv)
@@ -94,6 +96,7 @@ int main(int argc, char** argv)
   std::string device = "native";
   [[maybe_unused]] bool useDouble = false;
   bool certify = true;
+  brt::ConversionOptions conversion;
   std::vector<size_t> indices;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i)
@@ -125,6 +128,8 @@ int main(int argc, char** argv)
       useDouble = true;
     else if (a == "--no-certify")
       certify = false;
+    else if (a == "--delaunay")
+      conversion.DelaunayRefinement = true;
     else if (a == "--list" && i + 1 < argc)
       list = std::atoi(argv[++i]);
     else if (a == "--grid" && i + 1 < argc)
@@ -159,7 +164,7 @@ int main(int argc, char** argv)
     std::vector<TopoDS_Face> faces;
     try
     {
-      m = brt::ConvertStepFile(file, brt::ConversionOptions(), &faces);
+      m = brt::ConvertStepFile(file, conversion, &faces);
     }
     catch (const std::exception& e)
     {

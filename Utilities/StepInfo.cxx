@@ -19,6 +19,8 @@ const char* const Usage =
   "and its warnings. Bad files give one error line each; the exit status is 1 if any failed.\n"
   "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
   "  --max-edge L      longest display mesh edge in mm (default: 1/50 of the diagonal)\n"
+  "  --delaunay        refine the display mesh with Delaunay flips (the reader's\n"
+  "                    DelaunayRefinement)\n"
   "  --time-limit S    seconds each file may take (default 300, 0: none)\n"
   "  --in-process      read in this process instead of the worker process (a file that\n"
   "                    crashes OpenCASCADE then crashes this program; for debugging)\n"
@@ -50,6 +52,11 @@ int main(int argc, char** argv)
     if (!std::strcmp(argv[i], "--max-edge") && i + 1 < argc)
     {
       options.MaxEdgeLength = std::atof(argv[++i]);
+      continue;
+    }
+    if (!std::strcmp(argv[i], "--delaunay"))
+    {
+      options.DelaunayRefinement = true;
       continue;
     }
     if (!std::strcmp(argv[i], "--time-limit") && i + 1 < argc)

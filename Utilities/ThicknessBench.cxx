@@ -74,7 +74,7 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool finishOnHost = false, native = true, help = false, certify = true;
+  bool finishOnHost = false, native = true, help = false, certify = true, delaunay = false;
   [[maybe_unused]] double tolerance = 1e-4; // the reader's default conversion tolerance
 
   for (int i = 1; i < argc; ++i)
@@ -95,6 +95,8 @@ int main(int argc, char** argv)
       native = false;
     else if (!std::strcmp(argv[i], "--no-certify"))
       certify = false;
+    else if (!std::strcmp(argv[i], "--delaunay"))
+      delaunay = true;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
     {
       counts.clear();
@@ -121,6 +123,7 @@ int main(int argc, char** argv)
       "  --no-certify      skip the check of the spheres against the patches\n"
       "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
       "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
+      "  --delaunay        display mesh (the samples) refined with Delaunay flips\n"
       "  --export DIR      write each prepared model as DIR/<name>.brtsolve\n"
       "  --help            this text\n",
       argv[0]);
@@ -163,6 +166,7 @@ int main(int argc, char** argv)
 #ifdef BRT_HAVE_OCCT
         brt::ConversionOptions conversion;
         conversion.Tolerance = tolerance;
+        conversion.DelaunayRefinement = delaunay;
         model = brt::ConvertStepFile(file, conversion);
         data = brt::PrepareSolver(model, options);
         all = brt::SamplesFromMesh(model, data);
@@ -180,7 +184,16 @@ int main(int argc, char** argv)
     {
       std::string base = file.substr(file.find_last_of('/') + 1);
       base = base.substr(0, base.find_last_of('.'));
-      brt::WriteSolve(exportDir + "/" + base + ".brtsolve", model, data, all);
+      try
+      {
+        brt::WriteSolve(exportDir + "/" + base + ".brtsolve", model, data, all);
+      }
+      catch (const std::exception& e)
+      {
+        // One line naming the file (a folder that does not exist, a full disk), not an abort.
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+      }
     }
     const char* name = std::strrchr(file.c_str(), '/') ? std::strrchr(file.c_str(), '/') + 1 : file.c_str();
     for (size_t n : counts)

@@ -34,6 +34,9 @@ def parse_args(argv=None):
     ap.add_argument("--tolerance", type=float, default=1e-4, help="Bezier conversion tolerance (mm)")
     ap.add_argument("--max-edge", type=float, default=0.0,
                     help="longest display-mesh edge, sets the sample density (mm; 0: diagonal/50)")
+    ap.add_argument("--delaunay", action="store_true",
+                    help="refine the display mesh with Delaunay flips (the reader's DelaunayRefinement): "
+                         "well-shaped triangles, far fewer samples on cylinders and long faces")
     ap.add_argument("--time-limit", type=float, default=300.0,
                     help="seconds reading, healing and converting the STEP file may take (0: none; "
                          "OpenCASCADE runs in a separate process, a crash or a time-out there is an error)")
@@ -164,7 +167,8 @@ def main(argv=None):
     out = args.out or os.path.join("brepthickness-out", name)
     errors = []
     reader = STEPReader(FileName=os.path.abspath(args.model), Tolerance=args.tolerance,
-                        MaxEdgeLength=args.max_edge, TimeLimit=args.time_limit)
+                        MaxEdgeLength=args.max_edge, DelaunayRefinement=int(args.delaunay),
+                        TimeLimit=args.time_limit)
     collect_errors(reader, errors)
     reader.UpdatePipeline()
     if errors:

@@ -946,12 +946,24 @@ ChordKey Key(int a, int b)
 /// LEPP): a triangle is split across its longest edge together with the neighbour that shares
 /// that edge, after the neighbour's own longer edges have been split, so no T-junction appears.
 /// Midpoints of boundary chords are put on the edge's pcurve, so they stay on the trimming curves.
+/// With ConversionOptions::DelaunayRefinement, after each split the new triangles' edges are made
+/// Delaunay on the surface (Lawson's flips, angles measured in 3D, a flip kept only where both new
+/// triangles keep the orientation in UV and the new edge keeps the chordal and angular
+/// deflection): bisection alone keeps the shape of the slivers the coarse mesh starts from (a
+/// plane's fan of boundary vertices, a cylinder's strips along its length), and halving a
+/// sliver's long diagonal halves its short side too, so a rod of radius 1 mm and 1 m long gets
+/// 26,345 vertices, its shortest edges 0.003 mm, where the flipped mesh has 1,374
+/// (docs/Design.md, "Display mesh").
 class FaceRefiner
 {
 public:
-  FaceRefiner(const Handle(Geom_Surface)& s, const TopoDS_Face& face)
+  FaceRefiner(const Handle(Geom_Surface)& s, const TopoDS_Face& face, bool delaunay,
+    double deflection, double angular)
     : Surface(s)
     , TheFace(face)
+    , Delaunay(delaunay)
+    , Deflection(deflection)
+    , Angular(angular)
   {
   }
 
@@ -994,6 +1006,8 @@ public:
         continue;
       const size_t before = Tris.size();
       Bisect(t, 0);
+      if (Delaunay)
+        MakeDelaunay(before);
       for (size_t i = before; i < Tris.size(); ++i)
         push(static_cast<int>(i));
       if (Alive[t])
@@ -1008,6 +1022,105 @@ public:
 
 private:
   double Length(const ChordKey& k) const { return XYZ[k.first].Distance(XYZ[k.second]); }
+  /// The angle at c of the triangle (a, b, c) in 3D; -1 where an edge at c has no length (a
+  /// pole's vertices).
+  double AngleAt(int c, int a, int b) const
+  {
+    const gp_Vec u(XYZ[c], XYZ[a]), v(XYZ[c], XYZ[b]);
+    const double lu = u.Magnitude(), lv = v.Magnitude();
+    if (!(lu > 0.0) || !(lv > 0.0))
+      return -1.0;
+    return std::atan2(u.Crossed(v).Magnitude(), u.Dot(v));
+  }
+  /// How far the surface's point at the UV midpoint of (a, b) lies from the chord's midpoint: a
+  /// flip must not cut across the surface (a rod's chord across its diameter is short in 3D, and
+  /// Delaunay's angles would take it).
+  double Sag(int a, int b) const
+  {
+    const gp_Pnt m = Surface->Value(0.5 * (UV[a].X() + UV[b].X()), 0.5 * (UV[a].Y() + UV[b].Y()));
+    return m.Distance(gp_Pnt(0.5 * (XYZ[a].XYZ() + XYZ[b].XYZ())));
+  }
+  /// The angle between the surface's normals at a and b (-1 where one is not defined: a pole).
+  double Turn(int a, int b) const
+  {
+    gp_Pnt p;
+    gp_Vec ua, va, ub, vb;
+    Surface->D1(UV[a].X(), UV[a].Y(), p, ua, va);
+    Surface->D1(UV[b].X(), UV[b].Y(), p, ub, vb);
+    const gp_Vec na = ua.Crossed(va), nb = ub.Crossed(vb);
+    if (!(na.Magnitude() > 0.0) || !(nb.Magnitude() > 0.0))
+      return -1.0;
+    return na.Angle(nb);
+  }
+  /// Twice the signed area of (a, b, c) in UV.
+  double AreaUV(int a, int b, int c) const
+  {
+    return (UV[b].X() - UV[a].X()) * (UV[c].Y() - UV[a].Y()) -
+      (UV[b].Y() - UV[a].Y()) * (UV[c].X() - UV[a].X());
+  }
+  /// Lawson's flips from the edges of the triangles made since `first`: an inner edge (never a
+  /// boundary chord) whose two opposite angles sum to more than pi is replaced by the other
+  /// diagonal of its quad, where both new triangles have the old ones' orientation in UV and an
+  /// area above rounding; the quad's outer edges are checked again. At most 64 flips per
+  /// triangle made (on a curved surface the 3D angles need not settle as in the plane).
+  void MakeDelaunay(size_t first)
+  {
+    std::vector<ChordKey> stack;
+    for (size_t t = first; t < Tris.size(); ++t)
+      if (Alive[t])
+        for (int k = 0; k < 3; ++k)
+          stack.push_back(Key(Tris[t][k], Tris[t][(k + 1) % 3]));
+    size_t budget = 64 * (Tris.size() - first) + 64;
+    while (!stack.empty() && budget > 0)
+    {
+      const ChordKey e = stack.back();
+      stack.pop_back();
+      if (Chords.count(e))
+        continue;
+      const auto it = EdgeTris.find(e);
+      if (it == EdgeTris.end() || it->second.size() != 2)
+        continue;
+      const int t1 = it->second[0], t2 = it->second[1];
+      // t1 = (a, b, c) with the edge as a -> b; t2 must hold it as b -> a (one orientation).
+      const auto v1 = Tris[t1], v2 = Tris[t2];
+      int k1 = 0;
+      while (Key(v1[k1], v1[(k1 + 1) % 3]) != e)
+        ++k1;
+      const int a = v1[k1], b = v1[(k1 + 1) % 3], c = v1[(k1 + 2) % 3];
+      int k2 = 0;
+      while (Key(v2[k2], v2[(k2 + 1) % 3]) != e)
+        ++k2;
+      if (v2[k2] != b || v2[(k2 + 1) % 3] != a)
+        continue;
+      const int d = v2[(k2 + 2) % 3];
+      if (c == d)
+        continue;
+      const double ac = AngleAt(c, a, b), ad = AngleAt(d, b, a);
+      if (ac < 0.0 || ad < 0.0 || !(ac + ad > M_PI * (1.0 + 1e-9)))
+        continue;
+      // Both new triangles on the old ones' side in UV, clearly (a flat quad's corner).
+      const double sense = AreaUV(a, b, c), floor = 1e-12 * sense * sense;
+      if (!(AreaUV(a, d, c) * sense > floor) || !(AreaUV(d, b, c) * sense > floor) ||
+        EdgeTris.count(Key(c, d)))
+        continue;
+      // The new edge within the mesh's limits, or within what the quad's edges already span
+      // (its sides and the old diagonal): its chordal deviation within the linear deflection and
+      // the turn of the surface's normal along it within the angular deflection (a pole's
+      // vertex, where the normal is not defined, gets no new edge).
+      const double sag = Sag(c, d), turn = Turn(c, d);
+      if (!(sag <= std::max({ Deflection, Sag(a, b), Sag(a, d), Sag(d, b), Sag(b, c), Sag(c, a) })) ||
+        !(turn >= 0.0) ||
+        !(turn <= std::max({ Angular, Turn(a, b), Turn(a, d), Turn(d, b), Turn(b, c), Turn(c, a) })))
+        continue;
+      Remove(t1);
+      Remove(t2);
+      AddTriangle(a, d, c);
+      AddTriangle(d, b, c);
+      --budget;
+      for (const ChordKey& o : { Key(a, d), Key(d, b), Key(b, c), Key(c, a) })
+        stack.push_back(o);
+    }
+  }
   /// The longest edge, ties broken by vertex ids so both triangles of an edge agree.
   ChordKey LongestKey(int t) const
   {
@@ -1103,6 +1216,8 @@ private:
 
   Handle(Geom_Surface) Surface;
   TopoDS_Face TheFace;
+  bool Delaunay = false; ///< ConversionOptions::DelaunayRefinement
+  double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
   std::map<ChordKey, std::vector<int>> EdgeTris;
   std::map<ChordKey, BoundaryChord> Chords;
 };
@@ -1532,7 +1647,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       warn("face " + std::to_string(fi) + ": no display mesh could be made");
       continue;
     }
-    FaceRefiner fm(surface, ff);
+    FaceRefiner fm(surface, ff, options.DelaunayRefinement, deflection, options.AngularDeflection);
     for (int i = 1; i <= tri->NbNodes(); ++i)
       fm.AddVertex(tri->UVNode(i));
     for (int i = 1; i <= tri->NbTriangles(); ++i)

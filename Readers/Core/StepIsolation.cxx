@@ -152,6 +152,8 @@ BRepModel ConvertStepFileIsolated(const std::string& path, const ConversionOptio
     "--memory-limit", Number(memory > 0.0 ? memory : 0.0) };
   if (!options.Heal)
     args.push_back("--no-heal");
+  if (options.DelaunayRefinement)
+    args.push_back("--delaunay-refinement");
   args.push_back("--");
   args.push_back(path);
   args.push_back(worker.ModelFile);

@@ -27,6 +27,7 @@ const char* const Usage =
   "  --linear-deflection D    display mesh chordal deviation (0: automatic)\n"
   "  --angular-deflection A   display mesh angular deflection (radians, default 0.35)\n"
   "  --max-edge-length L      longest display mesh edge (0: automatic)\n"
+  "  --delaunay-refinement    display mesh refined with Delaunay flips (default: bisection)\n"
   "  --max-patch-size S       longest Bezier patch (0: automatic)\n"
   "  --memory-limit MIB       address-space limit of this process (0: none)\n"
   "  --report-fd N            write progress and errors to descriptor N (default 2)\n"
@@ -84,6 +85,8 @@ int main(int argc, char** argv)
       options.AngularDeflection = value();
     else if (a == "--max-edge-length")
       options.MaxEdgeLength = value();
+    else if (a == "--delaunay-refinement")
+      options.DelaunayRefinement = true;
     else if (a == "--max-patch-size")
       options.MaxPatchSize = value();
     else if (a == "--memory-limit")

@@ -330,7 +330,9 @@ TEST(SolverReference, OwnFaceBendsIntoTheSphere)
     EXPECT_LE(smallest, 1e-9);
     EXPECT_LE(deepest, 3.0 * tol);
     if (stepHeight == 0.0)
+    {
       EXPECT_LE(worst, 1e-6);
+    }
   }
 }
 

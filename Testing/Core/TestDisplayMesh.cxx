@@ -1,0 +1,189 @@
+// The display mesh's refinement with Delaunay flips (ConversionOptions::DelaunayRefinement): the
+// same surface, the same limits, well-shaped triangles and far fewer vertices where bisection
+// alone keeps OpenCASCADE's slivers (docs/Design.md, "Display mesh").
+#include "AnalyticShapes.h"
+#include "BRepConverter.h"
+#include "SolverTestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <BRepPrimAPI_MakeCylinder.hxx>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+namespace
+{
+using brt::BRepModel;
+using V3 = std::array<double, 3>;
+
+V3 Vertex(const BRepModel& m, int v)
+{
+  return { m.Mesh.Points[3 * size_t(v)], m.Mesh.Points[3 * size_t(v) + 1],
+    m.Mesh.Points[3 * size_t(v) + 2] };
+}
+
+V3 Sub(const V3& a, const V3& b)
+{
+  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+}
+
+V3 Cross(const V3& a, const V3& b)
+{
+  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+}
+
+double Dot(const V3& a, const V3& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+double Norm(const V3& a)
+{
+  return std::sqrt(Dot(a, a));
+}
+
+/// What the checks below measure on a display mesh.
+struct MeshFigures
+{
+  size_t Vertices = 0;
+  double LongestEdge = 0.0;
+  double Area = 0.0;
+  /// Triangles whose normal (from their vertex order) points against the surface normals of
+  /// their vertices (the reader's Normals): a fold.
+  int Folded = 0;
+  /// Triangles whose height is below a tenth of their longest edge.
+  int Slivers = 0;
+};
+
+MeshFigures Measure(const BRepModel& m)
+{
+  MeshFigures f;
+  f.Vertices = m.Mesh.Points.size() / 3;
+  for (size_t t = 0; t < m.Mesh.Triangles.size() / 3; ++t)
+  {
+    const int* v = &m.Mesh.Triangles[3 * t];
+    const V3 a = Vertex(m, v[0]), b = Vertex(m, v[1]), c = Vertex(m, v[2]);
+    const V3 n = Cross(Sub(b, a), Sub(c, a));
+    const double area = 0.5 * Norm(n);
+    f.Area += area;
+    const double longest = std::max({ Norm(Sub(b, a)), Norm(Sub(c, b)), Norm(Sub(a, c)) });
+    f.LongestEdge = std::max(f.LongestEdge, longest);
+    if (2.0 * area / longest < 0.1 * longest)
+      ++f.Slivers;
+    double along = 0.0;
+    for (int k = 0; k < 3; ++k)
+      along += Dot(n, { m.Mesh.Normals[3 * size_t(v[k])], m.Mesh.Normals[3 * size_t(v[k]) + 1],
+                          m.Mesh.Normals[3 * size_t(v[k]) + 2] });
+    if (!(along > 0.0))
+      ++f.Folded;
+  }
+  return f;
+}
+
+BRepModel Convert(const TopoDS_Shape& shape, bool delaunay, double maxEdge = 0.0)
+{
+  brt::ConversionOptions o;
+  o.DelaunayRefinement = delaunay;
+  o.MaxEdgeLength = maxEdge;
+  return brt::ConvertShape(shape, o);
+}
+} // namespace
+
+// A rod 1 m long and 1 mm in radius: OpenCASCADE meshes its side as one strip of 72 slivers the
+// rod's length long, which bisection alone refines to 26,345 vertices (its diagonals' midpoints
+// add columns around the rod as well as rows along it, down to edges of 0.003 mm). With the flips
+// the side needs rows 20 mm apart (the limit: 1/50 of the diagonal) of the 36 points around that
+// the angular deflection asks for: about 2 x 51 x 37 vertices at most. The mesh stays on the
+// cylinder, unfolded, within the limit, with the polygon's area.
+TEST(DisplayMesh, DelaunayRefinementOnALongRod)
+{
+  const double r = 1.0, L = 1000.0;
+  const TopoDS_Shape rod = BRepPrimAPI_MakeCylinder(r, L).Shape();
+  const BRepModel plain = Convert(rod, false), flipped = Convert(rod, true);
+  const MeshFigures p = Measure(plain), f = Measure(flipped);
+  std::printf("rod r 1 L 1000: bisection %zu vertices (%d slivers), flips %zu vertices (longest edge "
+              "%.3f, area %.2f, exact %.2f)\n",
+    p.Vertices, p.Slivers, f.Vertices, f.LongestEdge, f.Area, 2 * M_PI * r * (r + L));
+  EXPECT_LE(f.Vertices, size_t(2 * 51 * 37 + 2 * 37));
+  EXPECT_EQ(f.Folded, 0);
+  const double maxEdge = std::hypot(L, 2 * r) / 50.0;
+  EXPECT_LE(f.LongestEdge, maxEdge * (1 + 1e-9));
+  // The 36-gon's area (the caps' and the side's), which a valid mesh of these vertices has too.
+  const double polygon = 36 * std::sin(2 * M_PI / 36) / (2 * M_PI);
+  EXPECT_NEAR(f.Area, 2 * M_PI * r * (r + L) * polygon, 2e-3 * 2 * M_PI * r * (r + L));
+  // Every vertex on the cylinder or a cap.
+  double worst = 0.0;
+  for (size_t v = 0; v < f.Vertices; ++v)
+  {
+    const V3 q = Vertex(flipped, int(v));
+    const double side = std::fabs(std::hypot(q[0], q[1]) - r);
+    const double cap = std::min(std::fabs(q[2]), std::fabs(q[2] - L));
+    worst = std::max(worst, std::min(side, cap));
+  }
+  EXPECT_LE(worst, 1e-9);
+}
+
+// The tube of the closed forms (R 20, r 15, 80 long), with the flips: fewer vertices, no fold, no
+// edge over the limit (2 mm here), the area of the bisection's mesh (the same boundary polygons,
+// the same surfaces), and the closed form 2t = R - r = 5 within 1e-6 relative at every sample more than a
+// thickness from the rims (the solve of the reader's defaults, docs/Solver.md).
+TEST(DisplayMesh, DelaunayRefinementKeepsTheTubesClosedForm)
+{
+  const TopoDS_Shape tube = brt::analytic::Tube(20, 15, 80);
+  const BRepModel plain = Convert(tube, false, 2.0), flipped = Convert(tube, true, 2.0);
+  const MeshFigures p = Measure(plain), f = Measure(flipped);
+  std::printf("tube: bisection %zu vertices (%d slivers, area %.3f), flips %zu vertices (%d "
+              "slivers, area %.3f, longest edge %.3f)\n",
+    p.Vertices, p.Slivers, p.Area, f.Vertices, f.Slivers, f.Area, f.LongestEdge);
+  EXPECT_LT(f.Vertices, p.Vertices / 2);
+  EXPECT_EQ(f.Folded, 0);
+  EXPECT_EQ(f.Slivers, 0);
+  EXPECT_LE(f.LongestEdge, 2.0);
+  EXPECT_NEAR(f.Area, p.Area, 1e-3 * p.Area);
+
+  brt::SolverOptions options;
+  const brt::SolverData data = brt::PrepareSolver(flipped, options);
+  const std::vector<brt::Sample> samples = brt::SamplesFromMesh(flipped, data);
+  std::vector<brt::SampleResult> results;
+  brt::SolveReference(flipped, data, options, samples, results);
+  const std::vector<double> rim = brt::test::RimDistances(flipped, samples);
+  int checked = 0, failed = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    if (!(rim[i] > 5.0))
+      continue;
+    ++checked;
+    if (results[i].Type == brt::ContactType::Failed)
+    {
+      ++failed;
+      continue;
+    }
+    worst = std::max(worst, std::fabs(results[i].Thickness - 5.0) / 5.0);
+  }
+  std::printf("tube, flips: %d samples away from the rims, %d failed, max |2t - 5| / 5 = %.2e\n",
+    checked, failed, worst);
+  EXPECT_GE(checked, 1000);
+  EXPECT_EQ(failed, 0);
+  EXPECT_LE(worst, 1e-6);
+}
+
+// The hole plate (planes and the hole's cylinder) with the flips: fewer vertices, no fold, no
+// edge over the limit (2 mm here), no more slivers, and the bisection's area to 1e-4 (the planes'
+// to rounding: the same boundary; the hole's side differs by its chords).
+TEST(DisplayMesh, DelaunayRefinementOnAPlateWithAHole)
+{
+  const TopoDS_Shape plate = brt::analytic::HolePlate(80, 6, 10);
+  const BRepModel plain = Convert(plate, false, 2.0), flipped = Convert(plate, true, 2.0);
+  const MeshFigures p = Measure(plain), f = Measure(flipped);
+  std::printf("hole plate: bisection %zu vertices (%d slivers, area %.6f), flips %zu vertices "
+              "(%d slivers, area %.6f)\n",
+    p.Vertices, p.Slivers, p.Area, f.Vertices, f.Slivers, f.Area);
+  EXPECT_LT(f.Vertices, p.Vertices);
+  EXPECT_EQ(f.Folded, 0);
+  EXPECT_LE(f.Slivers, p.Slivers);
+  EXPECT_LE(f.LongestEdge, 2.0);
+  EXPECT_NEAR(f.Area, p.Area, 1e-4 * p.Area);
+}
