@@ -89,6 +89,25 @@ BRepModel Convert(const TopoDS_Shape& shape, bool delaunay, double maxEdge = 0.0
   o.MaxEdgeLength = maxEdge;
   return brt::ConvertShape(shape, o);
 }
+
+/// A shape meshed both ways with edges of at most 2 mm, and the figures of both, printed.
+struct BothWays
+{
+  BRepModel Plain, Flipped;
+  MeshFigures P, F;
+};
+
+BothWays MeshBothWays(const TopoDS_Shape& shape, const char* name)
+{
+  BothWays b{ Convert(shape, false, 2.0), Convert(shape, true, 2.0), {}, {} };
+  b.P = Measure(b.Plain);
+  b.F = Measure(b.Flipped);
+  std::printf("%s: bisection %zu vertices (%d slivers, area %.6f), flips %zu vertices (%d slivers, "
+              "area %.6f, longest edge %.3f)\n",
+    name, b.P.Vertices, b.P.Slivers, b.P.Area, b.F.Vertices, b.F.Slivers, b.F.Area,
+    b.F.LongestEdge);
+  return b;
+}
 } // namespace
 
 // A rod 1 m long and 1 mm in radius: OpenCASCADE meshes its side as one strip of 72 slivers the
@@ -127,16 +146,13 @@ TEST(DisplayMesh, DelaunayRefinementOnALongRod)
 
 // The tube of the closed forms (R 20, r 15, 80 long), with the flips: fewer vertices, no fold, no
 // edge over the limit (2 mm here), the area of the bisection's mesh (the same boundary polygons,
-// the same surfaces), and the closed form 2t = R - r = 5 within 1e-6 relative at every sample more than a
-// thickness from the rims (the solve of the reader's defaults, docs/Solver.md).
+// the same surfaces), and the closed form 2t = R - r = 5 within 1e-6 relative at every sample
+// more than a thickness from the rims (the solve of the reader's defaults, docs/Solver.md).
 TEST(DisplayMesh, DelaunayRefinementKeepsTheTubesClosedForm)
 {
-  const TopoDS_Shape tube = brt::analytic::Tube(20, 15, 80);
-  const BRepModel plain = Convert(tube, false, 2.0), flipped = Convert(tube, true, 2.0);
-  const MeshFigures p = Measure(plain), f = Measure(flipped);
-  std::printf("tube: bisection %zu vertices (%d slivers, area %.3f), flips %zu vertices (%d "
-              "slivers, area %.3f, longest edge %.3f)\n",
-    p.Vertices, p.Slivers, p.Area, f.Vertices, f.Slivers, f.Area, f.LongestEdge);
+  const BothWays b = MeshBothWays(brt::analytic::Tube(20, 15, 80), "tube");
+  const MeshFigures &p = b.P, &f = b.F;
+  const BRepModel& flipped = b.Flipped;
   EXPECT_LT(f.Vertices, p.Vertices / 2);
   EXPECT_EQ(f.Folded, 0);
   EXPECT_EQ(f.Slivers, 0);
@@ -175,12 +191,8 @@ TEST(DisplayMesh, DelaunayRefinementKeepsTheTubesClosedForm)
 // to rounding: the same boundary; the hole's side differs by its chords).
 TEST(DisplayMesh, DelaunayRefinementOnAPlateWithAHole)
 {
-  const TopoDS_Shape plate = brt::analytic::HolePlate(80, 6, 10);
-  const BRepModel plain = Convert(plate, false, 2.0), flipped = Convert(plate, true, 2.0);
-  const MeshFigures p = Measure(plain), f = Measure(flipped);
-  std::printf("hole plate: bisection %zu vertices (%d slivers, area %.6f), flips %zu vertices "
-              "(%d slivers, area %.6f)\n",
-    p.Vertices, p.Slivers, p.Area, f.Vertices, f.Slivers, f.Area);
+  const BothWays b = MeshBothWays(brt::analytic::HolePlate(80, 6, 10), "hole plate");
+  const MeshFigures &p = b.P, &f = b.F;
   EXPECT_LT(f.Vertices, p.Vertices);
   EXPECT_EQ(f.Folded, 0);
   EXPECT_LE(f.Slivers, p.Slivers);
