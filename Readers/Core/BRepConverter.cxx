@@ -951,8 +951,8 @@ ChordKey Key(int a, int b)
 /// triangles keep the orientation in UV and the new edge keeps the chordal and angular
 /// deflection): bisection alone keeps the shape of the slivers the coarse mesh starts from (a
 /// plane's fan of boundary vertices, a cylinder's strips along its length), and halving a
-/// sliver's long diagonal halves its short side too, so a rod of radius 1 mm and 1 m long gets
-/// 26,345 vertices, its shortest edges 0.003 mm, where the flipped mesh has 1,374
+/// sliver's long diagonal halves its short side too, so the side of a rod of radius 1 mm and 1 m
+/// long gets 26,345 vertices, its shortest edges 0.003 mm, where the flipped mesh has 1,374
 /// (docs/Design.md, "Display mesh").
 class FaceRefiner
 {
@@ -971,6 +971,14 @@ public:
   {
     UV.push_back(uv);
     XYZ.push_back(Surface->Value(uv.X(), uv.Y()));
+    if (Delaunay)
+    {
+      // The surface normal (unnormalised), which the flips' turn test reads many times.
+      gp_Pnt p;
+      gp_Vec du, dv;
+      Surface->D1(uv.X(), uv.Y(), p, du, dv);
+      Normal.push_back(du.Crossed(dv));
+    }
     return static_cast<int>(UV.size()) - 1;
   }
   void AddTriangle(int a, int b, int c)
@@ -1017,6 +1025,7 @@ public:
 
   std::vector<gp_Pnt2d> UV;
   std::vector<gp_Pnt> XYZ;
+  std::vector<gp_Vec> Normal; ///< per vertex, with Delaunay only
   std::vector<std::array<int, 3>> Tris;
   std::vector<char> Alive;
 
@@ -1043,14 +1052,16 @@ private:
   /// The angle between the surface's normals at a and b (-1 where one is not defined: a pole).
   double Turn(int a, int b) const
   {
-    gp_Pnt p;
-    gp_Vec ua, va, ub, vb;
-    Surface->D1(UV[a].X(), UV[a].Y(), p, ua, va);
-    Surface->D1(UV[b].X(), UV[b].Y(), p, ub, vb);
-    const gp_Vec na = ua.Crossed(va), nb = ub.Crossed(vb);
+    const gp_Vec &na = Normal[size_t(a)], &nb = Normal[size_t(b)];
     if (!(na.Magnitude() > 0.0) || !(nb.Magnitude() > 0.0))
       return -1.0;
     return na.Angle(nb);
+  }
+  /// Whether (a, b) is an edge of a live triangle (EdgeTris keeps emptied entries).
+  bool IsEdge(int a, int b) const
+  {
+    const auto it = EdgeTris.find(Key(a, b));
+    return it != EdgeTris.end() && !it->second.empty();
   }
   /// Twice the signed area of (a, b, c) in UV.
   double AreaUV(int a, int b, int c) const
@@ -1100,8 +1111,7 @@ private:
         continue;
       // Both new triangles on the old ones' side in UV, clearly (a flat quad's corner).
       const double sense = AreaUV(a, b, c), floor = 1e-12 * sense * sense;
-      if (!(AreaUV(a, d, c) * sense > floor) || !(AreaUV(d, b, c) * sense > floor) ||
-        EdgeTris.count(Key(c, d)))
+      if (!(AreaUV(a, d, c) * sense > floor) || !(AreaUV(d, b, c) * sense > floor) || IsEdge(c, d))
         continue;
       // The new edge within the mesh's limits, or within what the quad's edges already span
       // (its sides and the old diagonal): its chordal deviation within the linear deflection and
