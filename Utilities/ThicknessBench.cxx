@@ -42,15 +42,17 @@ double PeakRSSMiB()
 /// Share of failed samples in percent; with BRT_BENCH_REASONS set, also prints the reasons.
 double FailedPercent(const std::vector<brt::SampleResult>& results, const char* who)
 {
-  int reasons[8] = { 0 }; // brt::FailReason values 0..7
+  constexpr int kinds = static_cast<int>(brt::FailReason::ThinWall) + 1; // brt::FailReason's values
+  int reasons[kinds] = { 0 };
   size_t failed = 0;
   for (const auto& r : results)
   {
     failed += r.Type == brt::ContactType::Failed;
-    ++reasons[static_cast<int>(r.Reason) & 7];
+    const int k = static_cast<int>(r.Reason);
+    ++reasons[k >= 0 && k < kinds ? k : 0];
   }
   if (failed > 0 && std::getenv("BRT_BENCH_REASONS"))
-    for (int k = 1; k < 8; ++k)
+    for (int k = 1; k < kinds; ++k)
       if (reasons[k])
         std::printf("  %s %s: %d\n", who, brt::FailReasonName(static_cast<brt::FailReason>(k)), reasons[k]);
   return results.empty() ? 0.0 : 100.0 * failed / results.size();

@@ -1,0 +1,109 @@
+#!/bin/bash
+# The GPU benchmark, prepared to run in one call on a machine lent for a few minutes (issue "One
+# solver, certain and fast": samples/s at 1M samples on every Data/ real part, float and double,
+# end to end). Two steps:
+#
+#   Utilities/run-device-bench.sh export [BUILD]
+#       here (the full build in BUILD, default build/): writes the solve dumps of the four real
+#       parts of Data/ to BUILD/device-dumps (about 37 MB), which the call carries.
+#   Utilities/run-device-bench.sh run DUMPS OUT [--device D] [--counts N,...] [--build DIR]
+#       there: configures and builds the solver-only variant (no OpenCASCADE, no VTK; CMake, a
+#       C++17 compiler and an OpenCL library are all it needs) and runs brt_thickness_bench on
+#       every DUMPS/*.brtsolve in float, then in double, each against the native device on every
+#       core. Tables and the build's log go to OUT (gpu-float.txt, gpu-double.txt, build.log,
+#       platform.txt). Defaults: --device gpu, --counts 10000,100000,1000000.
+#
+# On an NVIDIA machine whose image has the CUDA toolkit but no OpenCL vendor file, the script
+# takes CUDA's OpenCL headers and loader and points the loader at the driver's OpenCL library
+# (OCL_ICD_VENDORS / OCL_ICD_FILENAMES). docs/Solver.md, "Benchmark", gives the call.
+set -u
+
+usage()
+{
+  sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+  exit 2
+}
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+step=${1:-}
+[ -n "$step" ] || usage
+shift
+
+if [ "$step" = export ]; then
+  build=${1:-$root/build}
+  bench=$build/Utilities/brt_thickness_bench
+  [ -x "$bench" ] || { echo "run-device-bench: no $bench (build the project first)" >&2; exit 1; }
+  mkdir -p "$build/device-dumps" || exit 1
+  "$bench" --device none --no-native --counts 1000 --export "$build/device-dumps" \
+    "$root"/Data/ExpansionCard_SelfTapping.stp "$root"/Data/FRAMEWORK_DESKTOP_BLANK_TILE.stp \
+    "$root"/Data/NIST_MBE_PMI_11.stp "$root"/Data/fw13_hinge_l_assy.stp || exit 1
+  du -ch "$build"/device-dumps/*.brtsolve
+  exit 0
+fi
+
+[ "$step" = run ] || usage
+dumps=${1:-}
+out=${2:-}
+[ -n "$dumps" ] && [ -n "$out" ] || usage
+shift 2
+device=gpu
+counts=10000,100000,1000000
+bdir=/tmp/brt-solver-only
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --device) device=$2; shift 2 ;;
+    --counts) counts=$2; shift 2 ;;
+    --build) bdir=$2; shift 2 ;;
+    *) usage ;;
+  esac
+done
+ls "$dumps"/*.brtsolve > /dev/null 2>&1 || { echo "run-device-bench: no .brtsolve files in $dumps" >&2; exit 1; }
+mkdir -p "$out" || exit 1
+
+# OpenCL: the system's if CMake finds it, else the CUDA toolkit's headers and loader.
+extra=()
+if ! ls /usr/include/CL/cl.h > /dev/null 2>&1; then
+  for cuda in /usr/local/cuda /usr/local/cuda-*; do
+    if [ -f "$cuda/include/CL/cl.h" ]; then
+      lib=$(ls "$cuda"/lib64/libOpenCL.so* "$cuda"/targets/x86_64-linux/lib/libOpenCL.so* 2> /dev/null | head -1)
+      [ -n "$lib" ] && extra=(-DOpenCL_INCLUDE_DIR="$cuda/include" -DOpenCL_LIBRARY="$lib")
+      break
+    fi
+  done
+fi
+# The loader finds a vendor through /etc/OpenCL/vendors; where that names none, the NVIDIA
+# driver's library directly.
+if ! ls /etc/OpenCL/vendors/*.icd > /dev/null 2>&1; then
+  nv=$( (ldconfig -p 2> /dev/null | awk '/libnvidia-opencl.so.1/ {print $NF; exit}'
+    ls /usr/local/nvidia/lib64/libnvidia-opencl.so.1 /usr/lib/x86_64-linux-gnu/libnvidia-opencl.so.1 2> /dev/null) | head -1)
+  if [ -n "$nv" ]; then
+    mkdir -p /tmp/brt-icd && echo "$nv" > /tmp/brt-icd/nvidia.icd
+    export OCL_ICD_VENDORS=/tmp/brt-icd OCL_ICD_FILENAMES=$nv
+  fi
+fi
+{
+  echo "date: $(date -u)"
+  echo "host: $(uname -a)"
+  echo "cpus: $(nproc)"
+  command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
+  echo "OpenCL: ${extra[*]:-system} ${OCL_ICD_FILENAMES:-}"
+} > "$out/platform.txt" 2>&1
+
+gen=()
+command -v ninja > /dev/null && gen=(-G Ninja)
+if ! { cmake -S "$root" -B "$bdir" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DBRT_SOLVER_ONLY=ON "${extra[@]}" &&
+  cmake --build "$bdir" -j "$(nproc)"; } > "$out/build.log" 2>&1; then
+  echo "run-device-bench: the solver-only build failed (its log: $out/build.log)" >&2
+  tail -30 "$out/build.log" >&2
+  exit 1
+fi
+rc=0
+for precision in float double; do
+  flag=()
+  [ $precision = double ] && flag=(--double)
+  echo "== $precision, --device $device, counts $counts"
+  "$bdir/brt_thickness_bench" --device "$device" "${flag[@]}" --counts "$counts" "$dumps"/*.brtsolve \
+    2>&1 | tee "$out/gpu-$precision.txt"
+  [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+done
+exit $rc
