@@ -60,17 +60,6 @@ done
 ls "$dumps"/*.brtsolve > /dev/null 2>&1 || { echo "run-device-bench: no .brtsolve files in $dumps" >&2; exit 1; }
 mkdir -p "$out" || exit 1
 
-# OpenCL: the system's if CMake finds it, else the CUDA toolkit's headers and loader.
-extra=()
-if ! ls /usr/include/CL/cl.h > /dev/null 2>&1; then
-  for cuda in /usr/local/cuda /usr/local/cuda-*; do
-    if [ -f "$cuda/include/CL/cl.h" ]; then
-      lib=$(ls "$cuda"/lib64/libOpenCL.so* "$cuda"/targets/x86_64-linux/lib/libOpenCL.so* 2> /dev/null | head -1)
-      [ -n "$lib" ] && extra=(-DOpenCL_INCLUDE_DIR="$cuda/include" -DOpenCL_LIBRARY="$lib")
-      break
-    fi
-  done
-fi
 # The loader finds a vendor through /etc/OpenCL/vendors; where that names none, the NVIDIA
 # driver's library directly.
 if ! ls /etc/OpenCL/vendors/*.icd > /dev/null 2>&1; then
@@ -86,13 +75,34 @@ fi
   echo "host: $(uname -a)"
   echo "cpus: $(nproc)"
   command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
-  echo "OpenCL: ${extra[*]:-system} ${OCL_ICD_FILENAMES:-}"
+  echo "OpenCL vendor: ${OCL_ICD_FILENAMES:-/etc/OpenCL/vendors}"
 } > "$out/platform.txt" 2>&1
 
 gen=()
 command -v ninja > /dev/null && gen=(-G Ninja)
-if ! { cmake -S "$root" -B "$bdir" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DBRT_SOLVER_ONLY=ON "${extra[@]}" &&
-  cmake --build "$bdir" -j "$(nproc)"; } > "$out/build.log" 2>&1; then
+configure()
+{
+  cmake -S "$root" -B "$bdir" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DBRT_SOLVER_ONLY=ON "$@"
+}
+# OpenCL: the system's where CMake finds it, else the CUDA toolkit's headers and loader.
+extra=()
+if ! configure > "$out/build.log" 2>&1; then
+  for cuda in /usr/local/cuda /usr/local/cuda-*; do
+    lib=$(ls "$cuda"/lib64/libOpenCL.so* "$cuda"/targets/x86_64-linux/lib/libOpenCL.so* 2> /dev/null | head -1)
+    if [ -f "$cuda/include/CL/cl.h" ] && [ -n "$lib" ]; then
+      extra=(-DOpenCL_INCLUDE_DIR="$cuda/include" -DOpenCL_LIBRARY="$lib")
+      break
+    fi
+  done
+  rm -f "$bdir/CMakeCache.txt"
+  if [ ${#extra[@]} -eq 0 ] || ! configure "${extra[@]}" >> "$out/build.log" 2>&1; then
+    echo "run-device-bench: CMake found no OpenCL (its log: $out/build.log)" >&2
+    tail -30 "$out/build.log" >&2
+    exit 1
+  fi
+fi
+echo "OpenCL: ${extra[*]:-as CMake found it}" >> "$out/platform.txt"
+if ! cmake --build "$bdir" -j "$(nproc)" >> "$out/build.log" 2>&1; then
   echo "run-device-bench: the solver-only build failed (its log: $out/build.log)" >&2
   tail -30 "$out/build.log" >&2
   exit 1
