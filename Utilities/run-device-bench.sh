@@ -5,7 +5,7 @@
 #
 #   Utilities/run-device-bench.sh export [BUILD]
 #       here (the full build in BUILD, default build/): writes the solve dumps of the four real
-#       parts of Data/ to BUILD/device-dumps (about 37 MB), which the call carries.
+#       parts of Data/ to BUILD/device-dumps (36 MB), which the call carries.
 #   Utilities/run-device-bench.sh run DUMPS OUT [--device D] [--counts N,...] [--build DIR]
 #       there: configures and builds the solver-only variant (no OpenCASCADE, no VTK; CMake, a
 #       C++17 compiler and an OpenCL library are all it needs) and runs brt_thickness_bench on
