@@ -107,4 +107,28 @@ inline double Median(std::vector<double> v)
   return v[m];
 }
 
+/// The median of v weighted by w (each value stands for its weight, an area): the smallest value
+/// at which the weights of the values up to it reach half of the total. Unlike the plain median,
+/// it does not follow where a mesh happens to be dense.
+inline double WeightedMedian(const std::vector<double>& v, const std::vector<double>& w)
+{
+  if (v.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::vector<size_t> order(v.size());
+  for (size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return v[a] < v[b]; });
+  double total = 0.0;
+  for (double x : w)
+    total += x;
+  double sum = 0.0;
+  for (size_t i : order)
+  {
+    sum += w[i];
+    if (sum >= 0.5 * total)
+      return v[i];
+  }
+  return v[order.back()];
+}
+
 } // namespace brt::mesh

@@ -354,7 +354,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
   {
     int A, B;
     double Area[2] = { 0.0, 0.0 };
-    std::vector<double> H;
+    std::vector<double> H, W; // thickness and vertex area of each sheet sample
     bool Thin = false;
     int Rep = -1;
     int Sheet = -1;
@@ -384,6 +384,7 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
       Pair& p = pairs[size_t(it->second)];
       p.Area[f == p.A ? 0 : 1] += area[v];
       p.H.push_back(in.Thickness[v]);
+      p.W.push_back(area[v]);
     }
   // Triangles whose three vertices are sheet samples of one pair: a pair without one is a few
   // isolated samples (next to edges), not a wall.
@@ -399,7 +400,8 @@ Midsurface BuildMidsurface(const MidsurfaceInput& in, const MidsurfaceOptions& o
   std::vector<double> thinH;
   for (auto& p : pairs)
   {
-    p.Median = Median(p.H);
+    // By area: the median sample of a sliver-strip mesh lies where its vertices crowd.
+    p.Median = WeightedMedian(p.H, p.W);
     p.Noise = p.H.size() < 3 || p.Triangles == 0;
     // Slender: thin against its extent. Thin: slender and a wall (not noise). Pairs that are not
     // slender are reported (a block's few wall samples included), noise that is slender is not.
