@@ -21,6 +21,10 @@ const char* const Usage =
   "  --max-edge L      longest display mesh edge in mm (default: 1/50 of the diagonal)\n"
   "  --delaunay        refine the display mesh with Delaunay flips (the reader's\n"
   "                    DelaunayRefinement)\n"
+  "  --sliver-ratio R  without --delaunay, a face whose bisection mesh would hold more than R\n"
+  "                    times the vertices of its flipped mesh and more than --sliver-vertices\n"
+  "                    gets the flipped one (default 4; 0: bisection on every face)\n"
+  "  --sliver-vertices N  (default 10000)\n"
   "  --time-limit S    seconds each file may take (default 300, 0: none)\n"
   "  --in-process      read in this process instead of the worker process (a file that\n"
   "                    crashes OpenCASCADE then crashes this program; for debugging)\n"
@@ -59,6 +63,16 @@ int main(int argc, char** argv)
       options.DelaunayRefinement = true;
       continue;
     }
+    if (!std::strcmp(argv[i], "--sliver-vertices") && i + 1 < argc)
+    {
+      options.SliverVertices = std::atoi(argv[++i]);
+      continue;
+    }
+    if (!std::strcmp(argv[i], "--sliver-ratio") && i + 1 < argc)
+    {
+      options.SliverRatio = std::atof(argv[++i]);
+      continue;
+    }
     if (!std::strcmp(argv[i], "--time-limit") && i + 1 < argc)
     {
       isolation.TimeLimit = std::atof(argv[++i]);
@@ -92,6 +106,10 @@ int main(int argc, char** argv)
           (f.Kind <= brt::SurfaceKind::Torus && f.DegreeU > 0 ? "(in a bspline)"
             : f.Rational                                    ? "(rational)"
                                                             : "")];
+      if (s.FlippedFaces > 0)
+        std::printf("  display mesh: %d faces flipped (their bisection beyond %g times and %d "
+                    "vertices)\n",
+          s.FlippedFaces, options.SliverRatio, options.SliverVertices);
       std::printf("  surfaces:");
       for (const auto& k : kinds)
         std::printf(" %s=%d", k.first.c_str(), k.second);

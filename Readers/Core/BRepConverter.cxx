@@ -1657,26 +1657,52 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       warn("face " + std::to_string(fi) + ": no display mesh could be made");
       continue;
     }
-    FaceRefiner fm(surface, ff, options.DelaunayRefinement, deflection, options.AngularDeflection);
-    for (int i = 1; i <= tri->NbNodes(); ++i)
-      fm.AddVertex(tri->UVNode(i));
-    for (int i = 1; i <= tri->NbTriangles(); ++i)
+    auto meshFace = [&](bool delaunay, size_t cap) {
+      FaceRefiner fm(surface, ff, delaunay, deflection, options.AngularDeflection);
+      for (int i = 1; i <= tri->NbNodes(); ++i)
+        fm.AddVertex(tri->UVNode(i));
+      for (int i = 1; i <= tri->NbTriangles(); ++i)
+      {
+        int n[3];
+        tri->Triangle(i).Get(n[0], n[1], n[2]);
+        fm.AddTriangle(n[0] - 1, n[1] - 1, n[2] - 1);
+      }
+      for (TopExp_Explorer ex(ff, TopAbs_EDGE); ex.More(); ex.Next())
+      {
+        const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+        Handle(Poly_PolygonOnTriangulation) poly = BRep_Tool::PolygonOnTriangulation(e, tri, loc);
+        if (poly.IsNull() || !poly->HasParameters())
+          continue;
+        for (int k = 1; k < poly->NbNodes(); ++k)
+          fm.AddChord(poly->Node(k) - 1, poly->Node(k + 1) - 1, e, poly->Parameter(k),
+            poly->Parameter(k + 1));
+      }
+      fm.Refine(maxEdge, cap);
+      return fm;
+    };
+    // Bisection keeps the coarse mesh's slivers; where that would end far denser than the
+    // limits ask and large (more than SliverRatio times the vertices of the flipped mesh and
+    // than SliverVertices), the flipped mesh is taken. Each bisection stops at its budget, so a
+    // long cylinder's side costs no more than that, and a face that stays within SliverVertices
+    // is meshed once, as without the guard.
+    const size_t cap = static_cast<size_t>(options.MaxVerticesPerFace);
+    const bool guard = !options.DelaunayRefinement && options.SliverRatio > 0.0;
+    const size_t floor = static_cast<size_t>(std::max(0, options.SliverVertices));
+    FaceRefiner fm = meshFace(options.DelaunayRefinement, guard ? std::min(cap, floor + 1) : cap);
+    if (guard && fm.UV.size() > floor)
     {
-      int n[3];
-      tri->Triangle(i).Get(n[0], n[1], n[2]);
-      fm.AddTriangle(n[0] - 1, n[1] - 1, n[2] - 1);
+      FaceRefiner flipped = meshFace(true, cap);
+      const size_t budget = std::max(
+        floor, static_cast<size_t>(options.SliverRatio * static_cast<double>(flipped.UV.size())));
+      FaceRefiner bisected = budget > floor ? meshFace(false, std::min(cap, budget + 1)) : std::move(fm);
+      if (budget > floor && bisected.UV.size() <= budget)
+        fm = std::move(bisected);
+      else
+      {
+        fm = std::move(flipped);
+        ++stats.FlippedFaces;
+      }
     }
-    for (TopExp_Explorer ex(ff, TopAbs_EDGE); ex.More(); ex.Next())
-    {
-      const TopoDS_Edge e = TopoDS::Edge(ex.Current());
-      Handle(Poly_PolygonOnTriangulation) poly = BRep_Tool::PolygonOnTriangulation(e, tri, loc);
-      if (poly.IsNull() || !poly->HasParameters())
-        continue;
-      for (int k = 1; k < poly->NbNodes(); ++k)
-        fm.AddChord(poly->Node(k) - 1, poly->Node(k + 1) - 1, e, poly->Parameter(k),
-          poly->Parameter(k + 1));
-    }
-    fm.Refine(maxEdge, static_cast<size_t>(options.MaxVerticesPerFace));
     const int base = static_cast<int>(M.FaceIds.size());
     for (const gp_Pnt2d& uv : fm.UV)
     {

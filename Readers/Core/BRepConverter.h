@@ -30,8 +30,16 @@ struct ConversionOptions
   /// the surface (flips that keep the chordal and angular deflection): well-shaped triangles and
   /// 1.3-16x fewer vertices on real parts, where plain bisection keeps the coarse mesh's slivers
   /// (a long cylinder's side ends at 26,345 vertices whatever its size). Off by default: the
-  /// midsurface's outline rule still depends on the sliver mesh (docs/Design.md, "Display mesh").
+  /// midsurface's outline rule still depends on the sliver mesh of plane faces; SliverRatio and
+  /// SliverVertices flip the faces where bisection runs away (docs/Design.md, "Display mesh").
   bool DelaunayRefinement = false;
+  /// Without DelaunayRefinement, a face whose bisection mesh would hold more than SliverRatio
+  /// times the vertices of its flipped mesh and more than SliverVertices gets the flipped mesh:
+  /// a sliver strip that bisection refines far below the edge limit (the side of a cylinder
+  /// 1 m long: 26,345 vertices where 1,374 meet the same limits), where the samples' time and
+  /// memory run away; SliverRatio <= 0: bisection on every face (docs/Design.md, "Display mesh").
+  double SliverRatio = 4.0;
+  int SliverVertices = 10000;
   /// Patches longer than this (control-net length, model units) are split exactly, so that
   /// single-precision evaluation stays accurate (the paper's "relatively flat patches");
   /// <= 0 picks 1/8 of the bounding-box diagonal.

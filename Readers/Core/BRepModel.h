@@ -133,6 +133,9 @@ struct ConversionStatistics
   double MaxLoopGap = 0.0;        ///< max over loops of TrimLoop::RawGap (UV units)
   double MaxLoopGap3D = 0.0;      ///< max over loops of TrimLoop::RawGap3D (model units)
   int OpenLoops = 0;              ///< loops left open (gap beyond the vertex tolerance)
+  /// faces whose display mesh is the flipped one because bisection would exceed
+  /// ConversionOptions::SliverRatio times its vertices
+  int FlippedFaces = 0;
   /// B-spline or Bezier faces found to be a plane, cylinder, cone, sphere or torus within a
   /// thousandth of the tolerance (their Face::Kind says which; DegreeU/V stay the file's)
   int AnalyticFromSpline = 0;

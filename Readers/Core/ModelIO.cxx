@@ -85,7 +85,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   Put(out, m.Mesh.TriangleFace);
   const ConversionStatistics& s = m.Stats;
   Put(out, std::vector<int>{ s.Solids, s.Faces, s.Patches, s.TrimSegments, s.Loops, s.Edges,
-             s.EdgeSegments, s.OpenLoops });
+             s.EdgeSegments, s.OpenLoops, s.FlippedFaces });
   Put(out, std::vector<double>{ s.MaxPatchDeviation, s.MaxEdgeDeviation, s.MaxLoopGap,
              s.MaxLoopGap3D, s.ReadSeconds, s.HealSeconds, s.ConvertSeconds, s.MeshSeconds });
   Put(out, std::vector<std::uint64_t>{ s.Warnings.size() });
@@ -127,7 +127,7 @@ BRepModel ReadModel(const std::string& path)
     Get(in, counts);
     Get(in, figures);
     Get(in, warnings);
-    if (counts.size() != 8 || figures.size() != 8 || warnings.size() != 1 ||
+    if (counts.size() != 9 || figures.size() != 8 || warnings.size() != 1 ||
       warnings[0] > 10000000)
       Bad("statistics");
     ConversionStatistics& s = m.Stats;
@@ -139,6 +139,7 @@ BRepModel ReadModel(const std::string& path)
     s.Edges = counts[5];
     s.EdgeSegments = counts[6];
     s.OpenLoops = counts[7];
+    s.FlippedFaces = counts[8];
     s.MaxPatchDeviation = figures[0];
     s.MaxEdgeDeviation = figures[1];
     s.MaxLoopGap = figures[2];

@@ -149,6 +149,8 @@ BRepModel ConvertStepFileIsolated(const std::string& path, const ConversionOptio
     Number(options.Tolerance), "--linear-deflection", Number(options.LinearDeflection),
     "--angular-deflection", Number(options.AngularDeflection), "--max-edge-length",
     Number(options.MaxEdgeLength), "--max-patch-size", Number(options.MaxPatchSize),
+    "--sliver-ratio", Number(options.SliverRatio), "--sliver-vertices",
+    Number(options.SliverVertices),
     "--memory-limit", Number(memory > 0.0 ? memory : 0.0) };
   if (!options.Heal)
     args.push_back("--no-heal");

@@ -87,6 +87,10 @@ int main(int argc, char** argv)
       options.MaxEdgeLength = value();
     else if (a == "--delaunay-refinement")
       options.DelaunayRefinement = true;
+    else if (a == "--sliver-ratio")
+      options.SliverRatio = value();
+    else if (a == "--sliver-vertices")
+      options.SliverVertices = static_cast<int>(value());
     else if (a == "--max-patch-size")
       options.MaxPatchSize = value();
     else if (a == "--memory-limit")
