@@ -1906,28 +1906,76 @@ void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d
 }
 
 // --- the certification against the patches -------------------------
+// 1 where the ray from (u, v) in +u crosses segment s's 16 chords an odd number of times.
+int chords_cross_odd(const Model* m, int s, real u, real v)
+{
+  int odd = 0;
+  real2 d1, d2;
+  real2 a = seg_point(m->trim + TRIM_REALS * s, (real)0, &d1, &d2);
+  for (int k = 1; k <= 16; ++k)
+  {
+    const real2 b = seg_point(m->trim + TRIM_REALS * s, (real)k / (real)16, &d1, &d2);
+    // Half-open in v, so that a vertex on the ray counts once.
+    if ((a.y > v) != (b.y > v) && a.x + (v - a.y) * (b.x - a.x) / (b.y - a.y) > u)
+      odd = !odd;
+    a = b;
+  }
+  return odd;
+}
+
+// Whether a box (u0, v0, u1, v1) can hold a crossing of the ray from (u, v) in +u: it spans v
+// and reaches past u, with a margin for the chords' rounding (a chord lies in its segment's
+// control hull, and so in the box, up to that).
+inline int box_meets_ray(__global const real* b, real u, real v, real margin)
+{
+  return b[1] <= v + margin && b[3] >= v - margin && b[2] >= u - margin;
+}
+
 // Even-odd count of the crossings of a ray in +u with the face's trimming loops, each segment
-// as 16 chords (as the host's brt::InsideByCrossings): the second opinion for points far from the loops.
+// as 16 chords (as the host's brt::InsideByCrossings): the second opinion for points far from the
+// loops. A face with a segment tree (classify's) counts only the segments whose boxes the ray
+// meets: the others have no crossing, so the parity, and the answer, are the same.
 int inside_by_crossings(const Model* m, int face, real u, real v)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
   int inside = 0;
+  if (fi[9] >= 0)
+  {
+    __global const real* fd = m->faceDomain + FACE_REALS * face;
+    const real margin = (real)64 * REAL_EPS * (fabs(u) + fabs(v) + fd[1] - fd[0] + fd[3] - fd[2]);
+    int stack[32];
+    int top = 0;
+    stack[top++] = fi[9];
+    while (top > 0)
+    {
+      const int n = stack[--top];
+      if (!box_meets_ray(m->trimNodeBox + 4 * n, u, v, margin))
+        continue;
+      __global const int* ni = m->trimNodeInfo + 3 * n;
+      if (ni[1] > 0)
+      {
+        for (int j = 0; j < ni[1]; ++j)
+        {
+          const int seg = m->trimItems[2 * (ni[0] + j)];
+          if (box_meets_ray(m->trim + TRIM_REALS * seg + 8, u, v, margin) &&
+            chords_cross_odd(m, seg, u, v))
+            inside = !inside;
+        }
+        continue;
+      }
+      if (top + 2 > 32)
+        continue; // never: the tree is balanced
+      stack[top++] = ni[2];
+      stack[top++] = n + 1;
+    }
+    return inside;
+  }
   for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
   {
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
-    {
-      real2 d1, d2;
-      real2 a = seg_point(m->trim + TRIM_REALS * s, (real)0, &d1, &d2);
-      for (int k = 1; k <= 16; ++k)
-      {
-        const real2 b = seg_point(m->trim + TRIM_REALS * s, (real)k / (real)16, &d1, &d2);
-        // Half-open in v, so that a vertex on the ray counts once.
-        if ((a.y > v) != (b.y > v) && a.x + (v - a.y) * (b.x - a.x) / (b.y - a.y) > u)
-          inside = !inside;
-        a = b;
-      }
-    }
+      if (chords_cross_odd(m, s, u, v))
+        inside = !inside;
   }
   return inside;
 }

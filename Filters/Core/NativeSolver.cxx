@@ -202,6 +202,12 @@ void NativeSolver::Classify(int face, double u, double v, bool& inside, int& seg
   inside = kernel::classify(&view, face, kernel::real2{ u, v }, &segment, &parameter, &distance) != 0;
 }
 
+bool NativeSolver::InsideByCrossings(int face, double u, double v) const
+{
+  const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
+  return kernel::inside_by_crossings(&view, face, u, v) != 0;
+}
+
 void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const
 {
   if (r.Type == ContactType::Failed || r.Type == ContactType::OtherSolid || P->Data.Nodes.empty())

@@ -77,6 +77,10 @@ public:
   void Classify(int face, double u, double v, bool& inside, int& segment, double& parameter,
     double& distance) const;
 
+  /// The kernel's even-odd test at (u, v) on `face` (inside_by_crossings, through the per-face
+  /// segment tree where the face has one); the same chords as brt::InsideByCrossings; for tests.
+  bool InsideByCrossings(int face, double u, double v) const;
+
   /// Refines in double a contact found in lower precision (the float kernels), `options` being
   /// those it was found with (the clearance of its pass): the same contact's Newton from its foot
   /// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the

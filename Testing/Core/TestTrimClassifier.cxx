@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -209,6 +210,60 @@ TEST(TrimClassifier, KernelSegmentTreeFindsWhatTheScanFinds)
     }
   }
   EXPECT_GT(faces, 50u);
+  EXPECT_EQ(mismatches, 0u);
+}
+
+// The kernel's even-odd test (the second opinion far from the loops) counts, on a face with a
+// segment tree, only the segments whose boxes the ray in +u meets; it must give the reader's
+// InsideByCrossings (every segment's chords) on random points over every such face of the
+// FRAMEWORK tile and the ExpansionCard, and on points placed on the ray through a segment's
+// end, where a chord's end lies on the ray.
+TEST(TrimClassifier, KernelCrossingsThroughTheTreeGiveTheScansAnswer)
+{
+  size_t faces = 0, points = 0, mismatches = 0, inside = 0;
+  for (const char* name : { "FRAMEWORK_DESKTOP_BLANK_TILE.stp", "ExpansionCard_SelfTapping.stp" })
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    const SolverData data = PrepareSolver(m, SolverOptions());
+    const NativeSolver native(m, data);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(-0.1, 1.1);
+    for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
+    {
+      const Face& F = m.Faces[f];
+      int segments = 0;
+      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+        segments += m.Loops[l].SegmentCount;
+      if (segments <= 8)
+        continue;
+      ++faces;
+      for (int k = 0; k < 80; ++k)
+      {
+        double u = F.Domain[0] + unit(rng) * (F.Domain[1] - F.Domain[0]);
+        double v = F.Domain[2] + unit(rng) * (F.Domain[3] - F.Domain[2]);
+        if (k % 4 == 0)
+        {
+          // v of a segment's first control point (on the loop), u anywhere.
+          const TrimLoop& L = m.Loops[F.FirstLoop];
+          v = m.TrimSegments[L.FirstSegment + k % L.SegmentCount].ControlPoints[1];
+        }
+        const bool host = InsideByCrossings(m, f, u, v);
+        const bool kernel = native.InsideByCrossings(f, u, v);
+        ++points;
+        inside += host ? 1 : 0;
+        if (host != kernel)
+        {
+          ++mismatches;
+          ADD_FAILURE() << name << " face " << f << " (" << u << ", " << v << "): kernel "
+                        << kernel << ", InsideByCrossings " << host;
+        }
+      }
+    }
+  }
+  std::printf("crossings: %zu faces with a tree, %zu points (%zu inside), %zu disagree\n", faces,
+    points, inside, mismatches);
+  EXPECT_GT(faces, 60u);
+  EXPECT_GT(inside, points / 10);
   EXPECT_EQ(mismatches, 0u);
 }
 
