@@ -164,6 +164,16 @@ TEST(TrimClassifier, BoxCullingFindsTheNearestSegment)
   EXPECT_EQ(mismatches, 0u);
 }
 
+/// Whether the kernel walks a segment tree on F: more than 8 trimming segments in its loops
+/// (brt::PackTrimTrees).
+static bool HasSegmentTree(const BRepModel& m, const Face& F)
+{
+  int segments = 0;
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+    segments += m.Loops[l].SegmentCount;
+  return segments > 8;
+}
+
 // The kernel's trim test walks a tree over the segments of a face with more than 8 of them
 // (brt::PackTrimTrees); it must find what the reader's ClassifyPoint (a scan of every segment,
 // checked against brute force above) finds: the same nearest segment, parameter, distance and
@@ -181,10 +191,7 @@ TEST(TrimClassifier, KernelSegmentTreeFindsWhatTheScanFinds)
   for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
   {
     const Face& F = m.Faces[f];
-    int segments = 0;
-    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
-      segments += m.Loops[l].SegmentCount;
-    if (segments <= 8)
+    if (!HasSegmentTree(m, F))
       continue;
     ++faces;
     for (int k = 0; k < 60; ++k)
@@ -231,10 +238,7 @@ TEST(TrimClassifier, KernelCrossingsThroughTheTreeGiveTheScansAnswer)
     for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
     {
       const Face& F = m.Faces[f];
-      int segments = 0;
-      for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
-        segments += m.Loops[l].SegmentCount;
-      if (segments <= 8)
+      if (!HasSegmentTree(m, F))
         continue;
       ++faces;
       for (int k = 0; k < 80; ++k)
