@@ -106,8 +106,11 @@ check("hole_plate.step", d4.GetNumberOfCells() > 0 and d3.GetFieldData().GetArra
 # The sliver guard (ConversionOptions::SliverRatio) in the worker process, by default: the tube's
 # cylinders, whose bisection would end at 62,962 vertices, get their flipped meshes (12,258 in all).
 r5 = STEPReader(FileName=os.path.join(data_dir, "tube.step"))
-n5 = sm.Fetch(r5).GetNumberOfPoints()
+d5 = sm.Fetch(r5)
+n5 = d5.GetNumberOfPoints()
 check("tube.step", 0 < n5 < 15000, "the default mesh keeps the sliver strips (%d points)" % n5)
+check("tube.step", d5.GetFieldData().GetArray("FlippedMeshFaces").GetValue(0) == 2,
+      "FlippedMeshFaces is not the tube's two cylinders")
 
 for f in failures:
     print("FAIL", f)
