@@ -65,6 +65,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <unordered_map>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -937,6 +938,17 @@ struct BoundaryChord
   double P0 = 0.0, P1 = 0.0;
 };
 using ChordKey = std::pair<int, int>;
+
+/// Hash of a chord key (two vertex indices) for the refiner's edge maps, which are only looked
+/// up, never walked in order.
+struct ChordKeyHash
+{
+  size_t operator()(const ChordKey& k) const
+  {
+    return std::hash<uint64_t>()((static_cast<uint64_t>(static_cast<uint32_t>(k.first)) << 32) |
+      static_cast<uint32_t>(k.second));
+  }
+};
 ChordKey Key(int a, int b)
 {
   return a < b ? ChordKey(a, b) : ChordKey(b, a);
@@ -1228,8 +1240,8 @@ private:
   TopoDS_Face TheFace;
   bool Delaunay = false; ///< ConversionOptions::DelaunayRefinement
   double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
-  std::map<ChordKey, std::vector<int>> EdgeTris;
-  std::map<ChordKey, BoundaryChord> Chords;
+  std::unordered_map<ChordKey, std::vector<int>, ChordKeyHash> EdgeTris;
+  std::unordered_map<ChordKey, BoundaryChord, ChordKeyHash> Chords;
 };
 
 } // namespace
