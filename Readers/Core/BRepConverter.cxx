@@ -65,7 +65,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <unordered_map>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -73,6 +72,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace brt
 {
@@ -949,6 +949,7 @@ struct ChordKeyHash
       static_cast<uint32_t>(k.second));
   }
 };
+
 ChordKey Key(int a, int b)
 {
   return a < b ? ChordKey(a, b) : ChordKey(b, a);
