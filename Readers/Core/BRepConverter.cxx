@@ -1707,10 +1707,16 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       FaceRefiner flipped = meshFace(true, cap);
       const size_t budget = std::max(
         floor, static_cast<size_t>(options.SliverRatio * static_cast<double>(flipped.UV.size())));
-      FaceRefiner bisected = budget > floor ? meshFace(false, std::min(cap, budget + 1)) : std::move(fm);
-      if (budget > floor && bisected.UV.size() <= budget)
-        fm = std::move(bisected);
-      else
+      bool bisectionFits = false;
+      if (budget > floor)
+      {
+        // Over the floor but perhaps within the ratio: bisection again, up to the ratio's budget.
+        FaceRefiner bisected = meshFace(false, std::min(cap, budget + 1));
+        bisectionFits = bisected.UV.size() <= budget;
+        if (bisectionFits)
+          fm = std::move(bisected);
+      }
+      if (!bisectionFits)
       {
         fm = std::move(flipped);
         ++stats.FlippedFaces;

@@ -206,19 +206,28 @@ TEST(DisplayMesh, DelaunayRefinementOnAPlateWithAHole)
 // The reader's default (SliverRatio 4, SliverVertices 10,000): each face keeps its bisection mesh
 // unless that holds more than 4 times the vertices of its flipped mesh and more than 10,000, where
 // the flipped mesh is taken. Checked face by face against both meshes made on their own, on the
-// rod (its side: 26,345 bisection vertices), the tube (its cylinders' strips) and the hole plate
-// (none); both branches must occur.
+// rod (its side: 26,345 bisection vertices), the tube (its cylinders' strips) and the hole plate,
+// the latter also with edges of 1.5 mm, where its plane faces' bisection meshes pass the floor
+// but stay within the ratio (the guard meshes them a second time and keeps them); every branch
+// must occur.
 TEST(DisplayMesh, SliverRatioTakesTheFlippedMeshOnlyWhereBisectionExplodes)
 {
-  int kept = 0, flippedFaces = 0;
-  for (const auto& shape : { TopoDS_Shape(BRepPrimAPI_MakeCylinder(1.0, 1000.0).Shape()),
-         brt::analytic::Tube(20, 15, 80), brt::analytic::HolePlate(80, 6, 10) })
+  int kept = 0, keptOverFloor = 0, flippedFaces = 0;
+  const std::pair<TopoDS_Shape, double> cases[] = {
+    { BRepPrimAPI_MakeCylinder(1.0, 1000.0).Shape(), 0.0 },
+    { brt::analytic::Tube(20, 15, 80), 0.0 },
+    { brt::analytic::HolePlate(80, 6, 10), 0.0 },
+    { brt::analytic::HolePlate(80, 6, 10), 1.5 },
+  };
+  for (const auto& c : cases)
   {
+    const TopoDS_Shape& shape = c.first;
     brt::ConversionOptions o;
+    o.MaxEdgeLength = c.second;
     // The default last, after the two it is compared with: the first conversion of a shape
     // meshes it, later ones start from the triangulation BRepMesh stored on it, which differed by
     // 2 of the tube's 5,135 vertices on one face.
-    const BRepModel plain = Convert(shape, false), flipped = Convert(shape, true);
+    const BRepModel plain = Convert(shape, false, c.second), flipped = Convert(shape, true, c.second);
     const BRepModel def = brt::ConvertShape(shape, o);
     auto perFace = [](const BRepModel& m) {
       std::map<int, size_t> n;
@@ -235,6 +244,7 @@ TEST(DisplayMesh, SliverRatioTakesTheFlippedMeshOnlyWhereBisectionExplodes)
       expectFlipped += explodes ? 1 : 0;
       EXPECT_EQ(nd.at(f.first), explodes ? nf.at(f.first) : f.second) << "face " << f.first;
       (explodes ? flippedFaces : kept) += 1;
+      keptOverFloor += !explodes && f.second > size_t(o.SliverVertices) ? 1 : 0;
     }
     EXPECT_EQ(def.Stats.FlippedFaces, expectFlipped);
     std::printf("default mesh: %zu vertices (bisection %zu, flips %zu), %d faces flipped\n",
@@ -242,5 +252,6 @@ TEST(DisplayMesh, SliverRatioTakesTheFlippedMeshOnlyWhereBisectionExplodes)
       def.Stats.FlippedFaces);
   }
   EXPECT_GT(kept, 0);
+  EXPECT_GT(keptOverFloor, 0);
   EXPECT_GT(flippedFaces, 0);
 }
