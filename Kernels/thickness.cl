@@ -58,8 +58,10 @@ typedef float3 real3;
 // brt::PackTrimTrees), 1 where its patches are its surface (a polynomial B-spline or Bezier of
 // degree 3 at most, converted exactly: brt::PatchesAreTheSurface), and on a plane whose patches
 // are its isometric parametrisation the sign s of its frame (Y = s (axis x X), X in the exact
-// surface's sizes; 0: none; brt::PlaneFrame, plane_trim_gap).
-#define FACE_INTS 12
+// surface's sizes; 0: none; brt::PlaneFrame, plane_trim_gap), then up to WALL_PARTNERS faces
+// across its thin walls (-1: none; brt::BuildWallPartners, wall_partner_start).
+#define WALL_PARTNERS 8
+#define FACE_INTS 20
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
@@ -3578,6 +3580,134 @@ int settle_not_maximal(const Model* m, __global const real* s1Point,
   return 0;
 }
 
+// The patch of `face` whose control-point box lies nearest to P (relative to the model's
+// centre), within `reach`: a scan of the face's patches. -1 where none lies that near.
+int nearest_patch_of_face(const Model* m, int face, real3 P, real reach)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  int best = -1;
+  real best2 = reach * reach;
+  for (int p = fi[0]; p < fi[0] + fi[1] * fi[2]; ++p)
+  {
+    const real g2 = box_gap2(m->patchBoxes + 6 * p, P);
+    if (g2 < best2)
+    {
+      best2 = g2;
+      best = p;
+    }
+  }
+  return best;
+}
+
+// The point of `face` nearest to O from (u, v) on it: Gauss-Newton on |S(u, v) - O|^2 over its
+// patches (project_on_face_near's steps, for a point off the face; at most 8). 1 with (u, v) and
+// the point (relative to O) where the last step lands inside the face's trim.
+int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, real* vio,
+  real3* point)
+{
+  real u = *uio, v = *vio;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  int patch = find_patch(m, face, u, v);
+  int settled = 0;
+  for (int it = 0; it < 8 && !settled; ++it)
+  {
+    const PatchEval pe = eval_patch(m, patch, u, v);
+    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
+    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
+    const real det = a * c - b * b;
+    if (!(det > (real)0))
+      return 0;
+    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
+    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
+    u += du;
+    v += dv;
+    if (fd[4] > (real)0)
+      u = wrap_param(u, fd[0], fd[4]);
+    if (fd[5] > (real)0)
+      v = wrap_param(v, fd[2], fd[5]);
+    u = clamp(u, fd[0], fd[1]);
+    v = clamp(v, fd[2], fd[3]);
+    patch = find_patch(m, face, u, v);
+    settled = fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]);
+  }
+  // Unsettled after the steps (Gauss-Newton goes linearly at a distance from a curved face) is
+  // good enough: the point is a start, and its own radius is what counts.
+  int seg;
+  real param, trimDist;
+  if (!classify(m, face, make_real2(u, v), &seg, &param, &trimDist))
+    return 0;
+  *uio = u;
+  *vio = v;
+  *point = eval_patch_point(m, patch, u, v) + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
+  return 1;
+}
+
+// A start across a thin wall (brt::BuildWallPartners): where s1 is much coarser than the wall,
+// eq. 1 over it finds its best point far to the side, often on the narrow face that closes the
+// wall, and the solve from there goes through failed Newtons and restarts. Of the faces across
+// O's thin walls (FACE_INTS slots 12 on) with an exact surface, the one whose surface's point
+// nearest to O gives the smallest radius t_delta, where that is below half of *t: its point
+// nearest to O on its patches (Gauss-Newton from the middle of its patch nearest to that point)
+// is one more point of eq. 1, and replaces the start where its t_delta is smaller than *t. 1
+// where it did.
+int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real* t,
+  int* startFace, real* startU, real* startV)
+{
+  // Each partner's exact surface: its point nearest to O and the radius through it.
+  real tw[WALL_PARTNERS];
+  real3 across[WALL_PARTNERS];
+  int faces[WALL_PARTNERS];
+  int n = 0;
+  for (int k = 0; k < WALL_PARTNERS; ++k)
+  {
+    const int f = m->faceInfo[FACE_INTS * ownFace + 12 + k];
+    if (f < 0)
+      break;
+    const int kind = m->faceInfo[FACE_INTS * f + 8];
+    if (kind == EXACT_NONE)
+      continue;
+    __global const real* e = m->faceDomain + FACE_REALS * f + FACE_EXACT;
+    real3 g;
+    int ok;
+    const real dist = exact_distance(kind, e, -anchor_minus(e, Ohi, Olo), &g, &ok);
+    if (!ok)
+      continue;
+    across[n] = -dist * g; // relative to O
+    tw[n] = sphere_radius(d, across[n], m->delta);
+    faces[n++] = f;
+  }
+  // The smallest radius first, below half of *t, on a face whose patches reach that point (the
+  // exact surface goes on past the face).
+  for (int tries = 0; tries < n; ++tries)
+  {
+    int k = -1;
+    for (int j = 0; j < n; ++j)
+      if (faces[j] >= 0 && tw[j] < (real)0.5 * *t && (k < 0 || tw[j] < tw[k]))
+        k = j;
+    if (k < 0)
+      return 0;
+    const int face = faces[k];
+    faces[k] = -1;
+    const int near = nearest_patch_of_face(m, face, Ohi + Olo + across[k], m->slack);
+    if (near < 0)
+      continue;
+    __global const real* pd = m->patchDomain + 4 * near;
+    real u = (real)0.5 * (pd[0] + pd[1]), v = (real)0.5 * (pd[2] + pd[3]);
+    real3 w;
+    if (!nearest_on_face(m, face, Ohi, Olo, &u, &v, &w))
+      continue;
+    const real r = sphere_radius(d, w, m->delta);
+    if (!(r < *t))
+      continue;
+    *t = r;
+    *startFace = face;
+    *startU = u;
+    *startV = v;
+    return 1;
+  }
+  return 0;
+}
+
 // One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
@@ -3632,6 +3762,9 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
     startU = s1UV[2 * best];
     startV = s1UV[2 * best + 1];
   }
+  // Across a thin wall, the point of the face across nearest to O (wall_partner_start).
+  const int partner = best >= 0 && !(m->mode & MODE_EXTERIOR) &&
+    wall_partner_start(m, ownFace, Ohi, Olo, d, &t, &startFace, &startU, &startV);
   if ((m->mode & MODE_EXTERIOR) && (best < 0 || !(t < scale)))
   {
     PointInside inside;
@@ -3655,7 +3788,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
   }
   const int fromCertification = best < 0;
   const real firstT = t;
-  if (selfContact && !fromCertification && same_exact_surface(m, startFace, ownFace))
+  if (selfContact && !fromCertification && !partner && same_exact_surface(m, startFace, ownFace))
   {
     // The start lies on O's own surface, on another face of it (a rod or a ball split into
     // halves): the sphere touching that surface across is the closed form's, and it touches the

@@ -558,6 +558,10 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
         F.Reversed ? 1 : 0, F.Solid, kind, -1,
         PatchesAreTheSurface(m, static_cast<int>(f)) ? 1 : 0, frame });
+    for (size_t j = 0; j < KernelWallPartners; ++j)
+      k.FaceInfo.push_back(data.WallPartners.size() == KernelWallPartners * nf
+          ? data.WallPartners[KernelWallPartners * f + j]
+          : -1);
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });

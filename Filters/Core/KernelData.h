@@ -21,8 +21,11 @@ constexpr size_t KernelOutReals = 7;
 constexpr size_t KernelOutInts = 7;
 /// Ints per face (FACE_INTS): its grid, loops, orientation, solid, exact kind, trim tree root,
 /// whether its patches are its surface (PatchesAreTheSurface), and for a plane whose patches
-/// are its isometric parametrisation the sign of its frame (PlaneFrame in KernelData.cxx; 0: none).
-constexpr size_t KernelFaceInts = 12;
+/// are its isometric parametrisation the sign of its frame (PlaneFrame in KernelData.cxx; 0: none),
+/// then the faces across its thin walls (KernelWallPartners of them, SolverData::WallPartners).
+constexpr size_t KernelFaceInts = 20;
+/// Faces across a face's thin walls, in its FaceInfo record (SolverData::WallPartners).
+constexpr size_t KernelWallPartners = 8;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control

@@ -18,7 +18,8 @@ namespace kernel
 static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker differs from Solver.h");
 // The packing (KernelData.h) and the kernel source agree on their records' sizes.
 static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &&
-    OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts && TRIM_REALS == KernelTrimReals &&
+    OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts &&
+    WALL_PARTNERS == KernelWallPartners && TRIM_REALS == KernelTrimReals &&
     TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals,
   "the kernel's record sizes differ from KernelData.h");
 
@@ -156,6 +157,32 @@ bool NativeSolver::HoldsBoundary(
   kernel::PointInside inside;
   return kernel::find_point_inside(&view, sample.Face, Ohi, Olo, d, r.Radius,
            std::max(s.Clearance, s.Slack), &inside) != 0;
+}
+
+void NativeSolver::WallWithin(const std::vector<Sample>& samples, double radius,
+  std::vector<double>& wall, std::vector<int>& face, unsigned threads) const
+{
+  wall.assign(samples.size(), std::numeric_limits<double>::quiet_NaN());
+  face.assign(samples.size(), -1);
+  if (!P->K.HasBoxes())
+    return;
+  KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, SolverOptions());
+  s.Certify = 1;
+  const kernel::Model view = P->View(s);
+  const double depth = std::max(s.Clearance, s.Slack);
+  ParallelFor(samples.size(), threads, [&](size_t i) {
+    const SampleFrame f = Frame(P->Data, samples[i]);
+    kernel::PointInside inside;
+    if (!kernel::find_point_inside(&view, samples[i].Face, f.Ohi, f.Olo, f.d, radius, depth,
+          &inside))
+      return;
+    const double t = kernel::sphere_radius(f.d, inside.w, 0.0);
+    if (t < std::numeric_limits<double>::max())
+    {
+      wall[i] = 2.0 * t;
+      face[i] = inside.face;
+    }
+  });
 }
 
 double NativeSolver::ThinWallAcross(const Sample& sample) const

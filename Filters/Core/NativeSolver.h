@@ -96,6 +96,14 @@ public:
   void RayThickness(const std::vector<Sample>& samples, std::vector<double>& thickness,
     std::vector<int>* face = nullptr, unsigned threads = 0) const;
 
+  /// For each sample, the diameter of eq. 1's sphere through the deepest point of the trimmed
+  /// faces of its solid inside the sphere of radius `radius` tangent at it (the certification's
+  /// query, find_point_inside, at the verification's depth), and that point's face; NaN and -1
+  /// where none lies that deep. An upper bound of the thickness wherever the wall across is
+  /// thinner than 2 radius: the probe of thin walls (BuildWallPartners).
+  void WallWithin(const std::vector<Sample>& samples, double radius, std::vector<double>& wall,
+    std::vector<int>& face, unsigned threads = 0) const;
+
 private:
   struct Impl;
   std::unique_ptr<Impl> P;

@@ -1,6 +1,7 @@
 #include "Solver.h"
 
 #include "Bezier.h"
+#include "KernelData.h"
 #include "NativeSolver.h"
 #include "TrimClassifier.h"
 
@@ -381,7 +382,104 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   BuildS1Tree(model, data);
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);
+  BuildWallPartners(model, data);
   return data;
+}
+
+void BuildWallPartners(const BRepModel& model, SolverData& data)
+{
+  const size_t nf = model.Faces.size();
+  data.WallPartners.assign(KernelWallPartners * nf, -1);
+  if (data.BoxNodes.empty() || data.Breaks.empty() || !(data.S1Spacing > 0.0))
+    return;
+  // The probes: a 4 x 4 grid over each face's (u, v) bounds, where inside its trim (nothing of s1,
+  // so that a solve file read back gives the same partners).
+  std::vector<Sample> probes;
+  for (size_t f = 0; f < nf; ++f)
+  {
+    const Face& F = model.Faces[f];
+    if (F.PatchCount == 0)
+      continue;
+    const int face = static_cast<int>(f);
+    const double sign = F.Reversed ? 1.0 : -1.0; // inward = -outward
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+      {
+        const double u = F.Domain[0] + (F.Domain[1] - F.Domain[0]) * (i + 0.5) / 4.0;
+        const double v = F.Domain[2] + (F.Domain[3] - F.Domain[2]) * (j + 0.5) / 4.0;
+        if (!ClassifyPoint(model, face, u, v).Inside)
+          continue;
+        const PatchEval e =
+          EvaluatePatch(model.Patches[FindPatchFast(model, data, face, u, v)], u, v);
+        const Vec3 nrm{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1],
+          e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2], e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0] };
+        const double len = std::sqrt(Dot(nrm, nrm));
+        if (!(len > 0.0))
+          continue;
+        Sample p;
+        p.Face = face;
+        p.U = u;
+        p.V = v;
+        p.Point = e.P;
+        p.Direction = { sign * nrm[0] / len, sign * nrm[1] / len, sign * nrm[2] / len };
+        probes.push_back(p);
+      }
+  }
+  if (probes.empty())
+    return;
+  std::vector<double> wall;
+  std::vector<int> hit;
+  {
+    // The query needs the patches and their boxes, not s1: set aside while the solver is packed
+    // (and put back however the query ends).
+    struct SetAside
+    {
+      SolverData& D;
+      std::vector<S1Point> S1;
+      std::vector<BVHNode> Nodes;
+      explicit SetAside(SolverData& d) : D(d)
+      {
+        S1.swap(D.S1);
+        Nodes.swap(D.Nodes);
+      }
+      ~SetAside()
+      {
+        S1.swap(D.S1);
+        Nodes.swap(D.Nodes);
+      }
+    } aside(data);
+    NativeSolver(model, data).WallWithin(probes, data.S1Spacing / 8.0, wall, hit);
+  }
+  // (face, face across) once per probe that found it, from either side.
+  std::vector<std::pair<int, int>> found;
+  for (size_t i = 0; i < probes.size(); ++i)
+  {
+    const int from = probes[i].Face, to = hit[i];
+    if (to < 0 || to == from || !std::isfinite(wall[i]))
+      continue;
+    found.emplace_back(from, to);
+    found.emplace_back(to, from);
+  }
+  std::sort(found.begin(), found.end());
+  for (size_t a = 0; a < found.size();)
+  {
+    const int face = found[a].first;
+    // This face's partners with their counts, most found first, ties to the lower index.
+    std::vector<std::pair<int, int>> counts; // (-count, partner)
+    size_t b = a;
+    while (b < found.size() && found[b].first == face)
+    {
+      size_t c = b;
+      while (c < found.size() && found[c] == found[b])
+        ++c;
+      counts.emplace_back(-static_cast<int>(c - b), found[b].second);
+      b = c;
+    }
+    std::sort(counts.begin(), counts.end());
+    for (size_t k = 0; k < KernelWallPartners && k < counts.size(); ++k)
+      data.WallPartners[KernelWallPartners * static_cast<size_t>(face) + k] = counts[k].second;
+    a = b;
+  }
 }
 
 void BuildS1Tree(const BRepModel& model, SolverData& data)

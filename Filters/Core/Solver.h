@@ -172,7 +172,19 @@ struct SolverData
   /// leaf are patch indices, or edge segment indices offset by the number of patches.
   std::vector<BVHNode> BoxNodes;
   std::vector<int> BoxItems;
+  /// Per face, KernelWallPartners (8) faces across its thin walls, the most found first (-1:
+  /// none): the starts of wall_partner_start where s1 is much coarser than the wall
+  /// (BuildWallPartners; derived like PatchBoxes).
+  std::vector<int> WallPartners;
 };
+
+/// Fills data.WallPartners: a 4 x 4 grid of points over each face's (u, v) bounds, where inside
+/// its trim, probe the wall across by the certification's query for the deepest point of the
+/// faces inside the sphere of diameter S1Spacing / 4 tangent there (NativeSolver::WallWithin). A
+/// face's partners are the other faces its probes find, or whose probes find it, the most found
+/// first (ties to the lower index), eight at most. Needs the patches' boxes (PrepareSolver and
+/// ReadSolve call it).
+void BuildWallPartners(const BRepModel& model, SolverData& data);
 
 /// Fills data.PatchBoxes, data.EdgeBoxes, their BVH and data.EdgeFaceDeviation (PrepareSolver
 /// and ReadSolve call it).

@@ -1103,6 +1103,76 @@ TEST(SolverData, S1IsTheGridInsideTheTrim)
                                 << std::get<0>(onlyWant.front());
 }
 
+/// The start across a thin wall (SolverData::WallPartners, wall_partner_start; docs/Solver.md,
+/// item 3, "Across thin walls"): a 400 mm tube with a 0.5 mm wall, s1's spacing (1/150 of the
+/// diagonal) 2.7 mm, five times the wall. Each cylinder's probes find the other, and the annular
+/// ends, 0.5 mm wide, none (their probes meet the cylinders next to them, a corner); a 5 mm wall
+/// of the same size has no partner anywhere. Across the thin wall the thickness away from the
+/// rims is the closed form's within 1e-6 with the partners and without them, and the partners'
+/// starts take fewer Newton steps.
+TEST(SolverData, WallPartnersAcrossThinWallsOnly)
+{
+  const double tolerance = ConversionOptions().Tolerance;
+  const test::Solved thin = test::SolveShape(analytic::Tube(20.0, 19.5, 400.0), tolerance);
+  const BRepModel& m = thin.Model;
+  ASSERT_EQ(thin.Data.WallPartners.size(), KernelWallPartners * m.Faces.size());
+  std::vector<int> cylinders;
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+    if (m.Faces[f].Kind == SurfaceKind::Cylinder)
+      cylinders.push_back(static_cast<int>(f));
+  ASSERT_EQ(cylinders.size(), 2u);
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const int* p = &thin.Data.WallPartners[KernelWallPartners * f];
+    std::printf("tube 0.5 mm: face %zu (%s) partners %d %d\n", f,
+      m.Faces[f].Kind == SurfaceKind::Cylinder ? "cylinder" : "plane", p[0], p[1]);
+    if (m.Faces[f].Kind == SurfaceKind::Cylinder)
+    {
+      const int other = cylinders[0] == static_cast<int>(f) ? cylinders[1] : cylinders[0];
+      EXPECT_EQ(p[0], other);
+      EXPECT_EQ(p[1], -1);
+    }
+    else
+      EXPECT_EQ(p[0], -1);
+  }
+
+  // The same samples without the partners.
+  SolverData none = thin.Data;
+  none.WallPartners.clear();
+  std::vector<SampleResult> without;
+  SolveReference(m, none, SolverOptions(), thin.Samples, without);
+  const std::vector<double> rim = test::RimDistances(m, thin.Samples);
+  size_t interior = 0, failed = 0;
+  long steps = 0, stepsWithout = 0;
+  double worst = 0.0, worstWithout = 0.0;
+  for (size_t i = 0; i < thin.Results.size(); ++i)
+  {
+    failed += (thin.Results[i].Type == ContactType::Failed) + (without[i].Type == ContactType::Failed);
+    steps += thin.Results[i].Iterations;
+    stepsWithout += without[i].Iterations;
+    if (rim[i] < 0.5)
+      continue;
+    ++interior;
+    worst = std::max(worst, std::fabs(thin.Results[i].Thickness - 0.5) / 0.5);
+    worstWithout = std::max(worstWithout, std::fabs(without[i].Thickness - 0.5) / 0.5);
+  }
+  std::printf("tube 0.5 mm: %zu samples, %zu away from the rims, max |2t - h| / h %.2e (without "
+              "the partners %.2e), Newton steps %ld (%ld)\n",
+    thin.Samples.size(), interior, worst, worstWithout, steps, stepsWithout);
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(interior, 100u);
+  EXPECT_LE(worst, 1e-6);
+  EXPECT_LE(worstWithout, 1e-6);
+  EXPECT_LT(steps, stepsWithout * 3 / 4);
+
+  ConversionOptions conv;
+  conv.Tolerance = tolerance;
+  const BRepModel thick = ConvertShape(analytic::Tube(20.0, 15.0, 400.0), conv);
+  const SolverData d = PrepareSolver(thick, SolverOptions());
+  for (int p : d.WallPartners)
+    EXPECT_EQ(p, -1);
+}
+
 /// The certification bounds an edge segment by its faces' exact surfaces, less how far the edge
 /// lies from each (SolverData::EdgeFaceDeviation, measured at 17 points of each segment, half as
 /// much again). Against OpenCASCADE's projection of 33 points of every segment on the face's own
