@@ -955,6 +955,47 @@ ChordKey Key(int a, int b)
   return a < b ? ChordKey(a, b) : ChordKey(b, a);
 }
 
+/// The triangles on one edge of the refiner's mesh, in the order they were added: two at most
+/// on a manifold mesh, held in place (a vector per edge was a heap block per edge, most of the
+/// mesh step's allocations on a part of long strips); more, should a face's mesh have them, in
+/// More.
+struct EdgeTriangles
+{
+  std::array<int, 2> First{ -1, -1 };
+  int Count = 0;
+  std::vector<int> More;
+
+  size_t size() const { return static_cast<size_t>(Count); }
+  bool empty() const { return Count == 0; }
+  int operator[](size_t i) const { return i < 2 ? First[i] : More[i - 2]; }
+  void push_back(int t)
+  {
+    if (Count < 2)
+      First[static_cast<size_t>(Count)] = t;
+    else
+      More.push_back(t);
+    ++Count;
+  }
+  /// Removes every entry equal to t, keeping the others' order.
+  void remove(int t)
+  {
+    int kept = 0;
+    for (int i = 0; i < Count; ++i)
+    {
+      const int v = (*this)[static_cast<size_t>(i)];
+      if (v == t)
+        continue;
+      if (kept < 2)
+        First[static_cast<size_t>(kept)] = v;
+      else
+        More[static_cast<size_t>(kept - 2)] = v;
+      ++kept;
+    }
+    Count = kept;
+    More.resize(static_cast<size_t>(std::max(0, Count - 2)));
+  }
+};
+
 /// One face's triangulation in UV, refined by conforming longest-edge bisection (Rivara's
 /// LEPP): a triangle is split across its longest edge together with the neighbour that shares
 /// that edge, after the neighbour's own longer edges have been split, so no T-junction appears.
@@ -1162,8 +1203,7 @@ private:
     Alive[t] = 0;
     for (int k = 0; k < 3; ++k)
     {
-      auto& v = EdgeTris[Key(Tris[t][k], Tris[t][(k + 1) % 3])];
-      v.erase(std::remove(v.begin(), v.end(), t), v.end());
+      EdgeTris[Key(Tris[t][k], Tris[t][(k + 1) % 3])].remove(t);
     }
   }
   int Neighbour(int t, const ChordKey& k) const
@@ -1171,9 +1211,9 @@ private:
     auto it = EdgeTris.find(k);
     if (it == EdgeTris.end())
       return -1;
-    for (int n : it->second)
-      if (n != t)
-        return n;
+    for (size_t i = 0; i < it->second.size(); ++i)
+      if (it->second[i] != t)
+        return it->second[i];
     return -1;
   }
   int Midpoint(int a, int b)
@@ -1241,7 +1281,7 @@ private:
   TopoDS_Face TheFace;
   bool Delaunay = false; ///< ConversionOptions::DelaunayRefinement
   double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
-  std::unordered_map<ChordKey, std::vector<int>, ChordKeyHash> EdgeTris;
+  std::unordered_map<ChordKey, EdgeTriangles, ChordKeyHash> EdgeTris;
   std::unordered_map<ChordKey, BoundaryChord, ChordKeyHash> Chords;
 };
 
