@@ -62,6 +62,10 @@
 #include <gp_Vec.hxx>
 
 #include <array>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -1698,18 +1702,29 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   BRepMesh_IncrementalMesh mesher(shape, deflection, Standard_False, options.AngularDeflection,
     Standard_True);
   DisplayMesh& M = model.Mesh;
-  for (int fi = 0; fi < faceMap.Extent(); ++fi)
+  // Each face is refined on its own (FaceRefiner), on every core, faces taken in turn; their
+  // meshes are then joined in the faces' order, as one loop over them gives them. The calling
+  // thread refines too and reports the progress between its faces; a failure or an abort stops
+  // the others and is rethrown here.
+  struct FaceMesh
   {
-    const TopoDS_Face face = TopoDS::Face(faceMap(fi + 1));
-    const TopoDS_Face ff = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+    bool Made = false, Flipped = false;
+    std::vector<gp_Pnt2d> UV;
+    std::vector<std::array<int, 3>> Tris; ///< the refined mesh's live triangles
+  };
+  const int faceCount = faceMap.Extent();
+  std::vector<TopoDS_Face> forwardFaces(static_cast<size_t>(faceCount));
+  for (int fi = 0; fi < faceCount; ++fi)
+    forwardFaces[static_cast<size_t>(fi)] =
+      TopoDS::Face(TopoDS::Face(faceMap(fi + 1)).Oriented(TopAbs_FORWARD));
+  std::vector<FaceMesh> faceMeshes(static_cast<size_t>(faceCount));
+  auto refineFace = [&](int fi) {
+    const TopoDS_Face& ff = forwardFaces[static_cast<size_t>(fi)];
     TopLoc_Location loc;
     Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(ff, loc);
     Handle(Geom_Surface) surface = BRep_Tool::Surface(ff);
     if (tri.IsNull() || !tri->HasUVNodes() || surface.IsNull())
-    {
-      warn("face " + std::to_string(fi) + ": no display mesh could be made");
-      continue;
-    }
+      return; // warned below
     auto meshFace = [&](bool delaunay, size_t cap) {
       FaceRefiner fm(surface, ff, delaunay, deflection, options.AngularDeflection);
       for (int i = 1; i <= tri->NbNodes(); ++i)
@@ -1738,6 +1753,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     // than SliverVertices), the flipped mesh is taken. Each bisection stops at its budget, so a
     // long cylinder's side costs no more than that, and a face that stays within SliverVertices
     // is meshed once, as without the guard.
+    FaceMesh& out = faceMeshes[static_cast<size_t>(fi)];
     const size_t cap = static_cast<size_t>(options.MaxVerticesPerFace);
     const bool guard = !options.DelaunayRefinement && options.SliverRatio > 0.0;
     const size_t floor = static_cast<size_t>(std::max(0, options.SliverVertices));
@@ -1759,9 +1775,62 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       if (!bisectionFits)
       {
         fm = std::move(flipped);
-        ++stats.FlippedFaces;
+        out.Flipped = true;
       }
     }
+    out.UV = std::move(fm.UV);
+    for (size_t ti = 0; ti < fm.Tris.size(); ++ti)
+      if (fm.Alive[ti])
+        out.Tris.push_back(fm.Tris[ti]);
+    out.Made = true;
+  };
+  {
+    std::atomic<int> next{ 0 }, done{ 0 };
+    std::mutex failureMutex;
+    std::exception_ptr failure;
+    auto fail = [&] {
+      const std::lock_guard<std::mutex> lock(failureMutex);
+      if (!failure)
+        failure = std::current_exception();
+      next = faceCount; // the others stop after their face
+    };
+    auto work = [&](bool reporting) {
+      for (int fi = next++; fi < faceCount; fi = next++)
+      {
+        try
+        {
+          refineFace(fi);
+          const int finished = ++done;
+          if (reporting)
+            progress(0.75 + 0.2 * finished / faceCount);
+        }
+        catch (...)
+        {
+          fail();
+          return;
+        }
+      }
+    };
+    std::vector<std::thread> helpers;
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    for (unsigned k = 1; k < cores && static_cast<int>(k) < faceCount; ++k)
+      helpers.emplace_back(work, false);
+    work(true);
+    for (std::thread& h : helpers)
+      h.join();
+    if (failure)
+      std::rethrow_exception(failure);
+  }
+  for (int fi = 0; fi < faceCount; ++fi)
+  {
+    const FaceMesh& fm = faceMeshes[static_cast<size_t>(fi)];
+    if (!fm.Made)
+    {
+      warn("face " + std::to_string(fi) + ": no display mesh could be made");
+      continue;
+    }
+    stats.FlippedFaces += fm.Flipped ? 1 : 0;
+    Handle(Geom_Surface) surface = BRep_Tool::Surface(forwardFaces[static_cast<size_t>(fi)]);
     const int base = static_cast<int>(M.FaceIds.size());
     for (const gp_Pnt2d& uv : fm.UV)
     {
@@ -1787,18 +1856,15 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       M.UV.insert(M.UV.end(), { uv.X(), uv.Y() });
       M.FaceIds.push_back(fi);
     }
-    for (size_t ti = 0; ti < fm.Tris.size(); ++ti)
+    for (const auto& t : fm.Tris)
     {
-      if (!fm.Alive[ti])
-        continue;
-      const auto& t = fm.Tris[ti];
       if (model.Faces[fi].Reversed)
         M.Triangles.insert(M.Triangles.end(), { base + t[0], base + t[2], base + t[1] });
       else
         M.Triangles.insert(M.Triangles.end(), { base + t[0], base + t[1], base + t[2] });
       M.TriangleFace.push_back(fi);
     }
-    progress(0.75 + 0.25 * (fi + 1) / faceMap.Extent());
+    progress(0.95 + 0.05 * (fi + 1) / faceCount);
   }
   stats.MeshSeconds = Since(t0);
 
