@@ -2932,6 +2932,37 @@ int self_contact_foot(int kind, __global const real* e, real3 X0, real3 d, real 
   return 1;
 }
 
+// One Gauss-Newton step on |S(u, v) - target|^2 over `face`'s patches (target relative to O),
+// from (u, v) on *patch: (u, v) moved, wrapped and clamped to the face's bounds, *patch the patch
+// there. Returns the step's size |du| + |dv|; 0 (no step) where S(u, v) lies within `near` of the
+// target already (also where the parametrisation degenerates: a sphere's pole); -1 where the
+// step is not defined.
+real face_gauss_newton_step(const Model* m, int face, real3 Ohi, real3 Olo, real3 target,
+  real near, real* u, real* v, int* patch)
+{
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  const PatchEval pe = eval_patch(m, *patch, *u, *v);
+  const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * *patch, Ohi, Olo) - target;
+  if (length(q) <= near)
+    return (real)0;
+  const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
+  const real det = a * c - b * b;
+  if (!(det > (real)0))
+    return (real)-1;
+  const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
+  const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
+  *u += du;
+  *v += dv;
+  if (fd[4] > (real)0)
+    *u = wrap_param(*u, fd[0], fd[4]);
+  if (fd[5] > (real)0)
+    *v = wrap_param(*v, fd[2], fd[5]);
+  *u = clamp(*u, fd[0], fd[1]);
+  *v = clamp(*v, fd[2], fd[3]);
+  *patch = find_patch(m, face, *u, *v);
+  return fabs(du) + fabs(dv);
+}
+
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
 // |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
 // `band`, within its tolerance band of an edge too), with its (u, v) and patch. Where the trim
@@ -2946,26 +2977,11 @@ int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 f
   int patch = find_patch(m, face, u, v);
   for (int it = 0; it < 6; ++it)
   {
-    PatchEval pe = eval_patch(m, patch, u, v);
-    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo) - foot;
-    if (length(q) <= (real)0.01 * m->slack)
-      break; // there already (also where the parametrisation degenerates: a sphere's pole)
-    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
-    const real det = a * c - b * b;
-    if (!(det > (real)0))
+    const real step =
+      face_gauss_newton_step(m, face, Ohi, Olo, foot, (real)0.01 * m->slack, &u, &v, &patch);
+    if (step < (real)0)
       return 0;
-    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
-    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
-    u += du;
-    v += dv;
-    if (fd[4] > (real)0)
-      u = wrap_param(u, fd[0], fd[4]);
-    if (fd[5] > (real)0)
-      v = wrap_param(v, fd[2], fd[5]);
-    u = clamp(u, fd[0], fd[1]);
-    v = clamp(v, fd[2], fd[3]);
-    patch = find_patch(m, face, u, v);
-    if (fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
+    if (step <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
       break;
   }
   // Converged onto the foot (the patches lie within slack / 2 of the surface it is on).
@@ -3600,7 +3616,8 @@ int nearest_patch_of_face(const Model* m, int face, real3 P, real reach)
 }
 
 // The point of `face` nearest to O from (u, v) on it: Gauss-Newton on |S(u, v) - O|^2 over its
-// patches (project_on_face_near's steps, for a point off the face; at most 8). 1 with (u, v) and
+// patches (face_gauss_newton_step, as project_on_face_near, here for a point off the face; at
+// most 8 steps). 1 with (u, v) and
 // the point (relative to O) where the last step lands inside the face's trim.
 int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, real* vio,
   real3* point)
@@ -3608,27 +3625,14 @@ int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, r
   real u = *uio, v = *vio;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
   int patch = find_patch(m, face, u, v);
-  int settled = 0;
-  for (int it = 0; it < 8 && !settled; ++it)
+  for (int it = 0; it < 8; ++it)
   {
-    const PatchEval pe = eval_patch(m, patch, u, v);
-    const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * patch, Ohi, Olo);
-    const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
-    const real det = a * c - b * b;
-    if (!(det > (real)0))
+    const real step = face_gauss_newton_step(m, face, Ohi, Olo, splat_real3(0), (real)-1, &u,
+      &v, &patch);
+    if (step < (real)0)
       return 0;
-    const real gu = dot(pe.Du, q), gv = dot(pe.Dv, q);
-    const real du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
-    u += du;
-    v += dv;
-    if (fd[4] > (real)0)
-      u = wrap_param(u, fd[0], fd[4]);
-    if (fd[5] > (real)0)
-      v = wrap_param(v, fd[2], fd[5]);
-    u = clamp(u, fd[0], fd[1]);
-    v = clamp(v, fd[2], fd[3]);
-    patch = find_patch(m, face, u, v);
-    settled = fabs(du) + fabs(dv) <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]);
+    if (step <= (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
+      break;
   }
   // Unsettled after the steps (Gauss-Newton goes linearly at a distance from a curved face) is
   // good enough: the point is a start, and its own radius is what counts.
