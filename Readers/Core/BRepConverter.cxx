@@ -1725,6 +1725,17 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     Handle(Geom_Surface) surface = BRep_Tool::Surface(ff);
     if (tri.IsNull() || !tri->HasUVNodes() || surface.IsNull())
       return; // warned below
+    // Offset and swept surfaces evaluate through adaptors that cache their basis (a B-spline's
+    // spans), which two threads must not share: faces that share such a surface each refine on
+    // a copy of their own (the same geometry, so the same mesh).
+    Handle(Geom_Surface) basis = surface;
+    if (Handle(Geom_RectangularTrimmedSurface) rt =
+          Handle(Geom_RectangularTrimmedSurface)::DownCast(surface))
+      basis = rt->BasisSurface();
+    if (basis->IsKind(STANDARD_TYPE(Geom_OffsetSurface)) ||
+      basis->IsKind(STANDARD_TYPE(Geom_SurfaceOfRevolution)) ||
+      basis->IsKind(STANDARD_TYPE(Geom_SurfaceOfLinearExtrusion)))
+      surface = Handle(Geom_Surface)::DownCast(surface->Copy());
     auto meshFace = [&](bool delaunay, size_t cap) {
       FaceRefiner fm(surface, ff, delaunay, deflection, options.AngularDeflection);
       for (int i = 1; i <= tri->NbNodes(); ++i)
