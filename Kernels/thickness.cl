@@ -2934,16 +2934,16 @@ int self_contact_foot(int kind, __global const real* e, real3 X0, real3 d, real 
 
 // One Gauss-Newton step on |S(u, v) - target|^2 over `face`'s patches (target relative to O),
 // from (u, v) on *patch: (u, v) moved, wrapped and clamped to the face's bounds, *patch the patch
-// there. Returns the step's size |du| + |dv|; 0 (no step) where S(u, v) lies within `near` of the
-// target already (also where the parametrisation degenerates: a sphere's pole); -1 where the
+// there. Returns the step's size |du| + |dv|; 0 (no step) where S(u, v) lies within `within` of
+// the target already (also where the parametrisation degenerates: a sphere's pole); -1 where the
 // step is not defined.
 real face_gauss_newton_step(const Model* m, int face, real3 Ohi, real3 Olo, real3 target,
-  real near, real* u, real* v, int* patch)
+  real within, real* u, real* v, int* patch)
 {
   __global const real* fd = m->faceDomain + FACE_REALS * face;
   const PatchEval pe = eval_patch(m, *patch, *u, *v);
   const real3 q = pe.P + anchor_minus(m->patchAnchor + 6 * *patch, Ohi, Olo) - target;
-  if (length(q) <= near)
+  if (length(q) <= within)
     return (real)0;
   const real a = dot(pe.Du, pe.Du), b = dot(pe.Du, pe.Dv), c = dot(pe.Dv, pe.Dv);
   const real det = a * c - b * b;
@@ -3617,8 +3617,8 @@ int nearest_patch_of_face(const Model* m, int face, real3 P, real reach)
 
 // The point of `face` nearest to O from (u, v) on it: Gauss-Newton on |S(u, v) - O|^2 over its
 // patches (face_gauss_newton_step, as project_on_face_near, here for a point off the face; at
-// most 8 steps). 1 with (u, v) and
-// the point (relative to O) where the last step lands inside the face's trim.
+// most 8 steps). 1 with (u, v) and the point (relative to O) where the last step lands inside
+// the face's trim.
 int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, real* vio,
   real3* point)
 {
@@ -3692,10 +3692,10 @@ int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
       return 0;
     const int face = faces[k];
     faces[k] = -1;
-    const int near = nearest_patch_of_face(m, face, Ohi + Olo + across[k], m->slack);
-    if (near < 0)
+    const int patch = nearest_patch_of_face(m, face, Ohi + Olo + across[k], m->slack);
+    if (patch < 0)
       continue;
-    __global const real* pd = m->patchDomain + 4 * near;
+    __global const real* pd = m->patchDomain + 4 * patch;
     real u = (real)0.5 * (pd[0] + pd[1]), v = (real)0.5 * (pd[2] + pd[3]);
     real3 w;
     if (!nearest_on_face(m, face, Ohi, Olo, &u, &v, &w))
