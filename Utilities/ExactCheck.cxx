@@ -13,8 +13,9 @@
 // --indices I,J,... checks those samples (every mesh vertex
 // numbered as brt_thickness_bench --counts 0 numbers them) instead. A sphere overlaps when its radius exceeds that distance by
 // more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
-// solved, failed (per reason) and overlapping shares, the largest overlap and the K worst
-// samples. With --thickness M, the first M solved samples also get an independent exact
+// solved, failed (per reason; the results checked as the filter checks them, brt::CheckResults:
+// a sample on an open shell or a non-manifold solid is failed, not measured) and overlapping
+// shares, the largest overlap and the K worst samples. With --thickness M, the first M solved samples also get an independent exact
 // thickness by the solver's definition: the largest sphere tangent at O that no point of the
 // exact faces enters deeper than the clearance, by bisection on t with the same two distances
 // from the centre to the solid's faces (Testing/Core/TestSolverRims.cxx uses BRepExtrema), reported as
@@ -27,6 +28,7 @@
 // sphere must stay empty up to a radius of the model's bounding-box diagonal.
 #include "BRepConverter.h"
 #include "ExactDistance.h"
+#include "ResultCheck.h"
 #include "Solver.h"
 #ifdef BRT_HAVE_OPENCL
 #include "OpenCLSolver.h"
@@ -72,7 +74,8 @@ const char* const Usage =
   "(BRepExtrema, and every extremum on the faces and edges near the centre where that is nearer,\n"
   "and with --grid N the nearest point on the face of an N x N grid over each such face's\n"
   "parameters, refined three times: a third opinion, slow, off by default).\n"
-  "Prints solved, failed (per reason) and overlapping shares (overlap beyond the clearance plus\n"
+  "Prints solved, failed (per reason, flagged as the filter flags them: samples on open shells\n"
+  "and non-manifold solids fail) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list).\n"
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
   "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
@@ -252,6 +255,10 @@ int main(int argc, char** argv)
       return 2;
 #endif
     }
+    // As the filter does: samples on open shells or non-manifold solids, and impossible values,
+    // are flagged failed, so that the figures are those a user sees (in the gap, a sphere beyond
+    // its solid's box is an open gap: checked below with the infinite ones).
+    brt::CheckResults(m, samples, res);
     const double allowed = 3.0 * m.Tolerance; // the clearance (2x) and the patches (1x)
     size_t solved = 0, overlapping = 0, secondNearer = 0, secondOnly = 0;
     double largest = 0.0;
@@ -572,7 +579,9 @@ int main(int argc, char** argv)
       size_t infinite = 0, confirmed = 0;
       for (size_t k = 0; k < samples.size(); ++k)
       {
-        if (res[k].Type != brt::ContactType::Failed || res[k].Reason != brt::FailReason::NoOppositePoint)
+        if (res[k].Type != brt::ContactType::Failed ||
+          (res[k].Reason != brt::FailReason::NoOppositePoint &&
+            res[k].Reason != brt::FailReason::Unbounded))
           continue;
         ++infinite;
         bool empty = true;

@@ -72,4 +72,21 @@ ResultCheckSummary CheckResults(
   }
   return summary;
 }
+
+std::vector<std::size_t> MeasuredSamples(const BRepModel& model, const std::vector<Sample>& samples)
+{
+  const std::vector<SolidCheck> solids = CheckSolids(model);
+  std::vector<std::size_t> which;
+  which.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+  {
+    const int face = samples[i].Face;
+    const int s = face >= 0 && static_cast<size_t>(face) < model.Faces.size()
+      ? model.Faces[static_cast<size_t>(face)].Solid
+      : -1;
+    if (s < 0 || solids[static_cast<size_t>(s)].Closed())
+      which.push_back(i);
+  }
+  return which;
+}
 } // namespace brt

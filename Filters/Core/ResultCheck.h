@@ -22,4 +22,9 @@ struct ResultCheckSummary
 /// impossible is ever reported as solved.
 ResultCheckSummary CheckResults(const BRepModel& model, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results);
+
+/// The samples worth solving, in order: all but those on open or non-manifold solids, which
+/// CheckResults flags failed whatever the solve gives them (and whose solve is the slowest of
+/// all: on a part with an open surface model beside its solid, most of the time went there).
+std::vector<std::size_t> MeasuredSamples(const BRepModel& model, const std::vector<Sample>& samples);
 } // namespace brt

@@ -333,6 +333,14 @@ TEST(Robustness, OpenShellBesideASolidIsFlagged)
   }
   EXPECT_EQ(openSolved, 0u);
   EXPECT_GT(closedSolved, samples.size() / 4);
+  // The filter solves only the closed box's samples (MeasuredSamples), in order.
+  const std::vector<size_t> measured = MeasuredSamples(m, samples);
+  std::vector<size_t> closed;
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (solids[static_cast<size_t>(m.Faces[samples[i].Face].Solid)].Closed())
+      closed.push_back(i);
+  EXPECT_EQ(measured, closed);
+  EXPECT_LT(measured.size(), samples.size());
 }
 
 TEST(Robustness, EdgeWhereTwoBodiesTouchIsSplit)

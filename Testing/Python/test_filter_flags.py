@@ -1,6 +1,7 @@
 """An assembly of a closed box and an open shell (a box without its top) through the reader and
 the filter in pvpython: the reader warns about the open shell, the open shell's samples are
-flagged failed with FailReason 8 (OpenShell) and no thickness, the closed box is measured, no
+flagged failed with FailReason 8 (OpenShell) and no thickness without being solved, the closed
+box is measured, no
 value is infinite, and the Summary counts the flagged samples.
 
 Usage: pvpython test_filter_flags.py PLUGIN_FILE OPEN_AND_CLOSED_STEP
@@ -29,6 +30,7 @@ open_solid = solid == 1
 check(open_solid.any() and (~open_solid).any(), "samples on both solids")
 check(np.all(reason[open_solid] == 8) and np.all(ct[open_solid] == 0), "open shell: every sample failed, FailReason 8")
 check(np.all(np.isnan(T[open_solid])), "open shell: no thickness")
+check(np.all(pd["Iterations"][open_solid] == 0), "open shell: not solved at all (no iterations)")
 solved = ct > 0
 check(solved[~open_solid].mean() > 0.5, "closed box: measured (%.1f%% solved)" % (100 * solved[~open_solid].mean()))
 check(np.all(np.isfinite(T[solved])) and np.nanmax(T) <= np.sqrt(10 ** 2 * 2 + 2 ** 2), "no infinite or impossible thickness")
