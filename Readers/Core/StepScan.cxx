@@ -3,6 +3,8 @@
 #include "InputError.h"
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -37,18 +39,37 @@ struct TypedRef
   long From = 0, To = 0, Line = 0;
   int Param = 0;
   const char* Expected = nullptr;
+  const char* Context = nullptr;
+  const char* Said = nullptr;
 };
 
+/// The curves of STEP (simple entities, and the partial entities of complex ones).
+#define BRT_STEP_CURVES                                                                            \
+  "LINE|CIRCLE|ELLIPSE|HYPERBOLA|PARABOLA|CONIC|B_SPLINE_CURVE_WITH_KNOTS|B_SPLINE_CURVE|"          \
+  "BEZIER_CURVE|UNIFORM_CURVE|QUASI_UNIFORM_CURVE|RATIONAL_B_SPLINE_CURVE|TRIMMED_CURVE|"          \
+  "COMPOSITE_CURVE|POLYLINE|OFFSET_CURVE_2D|OFFSET_CURVE_3D|CURVE_REPLICA|SURFACE_CURVE|"          \
+  "SEAM_CURVE|INTERSECTION_CURVE|PCURVE|BOUNDED_CURVE|CURVE"
+
 /// Parameters whose references must point at given types (alternatives separated by '|').
-/// List = true: the parameter is a list whose elements are checked.
+/// List = true: the parameter is a list whose elements are checked. Context: the rule holds only
+/// for an entity that an entity of that type refers to (nullptr: always). Said: how the error
+/// names what is required (nullptr: the types).
 struct Rule
 {
   const char* Type;
   int Param;
   const char* Expected;
   bool List;
+  const char* Context = nullptr;
+  const char* Said = nullptr;
 };
 const Rule Rules[] = {
+  // A pcurve's curve in the face's parameters: OpenCASCADE 7.6 dereferences the first item of
+  // its definitional representation as a curve (a point, a direction or a placement there, or
+  // no item at all, crashed it: a mutation of an OpenCASCADE export of a screw, twenty-fifth
+  // session). Elsewhere a definitional representation may hold other items.
+  { "PCURVE", 2, "DEFINITIONAL_REPRESENTATION", false, nullptr, nullptr },
+  { "DEFINITIONAL_REPRESENTATION", 1, BRT_STEP_CURVES, true, "PCURVE", "a curve" },
   { "VERTEX_POINT", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 2, "DIRECTION", false },
@@ -516,7 +537,8 @@ StepScanResult Scanner::Run()
           for (const Rule& r : Rules)
             if (r.Param == this->PartParam && (r.List ? level >= 1 : level == 0) &&
               this->PartName == r.Type)
-              this->Typed.push_back({ this->Current, id, this->Line, r.Param, r.Expected });
+              this->Typed.push_back(
+                { this->Current, id, this->Line, r.Param, r.Expected, r.Context, r.Said });
         if (simple && depth == 1)
         {
           if (static_cast<size_t>(param) >= this->Params.size())
@@ -678,9 +700,26 @@ StepScanResult Scanner::Run()
   if (dangling > 0)
     this->Result.Warnings.push_back(std::to_string(dangling) + " reference(s) to entities the "
       "file does not define, outside the geometry (ignored), the first: " + firstDangling);
+  // The entities a rule with a context applies to: those an entity of the context's type
+  // refers to; and how many checked items each of them has.
+  std::set<long> inContext;
+  std::map<long, long> checkedItems;
+  for (const auto& ref : this->Refs)
+  {
+    const auto from = this->Entities.find(ref.first);
+    if (from != this->Entities.end() && this->HasType(from->second, "PCURVE"))
+      inContext.insert(ref.second);
+  }
   for (const TypedRef& r : this->Typed)
   {
-    const Entity& target = this->Entities.at(r.To);
+    if (r.Context && !inContext.count(r.From))
+      continue;
+    if (r.Context)
+      ++checkedItems[r.From];
+    const auto found = this->Entities.find(r.To);
+    if (found == this->Entities.end())
+      continue; // dangling: an error or a warning above
+    const Entity& target = found->second;
     const std::string expected = r.Expected;
     bool ok = false;
     for (size_t a = 0, b; a <= expected.size(); a = b + 1)
@@ -695,16 +734,28 @@ StepScanResult Scanner::Run()
       this->Line = r.Line;
       this->Current = r.From;
       const std::string from = this->TypeText(this->Entities.at(r.From));
-      std::string want = expected;
+      std::string want = r.Said ? r.Said : expected;
       std::replace(want.begin(), want.end(), '|', '/');
       auto article = [](const std::string& w) {
         return std::string(w.empty() || std::strchr("AEIOU", w[0]) == nullptr ? "a " : "an ") + w;
       };
       this->Fail(from + " parameter " + std::to_string(r.Param + 1) + " refers to #" +
         std::to_string(r.To) + ", " + article(this->TypeText(target)) + ", where " +
-        article(want) + " is required");
+        (r.Said ? want : article(want)) + " is required");
     }
   }
+  // A pcurve's definitional representation with no curve at all (OpenCASCADE 7.6 crashed on it).
+  for (const TypedRef& r : this->Typed)
+    if (!r.Context && std::strcmp(r.Expected, "DEFINITIONAL_REPRESENTATION") == 0 &&
+      this->Entities.count(r.To) &&
+      this->HasType(this->Entities.at(r.To), "DEFINITIONAL_REPRESENTATION") &&
+      checkedItems.count(r.To) == 0)
+    {
+      this->Line = r.Line;
+      this->Current = r.From;
+      this->Fail("PCURVE parameter 3 refers to #" + std::to_string(r.To) +
+        ", a DEFINITIONAL_REPRESENTATION that holds no curve");
+    }
   this->Line = 0;
   const double bound = MaxCoordinateMillimetres / this->Result.UnitInMillimetres;
   if (this->Result.LargestCoordinate > bound)

@@ -132,6 +132,21 @@ TEST(Robustness, WrongTypeReference)
   ExpectIsolatedError(p, "refers to #12, a CARTESIAN_POINT, where a VERTEX_POINT is required");
 }
 
+TEST(Robustness, PcurveWithoutACurve)
+{
+  // A pcurve's definitional representation whose item is a direction, or that has no item:
+  // OpenCASCADE 7.6 dereferenced it as a curve and crashed (found by mutating an OpenCASCADE
+  // export of a screw; Testing/Data/fuzz/crash-pcurve-*.step). A 3D curve there it reads.
+  const std::string direction = Mutated("tube.step", "pcurve-direction.step",
+    R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
+    "#36 = DEFINITIONAL_REPRESENTATION('',(#40),#41);");
+  ExpectIsolatedError(direction, "refers to #40, a DIRECTION, where a curve is required");
+  const std::string none = Mutated("tube.step", "pcurve-none.step",
+    R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
+    "#36 = DEFINITIONAL_REPRESENTATION('',(),#41);");
+  ExpectIsolatedError(none, "a DEFINITIONAL_REPRESENTATION that holds no curve");
+}
+
 TEST(Robustness, SelfReference)
 {
   const std::string p = Mutated("plate.step", "self-reference.step",
