@@ -37,4 +37,13 @@ check(np.all(np.isfinite(T[solved])) and np.nanmax(T) <= np.sqrt(10 ** 2 * 2 + 2
 summary = sm.Fetch(f, idx=3)
 rows = table_rows(summary)
 check(int(rows.get("FailedOpenShell", -1)) == int(open_solid.sum()), "Summary FailedOpenShell = %s" % rows.get("FailedOpenShell"))
+Delete(f)
+
+# The same on the first OpenCL device, which takes the closed box's samples alone too.
+g = BRepThickness(Input=reader, Device="any")
+g.UpdatePipeline()
+pd = dsa.WrapDataObject(sm.Fetch(g, idx=0)).PointData
+check(np.all(pd["FailReason"][open_solid] == 8) and np.all(pd["Iterations"][open_solid] == 0),
+      "OpenCL: open shell flagged, not solved")
+check((pd["ContactType"][~open_solid] > 0).mean() > 0.5, "OpenCL: closed box measured")
 finish()
