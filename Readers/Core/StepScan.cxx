@@ -700,16 +700,14 @@ StepScanResult Scanner::Run()
   if (dangling > 0)
     this->Result.Warnings.push_back(std::to_string(dangling) + " reference(s) to entities the "
       "file does not define, outside the geometry (ignored), the first: " + firstDangling);
-  // The entities a rule with a context applies to: those an entity of the context's type
-  // refers to; and how many checked items each of them has.
+  // The entities a rule with a context applies to: the definitional representations that a
+  // pcurve refers to (the one context so far, recorded by its own rule); and how many checked
+  // items each of them has.
   std::set<long> inContext;
   std::map<long, long> checkedItems;
-  for (const auto& ref : this->Refs)
-  {
-    const auto from = this->Entities.find(ref.first);
-    if (from != this->Entities.end() && this->HasType(from->second, "PCURVE"))
-      inContext.insert(ref.second);
-  }
+  for (const TypedRef& r : this->Typed)
+    if (!r.Context && std::strcmp(r.Expected, "DEFINITIONAL_REPRESENTATION") == 0)
+      inContext.insert(r.To);
   for (const TypedRef& r : this->Typed)
   {
     if (r.Context && !inContext.count(r.From))
