@@ -70,6 +70,10 @@ const Rule Rules[] = {
   // session). Elsewhere a definitional representation may hold other items.
   { "PCURVE", 2, "DEFINITIONAL_REPRESENTATION", false, nullptr, nullptr },
   { "DEFINITIONAL_REPRESENTATION", 1, BRT_STEP_CURVES, true, "PCURVE", "a curve" },
+  // The same written as a complex entity, (DEFINITIONAL_REPRESENTATION() REPRESENTATION('',
+  // (items), context) SHAPE_REPRESENTATION()): the items are the REPRESENTATION part's (files
+  // of OpenCASCADE's test data, trj4_k1_geo-ac-214.stp among them).
+  { "REPRESENTATION", 1, BRT_STEP_CURVES, true, "PCURVE", "a curve" },
   { "VERTEX_POINT", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 2, "DIRECTION", false },

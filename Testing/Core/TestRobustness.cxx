@@ -145,6 +145,17 @@ TEST(Robustness, PcurveWithoutACurve)
     R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
     "#36 = DEFINITIONAL_REPRESENTATION('',(),#41);");
   ExpectIsolatedError(none, "a DEFINITIONAL_REPRESENTATION that holds no curve");
+  // Written as a complex entity (as some of OpenCASCADE's own test files are), its items are the
+  // REPRESENTATION part's: a curve there reads, a direction there is refused.
+  const std::string complexGood = Mutated("tube.step", "pcurve-complex.step",
+    R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
+    "#36 = (DEFINITIONAL_REPRESENTATION()REPRESENTATION('',(#37),#41)SHAPE_REPRESENTATION());");
+  const BRepModel m = ConvertStepFileIsolated(complexGood, ConversionOptions());
+  EXPECT_EQ(m.Faces.size(), 4u);
+  const std::string complexBad = Mutated("tube.step", "pcurve-complex-direction.step",
+    R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
+    "#36 = (DEFINITIONAL_REPRESENTATION()REPRESENTATION('',(#40),#41)SHAPE_REPRESENTATION());");
+  ExpectIsolatedError(complexBad, "refers to #40, a DIRECTION, where a curve is required");
 }
 
 TEST(Robustness, SelfReference)
