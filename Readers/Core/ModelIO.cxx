@@ -254,14 +254,13 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m)
   for (const Face& f : m.Faces)
     if (f.Solid >= 0)
       ++checks[static_cast<size_t>(f.Solid)].Faces;
-  for (const Edge& e : m.Edges)
-  {
-    const int f = e.Faces[0];
-    if (f < 0 || m.Faces[static_cast<size_t>(f)].Solid < 0)
-      continue;
-    SolidCheck& c = checks[static_cast<size_t>(m.Faces[static_cast<size_t>(f)].Solid)];
-    const bool free = e.FaceCount == 1 && !e.Seam;
-    const bool nonManifold = e.FaceCount > 2;
+  auto solidOf = [&](int f) {
+    return f >= 0 && static_cast<size_t>(f) < m.Faces.size() ? m.Faces[static_cast<size_t>(f)].Solid : -1;
+  };
+  auto count = [&](int s, const Edge& e, bool free, bool nonManifold) {
+    if (s < 0)
+      return;
+    SolidCheck& c = checks[static_cast<size_t>(s)];
     if ((free || nonManifold) && c.FreeEdges == 0 && c.NonManifoldEdges == 0 &&
       e.SegmentCount > 0)
     {
@@ -270,6 +269,19 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m)
     }
     c.FreeEdges += free ? 1 : 0;
     c.NonManifoldEdges += nonManifold ? 1 : 0;
+  };
+  for (const Edge& e : m.Edges)
+  {
+    const int s0 = solidOf(e.Faces[0]);
+    if (e.FaceCount == 2 && !e.Seam && s0 != solidOf(e.Faces[1]))
+    {
+      // Two faces of different solids (shells a surface model splits face by face, sewn across):
+      // each solid has one face there, so the edge is free in both.
+      count(s0, e, true, false);
+      count(solidOf(e.Faces[1]), e, true, false);
+      continue;
+    }
+    count(s0, e, e.FaceCount == 1 && !e.Seam, e.FaceCount > 2);
   }
   const DisplayMesh& mesh = m.Mesh;
   for (size_t t = 0; t < mesh.TriangleFace.size(); ++t)

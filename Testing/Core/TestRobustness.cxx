@@ -321,6 +321,60 @@ TEST(Robustness, OpenShellIsRefused)
   ExpectIsolatedError(p, "edges bound only one face");
 }
 
+TEST(Robustness, ShellsSharingEdgesAreOpen)
+{
+  // A box whose faces are split into two shells of three faces, sewn across (the shells share
+  // the edges between them, as a surface model split face by face shares them: OpenCASCADE's
+  // trj4_k1_top-ct-203.stp), beside a closed box. Each half bounds only one face at the shared
+  // edges: both are open and their samples are flagged, not measured (the edges counted as two
+  // faces' made each half "closed", and a single cylinder face got a thickness).
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(30, 0, 0), 10, 10, 10).Shape();
+  BRep_Builder b;
+  TopoDS_Shell halves[2];
+  b.MakeShell(halves[0]);
+  b.MakeShell(halves[1]);
+  int k = 0;
+  for (TopExp_Explorer fx(box, TopAbs_FACE); fx.More(); fx.Next(), ++k)
+    b.Add(halves[k % 2], fx.Current());
+  TopoDS_Compound all;
+  b.MakeCompound(all);
+  b.Add(all, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 2).Shape());
+  for (TopoDS_Shell& h : halves)
+  {
+    h.Closed(false);
+    b.Add(all, h);
+  }
+  // Converted in memory, where the halves keep their shared edges (the STEP writer gives each
+  // shell a surface model of its own, with edges of its own).
+  const BRepModel m = ConvertShape(all, ConversionOptions());
+  const std::vector<SolidCheck> solids = CheckSolids(m);
+  int across = 0;
+  for (const Edge& e : m.Edges)
+    across += e.FaceCount == 2 && m.Faces[e.Faces[0]].Solid != m.Faces[e.Faces[1]].Solid;
+  EXPECT_GT(across, 0); // the shells do share edges
+  int closed = 0, open = 0;
+  for (const SolidCheck& c : solids)
+    (c.Closed() ? closed : open) += c.Faces > 0 ? 1 : 0;
+  EXPECT_EQ(closed, 1);
+  EXPECT_EQ(open, 2);
+  Solved solved = SolveAll(m);
+  CheckResults(m, solved.Samples, solved.Results);
+  size_t flagged = 0, measured = 0;
+  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  {
+    const SolidCheck& c = solids[static_cast<size_t>(m.Faces[solved.Samples[i].Face].Solid)];
+    if (c.Closed())
+      measured += solved.Results[i].Type != ContactType::Failed;
+    else
+    {
+      flagged += solved.Results[i].Reason == FailReason::OpenShell;
+      EXPECT_EQ(solved.Results[i].Reason, FailReason::OpenShell);
+    }
+  }
+  EXPECT_GT(flagged, 0u);
+  EXPECT_GT(measured, 0u);
+}
+
 TEST(Robustness, OpenShellBesideASolidIsFlagged)
 {
   // An assembly of a closed box and an open one: the closed one is measured, the open one's
