@@ -39,9 +39,14 @@ struct TypedRef
   long From = 0, To = 0, Line = 0;
   int Param = 0;
   const char* Expected = nullptr;
-  const char* Context = nullptr;
+  int Pcurve = 0; ///< a Rule's PcurveRep or PcurveItem (0: neither)
   const char* Said = nullptr;
 };
+
+/// The rules about a pcurve's definitional representation: the reference to it, and its items
+/// (checked only where a pcurve refers to it; elsewhere a definitional representation may hold
+/// other items).
+constexpr int PcurveRep = 1, PcurveItem = 2;
 
 /// The curves of STEP (simple entities, and the partial entities of complex ones).
 #define BRT_STEP_CURVES                                                                            \
@@ -51,16 +56,16 @@ struct TypedRef
   "SEAM_CURVE|INTERSECTION_CURVE|PCURVE|BOUNDED_CURVE|CURVE"
 
 /// Parameters whose references must point at given types (alternatives separated by '|').
-/// List = true: the parameter is a list whose elements are checked. Context: the rule holds only
-/// for an entity that an entity of that type refers to (nullptr: always). Said: how the error
-/// names what is required (nullptr: the types).
+/// List = true: the parameter is a list whose elements are checked. Pcurve: PcurveRep or
+/// PcurveItem (above), 0 for the others. Said: how the error names what is required (nullptr:
+/// the types).
 struct Rule
 {
   const char* Type;
   int Param;
   const char* Expected;
   bool List;
-  const char* Context = nullptr;
+  int Pcurve = 0;
   const char* Said = nullptr;
 };
 const Rule Rules[] = {
@@ -68,12 +73,12 @@ const Rule Rules[] = {
   // its definitional representation as a curve (a point, a direction or a placement there, or
   // no item at all, crashed it: a mutation of an OpenCASCADE export of a screw, twenty-fifth
   // session). Elsewhere a definitional representation may hold other items.
-  { "PCURVE", 2, "DEFINITIONAL_REPRESENTATION", false, nullptr, nullptr },
-  { "DEFINITIONAL_REPRESENTATION", 1, BRT_STEP_CURVES, true, "PCURVE", "a curve" },
+  { "PCURVE", 2, "DEFINITIONAL_REPRESENTATION", false, PcurveRep, nullptr },
+  { "DEFINITIONAL_REPRESENTATION", 1, BRT_STEP_CURVES, true, PcurveItem, "a curve" },
   // The same written as a complex entity, (DEFINITIONAL_REPRESENTATION() REPRESENTATION('',
   // (items), context) SHAPE_REPRESENTATION()): the items are the REPRESENTATION part's (files
   // of OpenCASCADE's test data, trj4_k1_geo-ac-214.stp among them).
-  { "REPRESENTATION", 1, BRT_STEP_CURVES, true, "PCURVE", "a curve" },
+  { "REPRESENTATION", 1, BRT_STEP_CURVES, true, PcurveItem, "a curve" },
   { "VERTEX_POINT", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 1, "CARTESIAN_POINT", false },
   { "AXIS2_PLACEMENT_3D", 2, "DIRECTION", false },
@@ -542,7 +547,7 @@ StepScanResult Scanner::Run()
             if (r.Param == this->PartParam && (r.List ? level >= 1 : level == 0) &&
               this->PartName == r.Type)
               this->Typed.push_back(
-                { this->Current, id, this->Line, r.Param, r.Expected, r.Context, r.Said });
+                { this->Current, id, this->Line, r.Param, r.Expected, r.Pcurve, r.Said });
         if (simple && depth == 1)
         {
           if (static_cast<size_t>(param) >= this->Params.size())
@@ -704,20 +709,21 @@ StepScanResult Scanner::Run()
   if (dangling > 0)
     this->Result.Warnings.push_back(std::to_string(dangling) + " reference(s) to entities the "
       "file does not define, outside the geometry (ignored), the first: " + firstDangling);
-  // The entities a rule with a context applies to: the definitional representations that a
-  // pcurve refers to (the one context so far, recorded by its own rule); and how many checked
-  // items each of them has.
-  std::set<long> inContext;
-  std::map<long, long> checkedItems;
+  // The definitional representations that a pcurve refers to, whose items are checked, and how
+  // many items each of them has.
+  std::set<long> pcurveReps;
+  std::map<long, long> pcurveItems;
   for (const TypedRef& r : this->Typed)
-    if (!r.Context && std::strcmp(r.Expected, "DEFINITIONAL_REPRESENTATION") == 0)
-      inContext.insert(r.To);
+    if (r.Pcurve == PcurveRep)
+      pcurveReps.insert(r.To);
   for (const TypedRef& r : this->Typed)
   {
-    if (r.Context && !inContext.count(r.From))
-      continue;
-    if (r.Context)
-      ++checkedItems[r.From];
+    if (r.Pcurve == PcurveItem)
+    {
+      if (!pcurveReps.count(r.From))
+        continue;
+      ++pcurveItems[r.From];
+    }
     const auto found = this->Entities.find(r.To);
     if (found == this->Entities.end())
       continue; // dangling: an error or a warning above
@@ -748,10 +754,9 @@ StepScanResult Scanner::Run()
   }
   // A pcurve's definitional representation with no curve at all (OpenCASCADE 7.6 crashed on it).
   for (const TypedRef& r : this->Typed)
-    if (!r.Context && std::strcmp(r.Expected, "DEFINITIONAL_REPRESENTATION") == 0 &&
-      this->Entities.count(r.To) &&
+    if (r.Pcurve == PcurveRep && this->Entities.count(r.To) &&
       this->HasType(this->Entities.at(r.To), "DEFINITIONAL_REPRESENTATION") &&
-      checkedItems.count(r.To) == 0)
+      pcurveItems.count(r.To) == 0)
     {
       this->Line = r.Line;
       this->Current = r.From;
