@@ -1568,9 +1568,16 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
       if (loop.SegmentCount == 0)
         continue;
-      // Gaps between consecutive pcurves. They are welded (both ends moved to their middle)
-      // when the model itself says the two ends are one point: the 3D gap is within the shared
-      // vertex's tolerance (or the conversion tolerance).
+      // Gaps between consecutive pcurves, where the model itself says the two ends are one
+      // point (the 3D gap within the shared vertex's tolerance or the conversion tolerance).
+      // Within the conversion tolerance they are welded (both ends moved to their middle): that
+      // moves the trim by at most half of it. A wider gap is bridged by a straight segment of
+      // its own instead, the pcurves left as they are: welding tilts the ends of both segments,
+      // and a trim moved by half a gap of 0.0146 mm (a vertex of tolerance 7.3e-3) left a face's
+      // point 3.6e-3 mm inside a sphere classified outside its face (OpenCASCADE's
+      // trj3_s1-al-214.stp, sample 5718). The bridge stands for the vertex: it belongs to the
+      // edge before it, at that edge's end (a parameter range of one point).
+      std::vector<char> bridge(edgeStarts.size(), 0);
       for (size_t k = 0; k < edgeStarts.size(); ++k)
       {
         const int b = edgeStarts[k];
@@ -1586,7 +1593,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         const double vtxTol = vtx.IsNull() ? 0.0 : BRep_Tool::Tolerance(vtx);
         loop.RawGap = std::max(loop.RawGap, gap);
         loop.RawGap3D = std::max(loop.RawGap3D, gap3d);
-        if (gap3d <= std::max(2.0 * vtxTol, tol))
+        if (gap3d <= tol)
         {
           const double mu = 0.5 * (ca[6] + cb[0]), mv = 0.5 * (ca[7] + cb[1]);
           ca[4] += mu - ca[6];
@@ -1596,6 +1603,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           ca[6] = cb[0] = mu;
           ca[7] = cb[1] = mv;
         }
+        else if (gap3d <= 2.0 * vtxTol)
+          bridge[k] = 1;
         else
         {
           std::ostringstream w;
@@ -1604,6 +1613,33 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           warn(w.str());
           loop.Open = true;
         }
+      }
+      if (std::find(bridge.begin(), bridge.end(), 1) != bridge.end())
+      {
+        const auto first = model.TrimSegments.begin() + loop.FirstSegment;
+        const std::vector<TrimSegment> old(first, model.TrimSegments.end());
+        model.TrimSegments.erase(first, model.TrimSegments.end());
+        for (size_t k = 0; k < edgeStarts.size(); ++k)
+        {
+          const int b = edgeStarts[k] - loop.FirstSegment;
+          const int end = (k + 1 < edgeStarts.size() ? edgeStarts[k + 1] - loop.FirstSegment
+                                                     : static_cast<int>(old.size()));
+          if (bridge[k])
+          {
+            const TrimSegment& sa = old[static_cast<size_t>(
+              (k == 0 ? static_cast<int>(old.size()) : b) - 1)];
+            const TrimSegment& sb = old[static_cast<size_t>(b)];
+            TrimSegment br = sa;
+            for (int i = 0; i < 4; ++i)
+              for (int c = 0; c < 2; ++c)
+                br.ControlPoints[2 * i + c] = sa.ControlPoints[6 + c] +
+                  (sb.ControlPoints[c] - sa.ControlPoints[6 + c]) * i / 3.0;
+            br.T0 = sa.T1;
+            model.TrimSegments.push_back(br);
+          }
+          model.TrimSegments.insert(model.TrimSegments.end(), old.begin() + b, old.begin() + end);
+        }
+        loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
       }
       loop.Area = SignedArea(model.TrimSegments, loop.FirstSegment, loop.SegmentCount);
       if ((loop.Outer && loop.Area < 0.0) || (!loop.Outer && loop.Area > 0.0))

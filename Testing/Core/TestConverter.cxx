@@ -1,13 +1,23 @@
 // Conversion of every model in Data/: patch deviation, loop closure, and the point-in-face test
 // built on the cubic trimming segments against OpenCASCADE's BRepClass_FaceClassifier.
 #include "TestHelpers.h"
+#include "TrimClassifier.h"
 
 #include <gtest/gtest.h>
 
 #include <TopoDS_Face.hxx>
 
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom_Surface.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <gp_Pln.hxx>
 
 #include <cctype>
 #include <cmath>
@@ -48,7 +58,7 @@ TEST_P(DataModel, PatchesTrimsAndTopology)
 
   // Trims: every loop closes; classification agrees with OpenCASCADE.
   const test::TrimCheck tc = test::CheckTrims(m, faces, 10000);
-  std::printf("[trims] %s: raw gap before welding %.3e UV (%.3e in 3D), gap after welding "
+  std::printf("[trims] %s: raw gap before welding or bridging %.3e UV (%.3e in 3D), gap after "
               "%.3e UV, open loops %d\n",
     GetParam().c_str(), s.MaxLoopGap, s.MaxLoopGap3D, tc.MaxClosureGap, s.OpenLoops);
   std::printf("[classify] %s: %ld points compared, %ld ON skipped, %ld disagreements within "
@@ -128,5 +138,67 @@ TEST(DataCoverage, HolesSeamsOrientations)
   EXPECT_GT(reversed, 0);
   EXPECT_GT(forward, 0);
   EXPECT_GT(solidsMax, 1);
+}
+
+// A loop whose pcurves leave a gap wider than the conversion tolerance at a vertex whose
+// tolerance covers it (as exporters write: OpenCASCADE's trj3_s1-al-214.stp, a 0.0146 mm gap at
+// a vertex of tolerance 7.3e-3). The trim keeps the pcurves where they are and closes the gap
+// with a segment of its own; welding moved both ends to the gap's middle, which tilted a side of
+// the face by half the gap, and put a point of the face 3.6e-3 mm inside a sphere outside it.
+TEST(LoopGaps, WiderThanTheToleranceAreBridgedNotWelded)
+{
+  TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), 0.0, 10.0, 0.0, 10.0).Face();
+  // The side at u = 10: its pcurve moved to u = 10.01, its vertices given a tolerance of 0.01.
+  const double shift = 0.01;
+  BRep_Builder b;
+  bool moved = false;
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+    double f, l;
+    Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, face, f, l);
+    ASSERT_FALSE(pc.IsNull());
+    if (std::abs(pc->Value(f).X() - 10.0) > 1e-12 || std::abs(pc->Value(l).X() - 10.0) > 1e-12)
+      continue;
+    b.UpdateEdge(e, Handle(Geom2d_Curve)::DownCast(pc->Translated(gp_Vec2d(shift, 0.0))), face,
+      shift);
+    b.UpdateVertex(TopExp::FirstVertex(e), shift);
+    b.UpdateVertex(TopExp::LastVertex(e), shift);
+    moved = true;
+  }
+  ASSERT_TRUE(moved);
+  ConversionOptions options; // tolerance 1e-4: the gap is 100 times wider
+  const BRepModel m = ConvertShape(face, options);
+  ASSERT_EQ(m.Faces.size(), 1u);
+  EXPECT_EQ(m.Stats.OpenLoops, 0);
+  EXPECT_NEAR(m.Stats.MaxLoopGap, shift, 1e-12);
+  // Each side keeps its pcurve: no segment's control point lies strictly between u = 10 and
+  // u = 10.01 but the bridges' (which run along v = 0 and v = 10).
+  int bridges = 0;
+  for (const TrimSegment& ts : m.TrimSegments)
+  {
+    const auto& c = ts.ControlPoints;
+    const bool across = std::abs(c[1] - c[7]) < 1e-12 && std::abs(c[6] - c[0]) < shift * 1.001 &&
+      std::max(c[0], c[6]) > 10.0 + 1e-9;
+    bridges += across;
+    if (across)
+      continue;
+    for (int i = 0; i < 4; ++i)
+    {
+      EXPECT_FALSE(c[2 * i] > 10.0 + 1e-9 && c[2 * i] < 10.0 + shift - 1e-9)
+        << "a side moved: control point u " << c[2 * i];
+    }
+  }
+  EXPECT_EQ(bridges, 2);
+  // The point-in-face test agrees with OpenCASCADE's classifier beside the moved side, where
+  // the weld's side (u = 10.005) said the opposite between 10.005 and 10.01.
+  for (const double u : { 9.995, 10.003, 10.007, 10.009, 10.012 })
+    for (const double v : { 0.5, 5.0, 9.5 })
+    {
+      const TopAbs_State occt = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-9).State();
+      const TrimProjection ours = ClassifyPoint(m, 0, u, v);
+      EXPECT_EQ(ours.Inside, occt == TopAbs_IN) << "at u " << u << ", v " << v;
+      EXPECT_EQ(ours.Inside, u < 10.0 + shift) << "at u " << u << ", v " << v;
+    }
 }
 } // namespace
