@@ -16,6 +16,9 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shape.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <gp_Pnt.hxx>
 
 #include "TestHelpers.h"
@@ -566,4 +569,67 @@ TEST(SolverExact, PlaneThroughASpheresPoles)
               "certification\n", tried, missed);
   EXPECT_GT(tried, 10u);
   EXPECT_EQ(missed, 0u);
+}
+
+/// A face that grazes the sphere tangent at O: z = c x^2 - e x^3 - k y^2 over x in [0, 1] and
+/// y in [-1/2, 1/2], one bicubic patch with O = (0, 0, 0) the middle of its side u = 0 (a point of
+/// the certification's 5 x 5 grid), the sphere of radius 1 above it (centre (0, 0, 1)). Along x
+/// the face bends up into the sphere for 0 < x < (c - 1/2) / e (0.125) and out of it beyond, so
+/// every grid point but O lies outside the sphere and O, at exactly the radius, is the nearest.
+/// O is a stationary point of the distance from the centre: the certification's Newton, started
+/// there, stayed, and the face 4.6e-4 deep inside the sphere 0.08 from O went unseen (OpenCASCADE's
+/// bug33398.step, sample 31641: O's own B-spline face 7.3e-4 mm deep, 0.21 from O, 2t = 2.874
+/// against an exact 2.707). Newton now starts from the nearest grid point but O's own. With
+/// c = 0.45 the face stays outside the sphere (the same grid, nothing inside): not flagged.
+TEST(SolverExact, GrazingOwnFaceNextToO)
+{
+  for (const double c : { 0.7, 0.45 })
+  {
+    const double e = (c - 0.5) > 0.0 ? (c - 0.5) / 0.125 : 1.6, k = 0.5;
+    // Bernstein coefficients of z = g(u) + h(v): g = c u^2 - e u^3, h = -k (v - 1/2)^2.
+    const double g[4] = { 0.0, 0.0, c / 3.0, c - e };
+    const double h[4] = { -k / 4.0, k / 12.0, k / 12.0, -k / 4.0 };
+    TColgp_Array2OfPnt poles(1, 4, 1, 4);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        poles.SetValue(i + 1, j + 1, gp_Pnt(i / 3.0, j / 3.0 - 0.5, g[i] + h[j]));
+    Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
+    const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+    // One patch, as a face of this size gets in a part eight times its size or more (patches
+    // are split to 1/8 of the model's diagonal).
+    ConversionOptions conversion;
+    conversion.MaxPatchSize = 2.0;
+    const BRepModel model = ConvertShape(face, conversion);
+    const SolverData data = PrepareSolver(model, SolverOptions());
+    ASSERT_EQ(model.Faces.size(), 1u);
+    if (c > 0.5)
+      ASSERT_EQ(model.Patches.size(), 1u);
+    Sample o;
+    o.Face = 0;
+    o.U = 0.0;
+    o.V = 0.5;
+    o.Point = { 0.0, 0.0, 0.0 };
+    o.Direction = { 0.0, 0.0, 1.0 };
+    SampleResult sphere;
+    sphere.Type = ContactType::SurfaceSurface;
+    sphere.Radius = 1.0;
+    sphere.Thickness = 2.0;
+    sphere.Center = { 0.0, 0.0, 1.0 };
+    // The premise, by OpenCASCADE: how deep the face reaches into the sphere.
+    const double depth = 1.0 - BoundaryDistance(face, sphere.Center);
+    const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
+    std::printf("[grazing] c %.2f: the face %.3g deep in the sphere (OpenCASCADE), the "
+                "certification says %s\n",
+      c, depth, holds ? "not empty" : "empty");
+    if (c > 0.5)
+    {
+      EXPECT_GT(depth, 4e-4);
+      EXPECT_TRUE(holds);
+    }
+    else
+    {
+      EXPECT_LE(depth, 1e-9);
+      EXPECT_FALSE(holds);
+    }
+  }
 }
