@@ -1642,6 +1642,29 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
       }
       loop.Area = SignedArea(model.TrimSegments, loop.FirstSegment, loop.SegmentCount);
+      stats.MaxLoopGap = std::max(stats.MaxLoopGap, loop.RawGap);
+      stats.MaxLoopGap3D = std::max(stats.MaxLoopGap3D, loop.RawGap3D);
+      stats.OpenLoops += loop.Open ? 1 : 0;
+      model.Loops.push_back(loop);
+    }
+    F.LoopCount = static_cast<int>(model.Loops.size()) - F.FirstLoop;
+    // The outer loop: the one that encloses the others, so the largest in (u, v). OpenCASCADE's
+    // BRepTools::OuterWire is a guess, and it named the D-shaped hole of a long plane strip the
+    // outer wire (Creality's Ender-3 4040 profile, face 169): the strip, reversed into a hole,
+    // was measured as the hole alone, and spheres 1.4 mm into the strip passed. Its choice stands
+    // where another loop is not larger (loops side by side on a periodic surface).
+    int outer = -1;
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+      if (model.Loops[l].Outer)
+        outer = l;
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+      if (outer < 0 ||
+        std::abs(model.Loops[l].Area) > (1.0 + 1e-6) * std::abs(model.Loops[outer].Area))
+        outer = l;
+    for (int loopIndex = F.FirstLoop; loopIndex < F.FirstLoop + F.LoopCount; ++loopIndex)
+    {
+      TrimLoop& loop = model.Loops[loopIndex];
+      loop.Outer = loopIndex == outer;
       if ((loop.Outer && loop.Area < 0.0) || (!loop.Outer && loop.Area > 0.0))
       {
         warn(where + ": trimming loop " + std::to_string(loopIndex) +
@@ -1661,12 +1684,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         }
         loop.Area = -loop.Area;
       }
-      stats.MaxLoopGap = std::max(stats.MaxLoopGap, loop.RawGap);
-      stats.MaxLoopGap3D = std::max(stats.MaxLoopGap3D, loop.RawGap3D);
-      stats.OpenLoops += loop.Open ? 1 : 0;
-      model.Loops.push_back(loop);
     }
-    F.LoopCount = static_cast<int>(model.Loops.size()) - F.FirstLoop;
     progress(0.05 + 0.6 * (fi + 1) / faceMap.Extent());
   }
 

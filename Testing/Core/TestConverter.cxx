@@ -8,7 +8,14 @@
 #include <TopoDS_Face.hxx>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepClass_FaceClassifier.hxx>
+#include <BRepTools.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_Plane.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
@@ -200,5 +207,50 @@ TEST(LoopGaps, WiderThanTheToleranceAreBridgedNotWelded)
       EXPECT_EQ(ours.Inside, occt == TopAbs_IN) << "at u " << u << ", v " << v;
       EXPECT_EQ(ours.Inside, u < 10.0 + shift) << "at u " << u << ", v " << v;
     }
+}
+
+// A long strip with a D-shaped hole near its side, the hole's wire stored first: the hole's
+// curved side is a cubic whose control points reach past the strip's side (u < 0) while the
+// curve stays inside, so the hole's box in (u, v) is not within the strip's, and OpenCASCADE's
+// BRepTools::OuterWire keeps the first wire, the hole (as in Creality's Ender-3 4040 profile,
+// face 169: the strip was reversed into a hole and measured as the hole alone). The outer loop is
+// the one that encloses the others: the point-in-face test agrees with OpenCASCADE's classifier.
+TEST(LoopRoles, OuterLoopIsTheLargestNotTheFirstWire)
+{
+  const double W = 3.0, L = 290.0;
+  // The strip, counter-clockwise seen from +z (material on the left).
+  const TopoDS_Wire strip = BRepBuilderAPI_MakePolygon(gp_Pnt(0, -L, 0), gp_Pnt(W, -L, 0),
+    gp_Pnt(W, 0, 0), gp_Pnt(0, 0, 0), Standard_True).Wire();
+  // The hole, clockwise: down the straight side at u = 2.8, back up the curved side.
+  const gp_Pnt a(2.8, -131.5, 0), b(2.8, -138.5, 0);
+  TColgp_Array1OfPnt poles(1, 4);
+  poles.SetValue(1, b);
+  poles.SetValue(2, gp_Pnt(-0.3, -138.5, 0));
+  poles.SetValue(3, gp_Pnt(-0.3, -131.5, 0));
+  poles.SetValue(4, a);
+  const TopoDS_Wire hole = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(a, b).Edge(),
+    BRepBuilderAPI_MakeEdge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(poles))).Edge())
+                             .Wire();
+  BRep_Builder builder;
+  TopoDS_Face face;
+  builder.MakeFace(face, new Geom_Plane(gp::XOY()), 1e-7);
+  builder.Add(face, hole);
+  builder.Add(face, strip);
+  ASSERT_TRUE(BRepTools::OuterWire(face).IsSame(hole)) << "the premise: OpenCASCADE's guess";
+  const BRepModel m = ConvertShape(face, ConversionOptions());
+  ASSERT_EQ(m.Faces.size(), 1u);
+  ASSERT_EQ(m.Faces[0].LoopCount, 2);
+  for (int l = 0; l < 2; ++l)
+    EXPECT_EQ(m.Loops[l].Outer, std::abs(m.Loops[l].Area) > 100.0) << "loop " << l;
+  // The curve's leftmost point: u = 2.8 / 4 - 0.3 * 3 / 4 = 0.475 at v = -135.
+  for (const double u : { 0.2, 0.4, 0.6, 1.5, 2.7, 2.9 })
+    for (const double v : { -100.0, -133.0, -135.0, -137.0, -200.0 })
+    {
+      const TopAbs_State occt = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-9).State();
+      ASSERT_NE(occt, TopAbs_ON);
+      EXPECT_EQ(ClassifyPoint(m, 0, u, v).Inside, occt == TopAbs_IN) << "at u " << u << ", v " << v;
+    }
+  EXPECT_TRUE(ClassifyPoint(m, 0, 1.5, -200.0).Inside);
+  EXPECT_FALSE(ClassifyPoint(m, 0, 1.5, -135.0).Inside);
 }
 } // namespace
