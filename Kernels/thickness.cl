@@ -1154,6 +1154,34 @@ int valid_surface_solve(const Model* m, int sampleFace, int face, const SurfaceS
     ss_on_face(sn, m->faceDomain + FACE_REALS * face, newtonTol);
 }
 
+// The trimming segment next to degenerated segment `seg` of `face` in its loop that belongs to
+// an edge (edgeInfo slot 1 set), and in *param the end of it at the pole: the one before it (its
+// end, 1) or else the one after it (its start, 0). -1 where neither does.
+int pole_neighbour(const Model* m, int face, int seg, real* param)
+{
+  __global const int* fi = m->faceInfo + FACE_INTS * face;
+  for (int l = fi[4]; l < fi[4] + fi[5]; ++l)
+  {
+    const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
+    if (seg < first || seg >= first + count)
+      continue;
+    const int prev = seg == first ? first + count - 1 : seg - 1;
+    const int next = seg == first + count - 1 ? first : seg + 1;
+    if (m->trimEdge[prev] >= 0 && m->edgeInfo[4 * m->trimEdge[prev] + 1] != 0)
+    {
+      *param = (real)1;
+      return prev;
+    }
+    if (m->trimEdge[next] >= 0 && m->edgeInfo[4 * m->trimEdge[next] + 1] != 0)
+    {
+      *param = (real)0;
+      return next;
+    }
+    return -1;
+  }
+  return -1;
+}
+
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
 // v0) with the initial radius t.
 Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
@@ -1215,8 +1243,14 @@ Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d,
       trimDist = ss.trimDist;
       goto out;
     }
-    const int seg = ss.seg;
-    const real param = ss.param;
+    int seg = ss.seg;
+    real param = ss.param;
+    // A degenerated trimming segment (a pole: its whole length is one point) stands for the
+    // vertex it collapses to: eq. 7 starts there on the edge before it (or after it). Failing
+    // there flagged the corners of a Phillips recess's floor, where its walls' B-spline faces
+    // close in poles (Creality's Ender-3 pan-head screws, 3 samples each).
+    if (seg >= 0 && trimEdge[seg] < 0)
+      seg = pole_neighbour(m, face, seg, &param);
 
     // --- surface/edge Newton (eq. 7) --------------------------------------------------------
     if (seg < 0 || trimEdge[seg] < 0 || edgeInfo[4 * trimEdge[seg] + 1] == 0)
