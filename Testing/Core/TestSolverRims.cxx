@@ -643,10 +643,11 @@ TEST(SolverExact, GrazingOwnFaceNextToO)
 
 /// A blind drilled hole whose 118 degree point ends h above the floor of a block: at a sample O
 /// of the floor a distance rho from the hole's axis, the maximal sphere touches the point, the
-/// cone face's apex, a degenerated edge (a pole of its trim): t = (rho^2 + h^2) / (2 h). The
-/// surface Newton on the cone runs off it across the pole, where eq. 7 has no edge; it now starts
-/// on the edge next to the pole, at the pole (the Phillips recesses of Creality's Ender-3
-/// pan-head screws, whose walls close in poles, failed 3 samples each).
+/// cone face's apex, a degenerated edge (a pole of its trim): t = (rho^2 + h^2) / (2 h). It
+/// guards contacts at a pole, where eq. 7 now starts on the edge next to the degenerated segment
+/// (the Phillips recesses of Creality's Ender-3 pan-head screws, whose walls close in poles,
+/// failed 3 samples each). It does not reproduce that failure: the solver before the change
+/// reached this apex by other paths and passes it too; the change was measured on the screws.
 TEST(SolverExact, DrillPointAboveTheFloor)
 {
   const double r = 3.0, apex = 2.0, tip = r / std::tan(59.0 * M_PI / 180.0);
