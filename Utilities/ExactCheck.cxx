@@ -76,7 +76,9 @@ const char* const Usage =
   "parameters, refined three times: a third opinion, slow, off by default).\n"
   "Prints solved, failed (per reason, flagged as the filter flags them: samples on open shells\n"
   "and non-manifold solids fail) and overlapping shares (overlap beyond the clearance plus\n"
-  "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list).\n"
+  "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list),\n"
+  "and the solved samples whose sphere's centre lies outside their solid (OpenCASCADE's\n"
+  "classifier): a sphere in the air touches the boundary from outside, which no distance sees.\n"
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
   "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
   "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
@@ -261,6 +263,35 @@ int main(int argc, char** argv)
     brt::CheckResults(m, samples, res);
     const double allowed = 3.0 * m.Tolerance; // the clearance (2x) and the patches (1x)
     size_t solved = 0, overlapping = 0, secondNearer = 0, secondOnly = 0;
+    // A sphere of the thickness lies in the material: its centre inside the sample's solid (by
+    // OpenCASCADE's classifier on that solid rebuilt from its faces). The distance above cannot
+    // tell a sphere in the air that touches the boundary from outside (one that passed through a
+    // wall thinner than the solver resolves) from a sphere inside.
+    std::vector<TopoDS_Solid> ownSolid(static_cast<size_t>(solids));
+    std::vector<bool> ownSolidBuilt(static_cast<size_t>(solids), false);
+    std::vector<size_t> outside;
+    auto centreOutside = [&](const brt::Sample& s, const brt::SampleResult& r) {
+      const int solid = m.Faces[static_cast<size_t>(s.Face)].Solid;
+      // A sphere no larger than twice the allowance lies within it of the boundary: its centre
+      // may lie on either side as far as the classifier (at the tolerance) can tell.
+      if (gap || solid < 0 || r.Radius <= 2.0 * allowed)
+        return false;
+      if (!ownSolidBuilt[static_cast<size_t>(solid)])
+      {
+        TopoDS_Shell shell;
+        b.MakeShell(shell);
+        for (size_t f = 0; f < faces.size(); ++f)
+          if (m.Faces[f].Solid == solid)
+            b.Add(shell, faces[f]);
+        b.MakeSolid(ownSolid[static_cast<size_t>(solid)]);
+        b.Add(ownSolid[static_cast<size_t>(solid)], shell);
+        ownSolidBuilt[static_cast<size_t>(solid)] = true;
+      }
+      BRepClass3d_SolidClassifier cl(ownSolid[static_cast<size_t>(solid)],
+        gp_Pnt(r.Center[0], r.Center[1], r.Center[2]), m.Tolerance);
+      // (ON: within the tolerance of the boundary, where the distance above decides.)
+      return cl.State() == TopAbs_OUT;
+    };
     double largest = 0.0;
     std::map<std::string, size_t> reasons;
     std::vector<std::pair<double, size_t>> worst;
@@ -315,6 +346,8 @@ int main(int argc, char** argv)
         worst.emplace_back(overlap, k);
       }
       largest = std::max(largest, overlap);
+      if (centreOutside(samples[k], r))
+        outside.push_back(k);
     }
     char otherSolidLine[400] = "";
     if (gap && allSolids)
@@ -382,6 +415,18 @@ int main(int argc, char** argv)
       solved, failed, overlapping, 100.0 * overlapping / std::max<size_t>(solved, 1), largest,
       why.c_str());
     std::fputs(otherSolidLine, stdout);
+    if (!gap)
+    {
+      std::printf("    centre outside its solid (OpenCASCADE's classifier): %zu of %zu solved samples",
+        outside.size(), solved);
+      for (size_t j = 0; j < outside.size() && j < static_cast<size_t>(std::max(list, 1)); ++j)
+      {
+        const brt::SampleResult& r = res[outside[j]];
+        std::printf("%s sample %zu (2t %.6g, face %d, opposite face %d)", j ? "," : ":",
+          pick[outside[j]], r.Thickness, samples[outside[j]].Face, r.OppositeFace);
+      }
+      std::printf("\n");
+    }
     std::printf("    second distance (every extremum on the faces and edges near the centre%s): "
                 "nearer than BRepExtrema's on %zu solved samples; overlaps it alone finds: %zu "
                 "(counted above)\n", grid > 0 ? ", and a grid over each face" : "", secondNearer,
