@@ -945,7 +945,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     vtkWarningMacro(<< I.SourceFile << ": " << thin << " samples lie on walls thinner than 4 times "
                     << "the conversion tolerance (" << 4.0 * model.Tolerance
                     << " model units), below what the conversion resolves: flagged failed "
-                       "(FailReason 11). Read the model with a smaller Tolerance to measure them.");
+                       "(FailReason 11). Read the model with a smaller Tolerance to measure them; "
+                       "where two faces meet tangentially with material between them (a knife "
+                       "edge), the wall there is thinner than any tolerance resolves.");
   return true;
 }
 

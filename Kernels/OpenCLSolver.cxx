@@ -694,7 +694,9 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     const size_t i = solved[j];
     const SolverOptions& o = pass[i] ? exact : options;
     native.Polish(o, samples[i], results[i]);
-    redo[i] = options.Certify && native.HoldsBoundary(o, samples[i], results[i]);
+    // (A contact the polish finds from outside fails: solved again in double.)
+    redo[i] = results[i].Type == ContactType::Failed ||
+      (options.Certify && native.HoldsBoundary(o, samples[i], results[i]));
   });
   for (size_t i : solved)
     if (redo[i])

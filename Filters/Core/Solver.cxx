@@ -44,7 +44,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::OpenShell: return "the sample's solid is an open shell";
     case FailReason::NonManifold: return "the sample's solid is non-manifold";
     case FailReason::Unbounded: return "thickness not finite or beyond the solid's bounding-box diagonal";
-    case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance)";
+    case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance; at a knife edge no tolerance resolves it)";
   }
   return "unknown";
 }
