@@ -268,7 +268,8 @@ int main(int argc, char** argv)
     // tell a sphere in the air that touches the boundary from outside (one that passed through a
     // wall thinner than the solver resolves) from a sphere inside.
     std::vector<TopoDS_Solid> ownSolid(static_cast<size_t>(solids));
-    std::vector<bool> ownSolidBuilt(static_cast<size_t>(solids), false);
+    std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> ownClassifier(
+      static_cast<size_t>(solids)); // loaded once per solid
     std::vector<size_t> outside;
     auto centreOutside = [&](const brt::Sample& s, const brt::SampleResult& r) {
       const int solid = m.Faces[static_cast<size_t>(s.Face)].Solid;
@@ -276,7 +277,8 @@ int main(int argc, char** argv)
       // may lie on either side as far as the classifier (at the tolerance) can tell.
       if (gap || solid < 0 || r.Radius <= 2.0 * allowed)
         return false;
-      if (!ownSolidBuilt[static_cast<size_t>(solid)])
+      std::unique_ptr<BRepClass3d_SolidClassifier>& cl = ownClassifier[static_cast<size_t>(solid)];
+      if (!cl)
       {
         TopoDS_Shell shell;
         b.MakeShell(shell);
@@ -285,12 +287,11 @@ int main(int argc, char** argv)
             b.Add(shell, faces[f]);
         b.MakeSolid(ownSolid[static_cast<size_t>(solid)]);
         b.Add(ownSolid[static_cast<size_t>(solid)], shell);
-        ownSolidBuilt[static_cast<size_t>(solid)] = true;
+        cl = std::make_unique<BRepClass3d_SolidClassifier>(ownSolid[static_cast<size_t>(solid)]);
       }
-      BRepClass3d_SolidClassifier cl(ownSolid[static_cast<size_t>(solid)],
-        gp_Pnt(r.Center[0], r.Center[1], r.Center[2]), m.Tolerance);
+      cl->Perform(gp_Pnt(r.Center[0], r.Center[1], r.Center[2]), m.Tolerance);
       // (ON: within the tolerance of the boundary, where the distance above decides.)
-      return cl.State() == TopAbs_OUT;
+      return cl->State() == TopAbs_OUT;
     };
     double largest = 0.0;
     std::map<std::string, size_t> reasons;
