@@ -596,31 +596,44 @@ int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, rea
   real2 d1, d2;
   const real2 q = P - seg_point(c, bestT, &d1, &d2);
   const real endEps = (real)1e-9;
-  if (bestT > endEps && bestT < (real)1 - endEps)
+  // A sliver, a segment a thousandth of the point's distance long, says nothing of the side a
+  // point so far off lies on, and a loop's gap, welded or bridged, or a pcurve's tail can leave
+  // one that turns back: the Framework logo cover's face 11 has a bridge 3.7e-4 long at a corner
+  // that points backwards, whose tangent put a point 0.67 away inside the face outside it (a
+  // sphere then held that face 0.35 deep). The nearest point on a sliver is taken as a corner,
+  // and a corner's sides are the segments next to it that are not slivers.
+  const real sliver = (real)1e-3 * length(q);
+  const int onSliver = !(seg_length(c) > sliver);
+  if (bestT > endEps && bestT < (real)1 - endEps && !onSliver)
     return cross2(seg_tangent(c, bestT), q) > (real)0;
   const int first = m->loops[2 * bestLoop], count = m->loops[2 * bestLoop + 1];
-  const int dir = bestT <= endEps ? -1 : 1;
-  int idx = bestSeg - first, other = bestSeg;
-  for (int k = 0; k < count; ++k)
+  // The nearest segment that is not a sliver from `s` along the loop in `dir` (s itself left
+  // out); any with a length where all are slivers, s where none has one.
+  int before = bestSeg, after = bestSeg;
+  for (int side = 0; side < 2; ++side)
   {
-    idx = (idx + dir + count) % count;
-    if (seg_length(m->trim + TRIM_REALS * (first + idx)) > (real)0)
+    const int dir = side == 0 ? -1 : 1;
+    int idx = bestSeg - first, found = -1, any = -1;
+    for (int k = 0; k + 1 < count && found < 0; ++k)
     {
-      other = first + idx;
-      break;
+      idx = (idx + dir + count) % count;
+      const real len = seg_length(m->trim + TRIM_REALS * (first + idx));
+      if (len > (real)0 && any < 0)
+        any = first + idx;
+      if (len > sliver)
+        found = first + idx;
     }
+    const int pick = found >= 0 ? found : (any >= 0 ? any : bestSeg);
+    if (side == 0)
+      before = pick;
+    else
+      after = pick;
   }
-  real2 ta, tb;
-  if (dir < 0)
-  {
-    ta = seg_tangent(m->trim + TRIM_REALS * other, (real)1);
-    tb = seg_tangent(c, (real)0);
-  }
-  else
-  {
-    ta = seg_tangent(c, (real)1);
-    tb = seg_tangent(m->trim + TRIM_REALS * other, (real)0);
-  }
+  // The corner's incoming and outgoing segments.
+  const int incoming = (onSliver || bestT <= endEps) ? before : bestSeg;
+  const int outgoing = (onSliver || bestT > endEps) ? after : bestSeg;
+  const real2 ta = seg_tangent(m->trim + TRIM_REALS * incoming, (real)1);
+  const real2 tb = seg_tangent(m->trim + TRIM_REALS * outgoing, (real)0);
   const real sa = cross2(ta, q), sb = cross2(tb, q);
   if ((sa > (real)0) == (sb > (real)0))
     return sa > (real)0;
@@ -2089,59 +2102,13 @@ void consider_point(const Model* m, int ownFace, int face, real u, real v, real3
 
 // The nearest point of patch p to the centre: a 5x5 grid (its points inside the trim are
 // candidates themselves), then Newton on |S - M|^2 / 2 in (u, v), clamped to the patch.
-void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
-  real depth, real reach, PointInside* st)
+// Newton on |S - M|^2 / 2 over patch p from (u0, v0), clamped to the patch (certify_patch): the
+// nearest of its points in (*nu, *nv).
+void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0, real v0,
+  real* outU, real* outV)
 {
-  const int face = m->patchFace[p];
   __global const real* pd = m->patchDomain + 4 * p;
-  const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
-  __global const real* c = m->patches + 48 * p;
-  real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
-  // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
-  // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
-  real B[5][4];
-  for (int k = 0; k <= 4; ++k)
-  {
-    const real x = (real)0.25 * (real)k, y = (real)1 - x;
-    B[k][0] = y * y * y;
-    B[k][1] = (real)3 * y * y * x;
-    B[k][2] = (real)3 * y * x * x;
-    B[k][3] = x * x * x;
-  }
-  for (int i = 0; i <= 4; ++i)
-  {
-    real3 row[4];
-    for (int j = 0; j < 4; ++j)
-    {
-      row[j] = splat_real3(0);
-      for (int a = 0; a < 4; ++a)
-      {
-        const int k = (4 * a + j) * 3;
-        row[j] += B[i][a] * make_real3(c[k], c[k + 1], c[k + 2]);
-      }
-    }
-    for (int j = 0; j <= 4; ++j)
-    {
-      const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
-      const real v = pd[2] + (real)0.25 * (real)j * (pd[3] - pd[2]);
-      const real3 w = anchor + (B[j][0] * row[0] + B[j][1] * row[1] + B[j][2] * row[2] + B[j][3] * row[3]);
-      // Newton's start: the nearest grid point but O's own (within 4 tolerances of O, where
-      // nothing counts: consider_point). O is a stationary point of the distance from M (the
-      // sphere is tangent there), so Newton started there stays; a grazing face's deeper points
-      // a little farther off went unseen (OpenCASCADE's bug33398.step, sample 31641: O's own
-      // B-spline face 7.3e-4 mm inside a sphere of radius 1.44, 0.21 from O).
-      const real dd = dot(w - mr, w - mr);
-      if (dd < bd && !(dot(w, w) <= (real)4 * m->slack * m->slack))
-      {
-        bd = dd;
-        bu = u;
-        bv = v;
-      }
-      if (dd < st->best * st->best)
-        consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
-    }
-  }
-  real u = bu, v = bv;
+  real u = u0, v = v0;
   // Newton stops where it no longer gets nearer by a thousandth of the slack (a flat minimum: O's
   // own round, which the sphere touches along the arc, took all 8 steps on most of its patches);
   // the nearest of its points is kept.
@@ -2205,8 +2172,103 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
       break;
     }
   }
-  consider_point(m, ownFace, face, nearU, nearV, anchor + eval_patch_point(m, p, nearU, nearV), mr,
-    d, depth, reach, st);
+  *outU = nearU;
+  *outV = nearV;
+}
+
+void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
+  real depth, real reach, PointInside* st)
+{
+  const int face = m->patchFace[p];
+  __global const real* pd = m->patchDomain + 4 * p;
+  const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+  __global const real* c = m->patches + 48 * p;
+  real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
+  real3 lo = splat_real3(REAL_MAX), hi = splat_real3(-REAL_MAX); // the grid's box
+  // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
+  // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
+  real B[5][4];
+  for (int k = 0; k <= 4; ++k)
+  {
+    const real x = (real)0.25 * (real)k, y = (real)1 - x;
+    B[k][0] = y * y * y;
+    B[k][1] = (real)3 * y * y * x;
+    B[k][2] = (real)3 * y * x * x;
+    B[k][3] = x * x * x;
+  }
+  for (int i = 0; i <= 4; ++i)
+  {
+    real3 row[4];
+    for (int j = 0; j < 4; ++j)
+    {
+      row[j] = splat_real3(0);
+      for (int a = 0; a < 4; ++a)
+      {
+        const int k = (4 * a + j) * 3;
+        row[j] += B[i][a] * make_real3(c[k], c[k + 1], c[k + 2]);
+      }
+    }
+    for (int j = 0; j <= 4; ++j)
+    {
+      const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
+      const real v = pd[2] + (real)0.25 * (real)j * (pd[3] - pd[2]);
+      const real3 w = anchor + (B[j][0] * row[0] + B[j][1] * row[1] + B[j][2] * row[2] + B[j][3] * row[3]);
+      // Newton's start: the nearest grid point but O's own (within 4 tolerances of O, where
+      // nothing counts: consider_point). O is a stationary point of the distance from M (the
+      // sphere is tangent there), so Newton started there stays; a grazing face's deeper points
+      // a little farther off went unseen (OpenCASCADE's bug33398.step, sample 31641: O's own
+      // B-spline face 7.3e-4 mm inside a sphere of radius 1.44, 0.21 from O).
+      const real dd = dot(w - mr, w - mr);
+      lo = fmin(lo, w);
+      hi = fmax(hi, w);
+      if (dd < bd && !(dot(w, w) <= (real)4 * m->slack * m->slack))
+      {
+        bd = dd;
+        bu = u;
+        bv = v;
+      }
+      if (dd < st->best * st->best)
+        consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
+    }
+  }
+  const real extent = length(hi - lo);
+  real nearU, nearV;
+  patch_nearest_newton(m, p, anchor, mr, bu, bv, &nearU, &nearV);
+  const real3 wn = anchor + eval_patch_point(m, p, nearU, nearV);
+  consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
+  // A face that grazes the sphere along a valley of a patch much larger than the sphere: Newton
+  // from the 5 x 5 grid's nearest point ends at the valley's shallow end, just outside the sphere,
+  // and its deep point lies between the grid's points (Voron's corner_ptfe_plate: a 7 mm patch, a
+  // sphere of radius 0.6, O's own face 5.5e-4 inside; a grabcad pulley guard's 1.4e-3). Where
+  // Newton ends within a thousandth of the radius outside the sphere, a tenth of the radius or
+  // more from O, on a patch whose grid spans more than the radius, a grid of about a quarter of
+  // the radius (up to 17 x 17) and Newton from its nearest point.
+  const real dn = length(wn - mr);
+  if (face == ownFace && dn < reach * (real)1.001 && dot(wn, wn) > (real)0.01 * reach * reach &&
+    extent > reach)
+  {
+    const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)16);
+    real fu = nearU, fv = nearV, fd = REAL_MAX;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j)
+      {
+        const real u = pd[0] + (pd[1] - pd[0]) * (real)i / (real)n;
+        const real v = pd[2] + (pd[3] - pd[2]) * (real)j / (real)n;
+        const real3 w = anchor + eval_patch_point(m, p, u, v);
+        const real dd = dot(w - mr, w - mr);
+        if (dd < fd && !(dot(w, w) <= (real)4 * m->slack * m->slack))
+        {
+          fd = dd;
+          fu = u;
+          fv = v;
+        }
+        if (dd < st->best * st->best)
+          consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
+      }
+    patch_nearest_newton(m, p, anchor, mr, fu, fv, &nearU, &nearV);
+    consider_point(m, ownFace, face, nearU, nearV, anchor + eval_patch_point(m, p, nearU, nearV),
+      mr, d, depth, reach, st);
+  }
 }
 
 // The nearest point of edge segment es to the centre (a 9-point grid, then Newton in T, clamped):

@@ -247,37 +247,41 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   const auto e = EvaluateCubic<2>(cp.data(), res.Parameter);
   const double px = u - e.P[0], py = v - e.P[1];
 
-  // Neighbour of a segment along its loop, skipping zero-length segments.
+  // A sliver, a segment a thousandth of the point's distance long, says nothing of the side a
+  // point so far off lies on, and a loop's gap or a pcurve's tail can leave one that turns back
+  // (a bridge 3.7e-4 long pointing backwards on the Framework logo cover's face 11). The nearest
+  // point on a sliver is taken as a corner, and a corner's sides are the segments next to it that
+  // are not slivers (the kernel's classify, the same steps).
+  const double sliver = 1e-3 * std::sqrt(px * px + py * py);
+  const bool onSliver = !(Length2(cp) > sliver);
+  // The nearest segment that is not a sliver from s along the loop in dir (s itself left out);
+  // any with a length where all are slivers, s where none has one.
   auto neighbour = [&](int s, int dir) {
-    int idx = s - loop.FirstSegment;
-    for (int k = 0; k < loop.SegmentCount; ++k)
+    int idx = s - loop.FirstSegment, any = -1;
+    for (int k = 0; k + 1 < loop.SegmentCount; ++k)
     {
       idx = (idx + dir + loop.SegmentCount) % loop.SegmentCount;
-      if (Length2(model.TrimSegments[loop.FirstSegment + idx].ControlPoints) > 0.0)
+      const double len = Length2(model.TrimSegments[loop.FirstSegment + idx].ControlPoints);
+      if (len > 0.0 && any < 0)
+        any = loop.FirstSegment + idx;
+      if (len > sliver)
         return loop.FirstSegment + idx;
     }
-    return s;
+    return any >= 0 ? any : s;
   };
 
   const double endEps = 1e-9;
-  if (res.Parameter > endEps && res.Parameter < 1.0 - endEps)
+  if (res.Parameter > endEps && res.Parameter < 1.0 - endEps && !onSliver)
   {
     const auto tg = Tangent(cp, res.Parameter);
     res.Inside = Cross(tg[0], tg[1], px, py) > 0.0;
     return res;
   }
-  // At a junction: incoming segment a (ending there) and outgoing segment b (starting there).
-  std::array<double, 2> ta, tb;
-  if (res.Parameter <= endEps)
-  {
-    ta = Tangent(model.TrimSegments[neighbour(res.Segment, -1)].ControlPoints, 1.0);
-    tb = Tangent(cp, 0.0);
-  }
-  else
-  {
-    ta = Tangent(cp, 1.0);
-    tb = Tangent(model.TrimSegments[neighbour(res.Segment, +1)].ControlPoints, 0.0);
-  }
+  // At a corner: incoming segment a (ending there) and outgoing segment b (starting there).
+  const int incoming = (onSliver || res.Parameter <= endEps) ? neighbour(res.Segment, -1) : res.Segment;
+  const int outgoing = (onSliver || res.Parameter > endEps) ? neighbour(res.Segment, +1) : res.Segment;
+  const std::array<double, 2> ta = Tangent(model.TrimSegments[incoming].ControlPoints, 1.0);
+  const std::array<double, 2> tb = Tangent(model.TrimSegments[outgoing].ControlPoints, 0.0);
   const double sa = Cross(ta[0], ta[1], px, py);
   const double sb = Cross(tb[0], tb[1], px, py);
   if ((sa > 0.0) == (sb > 0.0))
