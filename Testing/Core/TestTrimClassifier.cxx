@@ -5,9 +5,14 @@
 #include "Solver.h"
 
 #include "BRepConverter.h"
+#include "Bezier.h"
 #include "TestHelpers.h"
 
 #include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 
 #include <cmath>
 #include <cstdio>
@@ -113,6 +118,121 @@ TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
     }
   }
 }
+// A loop whose corner carries a sliver that turns back, as a bridged gap or a pcurve's tail leaves
+// one (the Framework logo cover's face 11: a bridge 3.7e-4 long pointing backwards at a concave
+// corner put a point 0.67 away inside the face outside it, and a sphere held that face 0.35 deep).
+// The top face of an L-shaped prism (the L of CornerRuleConcaveInsideConvexOutside ten times as
+// large, 2 high), its loop given such a bridge at the concave corner (10, 10): a segment 4e-4 long
+// back along the side it came along, the next side starting at its end. Every point of the face's
+// parameter plane 0.5 or more from the loop (a thousand times the sliver's length: nearer, the
+// sliver's tangent still decides) must be classified as the exact polygon test of the L says, by
+// the reader's ClassifyPoint and the kernel's classify alike. Before the sliver rule the points
+// in the corner's wedge whose nearest loop point was the sliver's end were put outside (the corner
+// rule took the sliver's backward tangent). A sliver a hundredth of the distance (tried) moved six
+// spheres of OpenCASCADE's trj3_s1-md-214.stp into its faces, 0.024 deep.
+TEST(TrimClassifier, BackwardSliverAtACornerSaysNothing)
+{
+  const std::vector<std::array<double, 2>> shape{ { 0, 0 }, { 40, 0 }, { 40, 10 }, { 10, 10 },
+    { 10, 40 }, { 0, 40 } };
+  BRepBuilderAPI_MakePolygon polygon;
+  for (const auto& p : shape)
+    polygon.Add(gp_Pnt(p[0], p[1], 0));
+  polygon.Close();
+  BRepModel m = ConvertShape(
+    BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(polygon.Wire(), true).Face(), gp_Vec(0, 0, 2))
+      .Shape(),
+    ConversionOptions());
+  int face = -1;
+  for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
+  {
+    const std::array<double, 8>& e = m.FaceExact[static_cast<size_t>(f)];
+    if (m.Faces[f].Kind == SurfaceKind::Plane && std::fabs(std::fabs(e[5]) - 1.0) < 1e-9 &&
+      std::fabs(e[2] - 2.0) < 1e-9)
+      face = f;
+  }
+  ASSERT_GE(face, 0);
+  Face& F = m.Faces[face];
+  ASSERT_EQ(F.LoopCount, 1);
+  const int loopIndex = F.FirstLoop;
+  auto at = [&](double u, double v) {
+    int patch = F.FirstPatch;
+    for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+    {
+      const std::array<double, 4>& pd = m.Patches[static_cast<size_t>(p)].Domain;
+      if (u >= pd[0] && u <= pd[1] && v >= pd[2] && v <= pd[3])
+        patch = p;
+    }
+    return EvaluatePatch(m.Patches[static_cast<size_t>(patch)], u, v).P;
+  };
+  // The segment that ends at the concave corner (1, 1, 2), and the bridge after it.
+  TrimLoop& loop = m.Loops[static_cast<size_t>(loopIndex)];
+  int corner = -1;
+  for (int k = loop.FirstSegment; k < loop.FirstSegment + loop.SegmentCount; ++k)
+  {
+    const auto& c = m.TrimSegments[static_cast<size_t>(k)].ControlPoints;
+    const auto p = at(c[6], c[7]);
+    if (std::hypot(p[0] - 10.0, p[1] - 10.0) < 1e-9)
+      corner = k;
+  }
+  ASSERT_GE(corner, 0);
+  const int next = corner + 1 < loop.FirstSegment + loop.SegmentCount ? corner + 1 : loop.FirstSegment;
+  TrimSegment bridge = m.TrimSegments[static_cast<size_t>(corner)];
+  {
+    const auto& c = bridge.ControlPoints;
+    const double du = c[6] - c[0], dv = c[7] - c[1], len = std::hypot(du, dv);
+    const double eu = c[6], ev = c[7], bu = eu - 4e-4 * du / len, bv = ev - 4e-4 * dv / len;
+    for (int k = 0; k < 4; ++k)
+    {
+      bridge.ControlPoints[2 * k] = eu + (bu - eu) * k / 3.0;
+      bridge.ControlPoints[2 * k + 1] = ev + (bv - ev) * k / 3.0;
+    }
+    bridge.T0 = bridge.T1;
+    TrimSegment& n = m.TrimSegments[static_cast<size_t>(next)];
+    const double nu = n.ControlPoints[6], nv = n.ControlPoints[7];
+    for (int k = 0; k < 4; ++k)
+    {
+      n.ControlPoints[2 * k] = bu + (nu - bu) * k / 3.0;
+      n.ControlPoints[2 * k + 1] = bv + (nv - bv) * k / 3.0;
+    }
+  }
+  m.TrimSegments.insert(m.TrimSegments.begin() + corner + 1, bridge);
+  loop.SegmentCount += 1;
+  for (TrimLoop& l : m.Loops)
+    if (l.FirstSegment > corner && &l != &loop)
+      l.FirstSegment += 1;
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const NativeSolver native(m, data);
+  size_t checked = 0, nearCorner = 0, wrongHost = 0, wrongKernel = 0;
+  const int n = 120;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+    {
+      const double u = F.Domain[0] - 1.0 + (F.Domain[1] - F.Domain[0] + 2.0) * (i + 0.37) / n;
+      const double v = F.Domain[2] - 1.0 + (F.Domain[3] - F.Domain[2] + 2.0) * (j + 0.61) / n;
+      const TrimProjection host = ClassifyPoint(m, face, u, v);
+      if (!(host.Distance >= 0.5))
+        continue; // 1,000 times the sliver's length or more
+      const auto p = at(u, v); // a plane's patch continues the plane past its domain
+      const bool expected = InPolygon(shape, p[0], p[1]);
+      bool inside = false;
+      int segment = -1;
+      double parameter = 0.0, distance = 0.0;
+      native.Classify(face, u, v, inside, segment, parameter, distance);
+      ++checked;
+      nearCorner += std::hypot(p[0] - 10.0, p[1] - 10.0) < 6.0;
+      if (host.Inside != expected && ++wrongHost <= 5)
+        ADD_FAILURE() << "ClassifyPoint at (" << p[0] << ", " << p[1] << "): " << host.Inside;
+      if (inside != expected && ++wrongKernel <= 5)
+        ADD_FAILURE() << "kernel classify at (" << p[0] << ", " << p[1] << "): " << inside;
+    }
+  std::printf("[trim] sliver at a corner: %zu points (%zu within 6 of the corner), %zu and %zu "
+              "misjudged (reader, kernel)\n",
+    checked, nearCorner, wrongHost, wrongKernel);
+  EXPECT_GT(nearCorner, 100u);
+  EXPECT_EQ(wrongHost, 0u);
+  EXPECT_EQ(wrongKernel, 0u);
+}
+
 } // namespace
 
 // ClassifyPoint skips segments whose control box is farther than the best distance so far; the
