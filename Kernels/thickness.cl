@@ -2240,14 +2240,16 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
   // from the 5 x 5 grid's nearest point ends at the valley's shallow end, just outside the sphere,
   // and its deep point lies between the grid's points (Voron's corner_ptfe_plate: a 7 mm patch, a
   // sphere of radius 0.6, O's own face 5.5e-4 inside; a grabcad pulley guard's 1.4e-3). Where
-  // Newton ends within a thousandth of the radius outside the sphere, three tenths of the radius
-  // or more from O, on a patch whose grid spans more than the radius, a grid of about a quarter
-  // of the radius (up to 17 x 17) and Newton from its nearest point. Nearer O the face osculates
-  // the sphere and the patches' error decides: from a tenth of the radius on, the unseen cover's
-  // extruded face 24 gave points 3.8e-4 deep 0.098 from O where OpenCASCADE has none, and ten
-  // exact spheres failed NotMaximal.
+  // Newton ends within a thousandth of the radius outside the sphere, a tenth of the radius or
+  // more from O, on a patch whose grid spans more than the radius, a grid of about a quarter of
+  // the radius (up to 17 x 17) and Newton from its nearest point, both counting only points three
+  // tenths of the radius or more from O. Nearer O the face osculates the sphere and the patches'
+  // error decides: counted from a tenth of the radius on, the unseen cover's extruded face 24
+  // gave points 3.8e-4 deep 0.098 from O where OpenCASCADE has none, and ten exact spheres failed
+  // NotMaximal.
   const real dn = length(wn - mr);
-  if (face == ownFace && dn < reach * (real)1.001 && dot(wn, wn) > (real)0.09 * reach * reach &&
+  const real nearO = (real)0.09 * reach * reach; // (0.3 of the radius)^2
+  if (face == ownFace && dn < reach * (real)1.001 && dot(wn, wn) > (real)0.01 * reach * reach &&
     extent > reach)
   {
     const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)16);
@@ -2258,8 +2260,10 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
         const real u = pd[0] + (pd[1] - pd[0]) * (real)i / (real)n;
         const real v = pd[2] + (pd[3] - pd[2]) * (real)j / (real)n;
         const real3 w = anchor + eval_patch_point(m, p, u, v);
+        if (!(dot(w, w) > nearO))
+          continue;
         const real dd = dot(w - mr, w - mr);
-        if (dd < fd && !(dot(w, w) <= (real)4 * m->slack * m->slack))
+        if (dd < fd)
         {
           fd = dd;
           fu = u;
@@ -2268,9 +2272,13 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
         if (dd < st->best * st->best)
           consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
       }
-    patch_nearest_newton(m, p, anchor, mr, fu, fv, &nearU, &nearV);
-    consider_point(m, ownFace, face, nearU, nearV, anchor + eval_patch_point(m, p, nearU, nearV),
-      mr, d, depth, reach, st);
+    if (fd < REAL_MAX)
+    {
+      patch_nearest_newton(m, p, anchor, mr, fu, fv, &nearU, &nearV);
+      const real3 w = anchor + eval_patch_point(m, p, nearU, nearV);
+      if (dot(w, w) > nearO)
+        consider_point(m, ownFace, face, nearU, nearV, w, mr, d, depth, reach, st);
+    }
   }
 }
 
