@@ -2242,7 +2242,7 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
   // sphere of radius 0.6, O's own face 5.5e-4 inside; a grabcad pulley guard's 1.4e-3). Where
   // Newton ends within a thousandth of the radius outside the sphere, a tenth of the radius or
   // more from O, on a patch whose grid spans more than the radius, a grid of about a quarter of
-  // the radius (up to 17 x 17) and Newton from its nearest point, both counting only points three
+  // the radius (up to 9 x 9) and Newton from its nearest point, both counting only points three
   // tenths of the radius or more from O. Nearer O the face osculates the sphere and the patches'
   // error decides: counted from a tenth of the radius on, the unseen cover's extruded face 24
   // gave points 3.8e-4 deep 0.098 from O where OpenCASCADE has none, and ten exact spheres failed
@@ -2252,7 +2252,7 @@ void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, rea
   if (face == ownFace && dn < reach * (real)1.001 && dot(wn, wn) > (real)0.01 * reach * reach &&
     extent > reach)
   {
-    const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)16);
+    const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)8);
     real fu = nearU, fv = nearV, fd = REAL_MAX;
     for (int i = 0; i <= n; ++i)
       for (int j = 0; j <= n; ++j)
