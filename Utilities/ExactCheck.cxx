@@ -263,6 +263,18 @@ int main(int argc, char** argv)
     brt::CheckResults(m, samples, res);
     const double allowed = 3.0 * m.Tolerance; // the clearance (2x) and the patches (1x)
     size_t solved = 0, overlapping = 0, secondNearer = 0, secondOnly = 0;
+    // A solid rebuilt from its faces (one shell), for OpenCASCADE's classifier.
+    auto solidOf = [&](int solid) {
+      TopoDS_Shell shell;
+      b.MakeShell(shell);
+      for (size_t f = 0; f < faces.size(); ++f)
+        if (m.Faces[f].Solid == solid)
+          b.Add(shell, faces[f]);
+      TopoDS_Solid out;
+      b.MakeSolid(out);
+      b.Add(out, shell);
+      return out;
+    };
     // A sphere of the thickness lies in the material: its centre inside the sample's solid (by
     // OpenCASCADE's classifier on that solid rebuilt from its faces). The distance above cannot
     // tell a sphere in the air that touches the boundary from outside (one that passed through a
@@ -280,13 +292,7 @@ int main(int argc, char** argv)
       std::unique_ptr<BRepClass3d_SolidClassifier>& cl = ownClassifier[static_cast<size_t>(solid)];
       if (!cl)
       {
-        TopoDS_Shell shell;
-        b.MakeShell(shell);
-        for (size_t f = 0; f < faces.size(); ++f)
-          if (m.Faces[f].Solid == solid)
-            b.Add(shell, faces[f]);
-        b.MakeSolid(ownSolid[static_cast<size_t>(solid)]);
-        b.Add(ownSolid[static_cast<size_t>(solid)], shell);
+        ownSolid[static_cast<size_t>(solid)] = solidOf(solid);
         cl = std::make_unique<BRepClass3d_SolidClassifier>(ownSolid[static_cast<size_t>(solid)]);
       }
       cl->Perform(gp_Pnt(r.Center[0], r.Center[1], r.Center[2]), m.Tolerance);
@@ -358,15 +364,7 @@ int main(int argc, char** argv)
       // rebuilt from its faces.
       std::vector<TopoDS_Solid> solidShapes(static_cast<size_t>(solids));
       for (int sIdx = 0; sIdx < solids; ++sIdx)
-      {
-        TopoDS_Shell shell;
-        b.MakeShell(shell);
-        for (size_t f = 0; f < faces.size(); ++f)
-          if (m.Faces[f].Solid == sIdx)
-            b.Add(shell, faces[f]);
-        b.MakeSolid(solidShapes[static_cast<size_t>(sIdx)]);
-        b.Add(solidShapes[static_cast<size_t>(sIdx)], shell);
-      }
+        solidShapes[static_cast<size_t>(sIdx)] = solidOf(sIdx);
       size_t onOther = 0, confirmed = 0, centresInside = 0, finite = 0;
       for (size_t k = 0; k < samples.size(); ++k)
       {

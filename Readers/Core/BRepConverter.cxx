@@ -118,6 +118,47 @@ Handle(Geom_Surface) Unwrap(Handle(Geom_Surface) s)
   return s;
 }
 
+/// Runs work(i) for i in [0, count) on every core, items taken in turn; the calling thread works
+/// too and calls report(finished) after each of its items (the progress, which may throw to
+/// abort). The first failure in any thread stops the others after their item and is rethrown
+/// here.
+template <class Work, class Report>
+void OnEveryCore(int count, Work&& work, Report&& report)
+{
+  std::atomic<int> next{ 0 }, done{ 0 };
+  std::mutex failureMutex;
+  std::exception_ptr failure;
+  auto run = [&](bool reporting) {
+    for (int i = next++; i < count; i = next++)
+    {
+      try
+      {
+        work(i);
+        const int finished = ++done;
+        if (reporting)
+          report(finished);
+      }
+      catch (...)
+      {
+        const std::lock_guard<std::mutex> lock(failureMutex);
+        if (!failure)
+          failure = std::current_exception();
+        next = count; // the others stop after their item
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> helpers;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  for (unsigned k = 1; k < cores && static_cast<int>(k) < count; ++k)
+    helpers.emplace_back(run, false);
+  run(true);
+  for (std::thread& h : helpers)
+    h.join();
+  if (failure)
+    std::rethrow_exception(failure);
+}
+
 /// Face::Exact from a point, a direction and two sizes.
 void SetExact(std::array<double, 8>& exact, const gp_Ax3& a, double p1, double p2)
 {
@@ -1454,40 +1495,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     out.Deviation = deviation;
     out.Measured = measured;
   };
-  {
-    std::atomic<int> next{ 0 }, done{ 0 };
-    std::mutex failureMutex;
-    std::exception_ptr failure;
-    auto work = [&](bool reporting) {
-      for (int fi = next++; fi < faceTotal; fi = next++)
-      {
-        try
-        {
-          patchFace(fi);
-          const int finished = ++done;
-          if (reporting)
-            progress(0.05 + 0.5 * finished / faceTotal);
-        }
-        catch (...)
-        {
-          const std::lock_guard<std::mutex> lock(failureMutex);
-          if (!failure)
-            failure = std::current_exception();
-          next = faceTotal; // the others stop after their face
-          return;
-        }
-      }
-    };
-    std::vector<std::thread> helpers;
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned k = 1; k < cores && static_cast<int>(k) < faceTotal; ++k)
-      helpers.emplace_back(work, false);
-    work(true);
-    for (std::thread& h : helpers)
-      h.join();
-    if (failure)
-      std::rethrow_exception(failure);
-  }
+  OnEveryCore(faceTotal, patchFace,
+    [&](int finished) { progress(0.05 + 0.5 * finished / faceTotal); });
 
   // --- faces: kinds and trimming loops ------------------------------------------------------
   model.Faces.resize(faceMap.Extent());
@@ -1925,43 +1934,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         out.Tris.push_back(fm.Tris[ti]);
     out.Made = true;
   };
-  {
-    std::atomic<int> next{ 0 }, done{ 0 };
-    std::mutex failureMutex;
-    std::exception_ptr failure;
-    auto fail = [&] {
-      const std::lock_guard<std::mutex> lock(failureMutex);
-      if (!failure)
-        failure = std::current_exception();
-      next = faceCount; // the others stop after their face
-    };
-    auto work = [&](bool reporting) {
-      for (int fi = next++; fi < faceCount; fi = next++)
-      {
-        try
-        {
-          refineFace(fi);
-          const int finished = ++done;
-          if (reporting)
-            progress(0.75 + 0.2 * finished / faceCount);
-        }
-        catch (...)
-        {
-          fail();
-          return;
-        }
-      }
-    };
-    std::vector<std::thread> helpers;
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned k = 1; k < cores && static_cast<int>(k) < faceCount; ++k)
-      helpers.emplace_back(work, false);
-    work(true);
-    for (std::thread& h : helpers)
-      h.join();
-    if (failure)
-      std::rethrow_exception(failure);
-  }
+  OnEveryCore(faceCount, refineFace,
+    [&](int finished) { progress(0.75 + 0.2 * finished / faceCount); });
   for (int fi = 0; fi < faceCount; ++fi)
   {
     const FaceMesh& fm = faceMeshes[static_cast<size_t>(fi)];
