@@ -734,18 +734,32 @@ TEST(Robustness, RegressionFilesOfTheFuzzer)
 /// through it to the plate's far rim (2t up to 4.9 mm, beyond the plate's box): no sample on its
 /// faces fails otherwise or reads more than the wall. A plate of 4e-4 and one of 1e-3 solve as
 /// before, with no sample flagged.
+/// A shape's samples solved as the filter solves them: the reference, CheckResults, NameThinWalls.
+struct FilterSolve
+{
+  std::vector<Sample> Samples;
+  std::vector<SampleResult> Results;
+};
+FilterSolve SolveAsTheFilter(const TopoDS_Shape& shape)
+{
+  const BRepModel m = ConvertShape(shape, ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  FilterSolve out;
+  out.Samples = SamplesFromMesh(m, data);
+  SolveReference(m, data, SolverOptions(), out.Samples, out.Results);
+  CheckResults(m, out.Samples, out.Results);
+  NameThinWalls(NativeSolver(m, data), out.Samples, out.Results);
+  return out;
+}
+
 TEST(Robustness, WallBelowTheAccuracyIsFlagged)
 {
   const double tol = ConversionOptions().Tolerance;
   for (const double h : { 2e-4, 4e-4, 1e-3 })
   {
-    const BRepModel m = ConvertShape(analytic::Plate(2, 1.5, h), ConversionOptions());
-    const SolverData data = PrepareSolver(m, SolverOptions());
-    const std::vector<Sample> samples = SamplesFromMesh(m, data);
-    std::vector<SampleResult> results;
-    SolveReference(m, data, SolverOptions(), samples, results);
-    CheckResults(m, samples, results);
-    NameThinWalls(NativeSolver(m, data), samples, results);
+    const FilterSolve solved = SolveAsTheFilter(analytic::Plate(2, 1.5, h));
+    const std::vector<Sample>& samples = solved.Samples;
+    const std::vector<SampleResult>& results = solved.Results;
     size_t flat = 0, thin = 0, otherFailed = 0, tooThick = 0;
     for (size_t i = 0; i < samples.size(); ++i)
     {
@@ -798,13 +812,9 @@ TEST(Robustness, KnifeEdgeIsFlaggedThinWall)
   const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), true).Face();
   const TopoDS_Shape solid = BRepPrimAPI_MakePrism(profile, gp_Vec(0, 0, L)).Shape();
 
-  const BRepModel m = ConvertShape(solid, ConversionOptions());
-  const SolverData data = PrepareSolver(m, SolverOptions());
-  const std::vector<Sample> samples = SamplesFromMesh(m, data);
-  std::vector<SampleResult> results;
-  SolveReference(m, data, SolverOptions(), samples, results);
-  CheckResults(m, samples, results);
-  NameThinWalls(NativeSolver(m, data), samples, results);
+  const FilterSolve run = SolveAsTheFilter(solid);
+  const std::vector<Sample>& samples = run.Samples;
+  const std::vector<SampleResult>& results = run.Results;
   const double tol = ConversionOptions().Tolerance;
   // The wall along d from O: the first crossing of the ray with the floor (y = 0, x in [0, x1]),
   // the side (x = x1, y in [0, y1]), the arc's circle (centre (0, R), x in [0, x1]) or the ends
@@ -910,13 +920,9 @@ TEST(Robustness, SphereThroughAThinFloorIsFlagged)
       BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(20, 10, 30)).Shape(),
         BRepPrimAPI_MakeBox(gp_Pnt(3, h, -1), gp_Pnt(17, 11, 31)).Shape())
         .Shape();
-    const BRepModel m = ConvertShape(channel, ConversionOptions());
-    const SolverData data = PrepareSolver(m, SolverOptions());
-    const std::vector<Sample> samples = SamplesFromMesh(m, data);
-    std::vector<SampleResult> results;
-    SolveReference(m, data, SolverOptions(), samples, results);
-    CheckResults(m, samples, results);
-    NameThinWalls(NativeSolver(m, data), samples, results);
+    const FilterSolve solved = SolveAsTheFilter(channel);
+    const std::vector<Sample>& samples = solved.Samples;
+    const std::vector<SampleResult>& results = solved.Results;
     size_t floor = 0, thin = 0, otherFailed = 0, tooThick = 0;
     double worst = 0.0;
     for (size_t i = 0; i < samples.size(); ++i)
