@@ -3551,6 +3551,32 @@ inline real centre_side(const Model* m, int face, real u, real v, real3 q)
   return dot(q, n) / ln * (m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1);
 }
 
+// One ray's vote on whether its start lies inside a solid (solid and others as ray_first_hit):
+// 1 where the first face it meets beyond sMin has its outward normal along the ray (the ray
+// leaves the material there), -1 where against it, 0 where it meets nothing; *face the face met.
+int ray_vote(const Model* m, int solid, int others, real3 Ohi, real3 Olo, real3 dir, real sMin,
+  int* face)
+{
+  int p;
+  real2 uv;
+  const real s =
+    ray_first_hit(m, solid, others, -1, Ohi, Olo, dir, sMin, REAL_MAX, (real)-2, face, &p, &uv);
+  if (*face < 0 || !(s < REAL_MAX))
+    return 0;
+  const PatchEval e = eval_patch(m, p, uv.x, uv.y);
+  const real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * *face + 6] ? (real)-1 : (real)1);
+  return dot(n, dir) > (real)0 ? 1 : -1;
+}
+
+// The three rays' directions: a along `a`, then tilted 0.5 rad from it two ways (tan = 0.55).
+inline real3 vote_direction(real3 a, int k)
+{
+  const real3 x = fabs(a.x) < (real)0.9 ? make_real3(1, 0, 0) : make_real3(0, 1, 0);
+  const real3 u = normalize(cross(a, x));
+  const real3 v = cross(a, u);
+  return k == 0 ? a : normalize(a + (real)0.55 * (k == 1 ? u : v));
+}
+
 // Whether the sphere's centre M = O + t d lies inside O's solid: three rays from M (towards O,
 // and tilted 0.5 rad from that two ways), each voting inside where the first face of the solid
 // it meets has its outward normal along the ray (it leaves the material there), outside where
@@ -3561,27 +3587,13 @@ int centre_in_own_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3
 {
   const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
   const real3 Mlo = Olo + t * d; // the rays start at M (anchor_minus subtracts Ohi + Mlo)
-  const real3 back = -d;
-  const real3 a = fabs(back.x) < (real)0.9 ? make_real3(1, 0, 0) : make_real3(0, 1, 0);
-  const real3 u = normalize(cross(back, a));
-  const real3 v = cross(back, u);
   const real sMin = (real)256 * REAL_EPS * scale;
   int inside = 0, outside = 0;
   for (int k = 0; k < 3 && inside < 2 && outside < 2; ++k)
   {
-    const real3 dir = k == 0 ? back : normalize(back + (real)0.55 * (k == 1 ? u : v));
-    int f, p;
-    real2 uv;
-    const real s = ray_first_hit(m, solid, 0, -1, Ohi, Mlo, dir, sMin, REAL_MAX, (real)-2, &f,
-      &p, &uv);
-    if (f < 0 || !(s < REAL_MAX))
-    {
-      ++outside; // (from inside a closed solid every ray leaves it somewhere)
-      continue;
-    }
-    const PatchEval e = eval_patch(m, p, uv.x, uv.y);
-    const real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * f + 6] ? (real)-1 : (real)1);
-    if (dot(n, dir) > (real)0)
+    int f;
+    // (A miss votes outside: from inside a closed solid every ray leaves it somewhere.)
+    if (ray_vote(m, solid, 0, Ohi, Mlo, vote_direction(-d, k), sMin, &f) > 0)
       ++inside;
     else
       ++outside;
@@ -3660,30 +3672,16 @@ int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
   if (!(m->mode & MODE_CERTIFY))
     return 0;
   const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
-  const real3 a = fabs(d.x) < (real)0.9 ? make_real3(1, 0, 0) : make_real3(0, 1, 0);
-  const real3 u = normalize(cross(d, a));
-  const real3 v = cross(d, u);
   // Beyond the patches' accuracy and the precision's (float: a face through O must not count).
   const real sMin = fmax((real)4 * m->slack, (real)256 * REAL_EPS * scale);
   int inside = 0, outside = 0;
   for (int k = 0; k < 3 && inside < 2 && outside < 2; ++k)
   {
-    const real3 dir =
-      k == 0 ? d : normalize(d + (real)0.55 * (k == 1 ? u : v)); // 0.5 rad: tan = 0.55
-    int f, p;
-    real2 uv;
-    const real s =
-      ray_first_hit(m, solid, 1, -1, Ohi, Olo, dir, sMin, REAL_MAX, (real)-2, &f, &p, &uv);
-    if (f < 0 || !(s < REAL_MAX))
-    {
-      if (k == 0)
-        return 0;
-      ++outside;
-      continue;
-    }
-    const PatchEval e = eval_patch(m, p, uv.x, uv.y);
-    const real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * f + 6] ? (real)-1 : (real)1);
-    if (dot(n, dir) > (real)0)
+    int f;
+    const int vote = ray_vote(m, solid, 1, Ohi, Olo, vote_direction(d, k), sMin, &f);
+    if (vote == 0 && k == 0)
+      return 0;
+    if (vote > 0)
     {
       ++inside;
       *face = f;
