@@ -29,9 +29,19 @@ typedef float3 real3;
 #define make_real3(a, b, c) ((real3)((a), (b), (c)))
 #define splat_real3(s) ((real3)(s))
 #define splat_real2(s) ((real2)(s))
+// BRT_SPLIT marks the large functions called from several places: OpenCL compilers keep them as
+// functions of their own. NVIDIA's compiler otherwise inlines every call, and the fully inlined
+// brt_solve (about 125,000 statements, 0.8 million lines of PTX) keeps its PTX assembler busy
+// for many minutes (docs/Solver.md, "Compile time on GPUs"). The C++ build leaves the choice to
+// the compiler. Testing/KernelGpuCodeSize.sh measures the code this gives (-DBRT_SPLIT= turns
+// the splitting off, to see the difference).
+#ifndef BRT_SPLIT
+#define BRT_SPLIT __attribute__((noinline))
+#endif
 #else
 // Compiled as C++ (double): Filters/Core/NativeSolver.cxx includes this file inside namespace
 // brt::kernel, after KernelLanguage.h.
+#define BRT_SPLIT
 #endif
 
 // Contact types and failure reasons: same values as brt::ContactType and brt::FailReason.
@@ -497,7 +507,7 @@ inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, i
 
 // Point-in-face test on the cubic trimming segments (the same steps as the host's
 // brt::ClassifyPoint, Readers/Core/TrimClassifier).
-int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
+BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
   real bestD = REAL_MAX;
@@ -753,7 +763,7 @@ inline int ss_on_face(const SurfaceSolve* s, __global const real* fd, real newto
 #define STALL_STEPS 4
 
 // Newton on (u, v, t) on `face`, with trust region and backtracking, then the trim test.
-SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
+BRT_SPLIT SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
   real v, real t, real scale, real stepTol, real newtonTol, int maxIterations, int* iterations)
 {
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -1197,7 +1207,7 @@ int pole_neighbour(const Model* m, int face, int seg, real* param)
 
 // Steps 4-7 (surface Newton, trim test, edge Newton, the face across the edge) from (face, u0,
 // v0) with the initial radius t.
-Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
+BRT_SPLIT Result solve_from(const Model* m, int sampleFace, real3 Ohi, real3 Olo, real3 d, int face, real u0, real v0,
   real t, real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
   int* iterations)
 {
@@ -1449,7 +1459,7 @@ inline real tangential_residual(const DescentState* st, real3 d)
 // from (u, v). A step is accepted when it lowers t by a sufficient amount, or, once t no longer
 // changes beyond rounding (float near the minimum), when it lowers the tangential residual.
 // *crossing: the trimming segment the last step wanted to cross (-1: a minimum inside).
-DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
+BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
   real v, real scale, int maxIterations, int* crossing, int* iterations)
 {
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -1643,7 +1653,7 @@ Result edge_contact(const Model* m, int sampleFace, int face, int edge, const Ed
 // The descent fallback: minimises t over the trimmed face from (u, v); where the
 // minimum lies on the face's boundary, along the nearest edge, and from the edge's minimum into
 // the face across it where t falls that way, up to 4 faces. Mirrors the reference step for step.
-Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, real3 d, real u,
+BRT_SPLIT Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, real3 d, real u,
   real v, real scale, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations)
 {
   Result best = no_result();
@@ -1742,7 +1752,7 @@ Result descend(const Model* m, int sampleFace, int face, real3 Ohi, real3 Olo, r
 // at ownUV): a sample next to a convex edge has a sphere of about its distance from the edge,
 // closer to O than any s1 point. The start is moved into that face by the offset (1e-6 to 1e-1 of
 // its UV diagonal) that gives the smallest t.
-Result descend_across_nearest_edge(const Model* m, int ownFace, real2 ownUV, real3 Ohi,
+BRT_SPLIT Result descend_across_nearest_edge(const Model* m, int ownFace, real2 ownUV, real3 Ohi,
   real3 Olo, real3 d, real scale, real newtonTol, int maxIterations, int maxEdgeIterations,
   int* iterations)
 {
@@ -1827,7 +1837,7 @@ inline Result surface_result(int face, const SurfaceSolve* ss)
 // The edges and faces at the vertex at end `end` of `edge`, from a contact of radius t at or
 // next to it: the minimum along each edge from the vertex and the surface Newton on each face
 // from it (but skipFace) replace *r where lower.
-void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int end, int skipFace,
+BRT_SPLIT void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int end, int skipFace,
   real t, real3 Ohi, real3 Olo, real3 d, real scale, real stepTol, real newtonTol,
   int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
 {
@@ -1873,7 +1883,7 @@ void around_vertex(const Model* m, int ownFace, int faceOfEdge, int edge, int en
 // The local part of the second look: the minimum along the edge next to
 // a surface contact, the surface Newton on the faces beside an edge contact, and the edges and
 // faces around the vertex at or next to the contact.
-void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+BRT_SPLIT void second_look_near(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
   Result* r)
 {
@@ -2064,7 +2074,7 @@ inline real own_face_margin(const Model* m, int face)
 // there may lie a little more than the tolerance off O's exact point: a toroidal shell converted
 // within 1e-6 showed 2.75e-6 at O's own patch point), unless its patches are its surface
 // (own_face_margin), and within 4 tolerances of O nothing counts.
-void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
+BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
   real3 d, real depth, real reach, PointInside* st)
 {
   const real dist = length(w - mr);
@@ -2176,7 +2186,7 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
   *outV = nearV;
 }
 
-void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
+BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
   real depth, real reach, PointInside* st)
 {
   const int face = m->patchFace[p];
@@ -2848,7 +2858,7 @@ real plane_trim_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, re
 // conversion tolerance, above the Newton solves' error at the contact). Every patch and edge
 // segment whose control-point box reaches into the sphere is searched. 0 where none is that
 // deep: the sphere is empty up to the depth, at the patches' accuracy.
-int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
+BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
   real depth, PointInside* st)
 {
   st->found = 0;
@@ -3100,7 +3110,7 @@ real face_gauss_newton_step(const Model* m, int face, real3 Ohi, real3 Olo, real
 // test is known to put every point within insideRadius of insideUV (in UV) on the face, a point
 // reached within that disk needs no test of its own (the disk holds no trimming curve);
 // insideRadius 0: no such disk.
-int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
+BRT_SPLIT int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
   real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut)
 {
   real u = *uio, v = *vio;
@@ -3150,7 +3160,7 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
 // (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is. A
 // sphere touching O's own cylinder, sphere or torus across takes self_contact_radius's closed
 // form instead of the Newton.
-void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
+BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
 {
   int face = r->face;
   if (r->type == CONTACT_SURFACE_EDGE && r->edge >= 0)
@@ -3324,7 +3334,7 @@ real exact_ray_hit(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real
 // The first point where the ray from O along d (the inward normal) meets patch p beyond sMin and
 // before *best: Newton on S(u, v) - O - s d = 0 in (u, v, s) from the grid points nearest the ray,
 // kept inside the patch, accepted within the patches' accuracy and inside the face's trim.
-void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real minCos,
+BRT_SPLIT void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, real minCos,
   real* best, int* hitFace, int* hitPatch, real2* hitUV)
 {
   const int face = m->patchFace[p];
@@ -3418,7 +3428,7 @@ void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, real sMin, 
 // `solid` only (others = 0) or of every solid but it (others = 1), face excludeFace left out
 // (-1: none), and with minCos > -1 only where the face's outward normal lies within acos(minCos)
 // of d. sMax where nothing is hit (REAL_MAX: no bound).
-real ray_first_hit(const Model* m, int solid, int others, int excludeFace, real3 Ohi, real3 Olo,
+BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeFace, real3 Ohi, real3 Olo,
   real3 d, real sMin, real sMax, real minCos, int* hitFace, int* hitPatch, real2* hitUV)
 {
   real best = sMax;
@@ -3508,7 +3518,7 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, r
 // a contact there is the trivial one (near_sample), so a sphere across such a wall is not the
 // wall's: it fails, or passes through the wall to whatever lies beyond (a 0.2 um plate read 2.7
 // to 4.9 mm, which CheckResults flags Unbounded).
-real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale)
+BRT_SPLIT real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale)
 {
   if (!(m->mode & MODE_CERTIFY) || (m->mode & MODE_EXTERIOR))
     return REAL_MAX;
@@ -3554,7 +3564,7 @@ inline real centre_side(const Model* m, int face, real u, real v, real3 q)
 // One ray's vote on whether its start lies inside a solid (solid and others as ray_first_hit):
 // 1 where the first face it meets beyond sMin has its outward normal along the ray (the ray
 // leaves the material there), -1 where against it, 0 where it meets nothing; *face the face met.
-int ray_vote(const Model* m, int solid, int others, real3 Ohi, real3 Olo, real3 dir, real sMin,
+BRT_SPLIT int ray_vote(const Model* m, int solid, int others, real3 Ohi, real3 Olo, real3 dir, real sMin,
   int* face)
 {
   int p;
@@ -3582,7 +3592,7 @@ inline real3 vote_direction(real3 a, int k)
 // it meets has its outward normal along the ray (it leaves the material there), outside where
 // that normal points against it or it meets nothing; two votes decide, so one face the file
 // orients the wrong way does not.
-int centre_in_own_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
+BRT_SPLIT int centre_in_own_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real t,
   real scale)
 {
   const int solid = m->faceInfo[FACE_INTS * ownFace + 7];
@@ -3618,7 +3628,7 @@ int centre_in_own_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3
 // into the air past the fillet next to it (the unseen cover: 24 spheres of 2t = 0.004 to 0.01 at
 // such edges), where the sphere there is about 0 as at any convex edge. Vertex contacts are left
 // as they are: other faces meet there.
-inline void reject_contact_from_outside(const Model* m, int ownFace, real3 Ohi, real3 Olo,
+BRT_SPLIT void reject_contact_from_outside(const Model* m, int ownFace, real3 Ohi, real3 Olo,
   real3 d, real scale, Result* r)
 {
   // (A sphere of radius up to 4 slack, next to a convex edge where the sphere is about 0 by
@@ -3665,7 +3675,7 @@ inline void reject_contact_from_outside(const Model* m, int ownFace, real3 Ohi, 
 // not hit): where that face's outward normal points along the ray, the ray leaves that solid, so
 // O lies in it. A first ray that meets nothing decides (outside); else two of three. *face: the
 // other solid's face hit (-1 when outside).
-int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+BRT_SPLIT int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   int* face)
 {
   *face = -1;
@@ -3701,7 +3711,7 @@ int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
 // point (residual: the last step). The fallback where no Newton or descent from a point inside
 // shrinks the sphere (a sample next to a convex edge, a drafted wall). 0 where nothing was found
 // inside, the certification is off, or it does not settle in 32 steps.
-int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
+BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
   Result* r)
 {
   if (!(m->mode & MODE_CERTIFY))
@@ -3773,7 +3783,7 @@ int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real
 // minimum of eq. 1 along the edge from that point (eq. 7's contact where it converges).
 // Each sphere lies inside the one before (tangent at O, smaller), so what the certification
 // cleared stays clear. 1 with r the settled sphere; 0 where it does not settle (NotMaximal).
-int settle_not_maximal(const Model* m, __global const real* s1Point,
+BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
@@ -3857,7 +3867,7 @@ int nearest_patch_of_face(const Model* m, int face, real3 P, real reach)
 // patches (face_gauss_newton_step, as project_on_face_near, here for a point off the face; at
 // most 8 steps). 1 with (u, v) and the point (relative to O) where the last step lands inside
 // the face's trim.
-int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, real* vio,
+BRT_SPLIT int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, real* vio,
   real3* point)
 {
   real u = *uio, v = *vio;
@@ -3892,7 +3902,7 @@ int nearest_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real* uio, r
 // nearest to O on its patches (Gauss-Newton from the middle of its patch nearest to that point)
 // is one more point of eq. 1, and replaces the start where its t_delta is smaller than *t. 1
 // where it did.
-int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real* t,
+BRT_SPLIT int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real* t,
   int* startFace, real* startU, real* startV)
 {
   // Each partner's exact surface: its point nearest to O and the radius through it.
@@ -3953,7 +3963,7 @@ int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 
 // One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
-Result solve_with_clearance(const Model* m, __global const real* s1Point,
+BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d,
   real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
@@ -4172,7 +4182,7 @@ Result solve_with_clearance(const Model* m, __global const real* s1Point,
 // the local part of the second look, and keeps the result where the Newton converged within rho
 // of the old foot. r carries the foot relative to O and the foot's parameters; m->delta is the
 // clearance of the pass that found it. 1 where r was replaced.
-int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
   Result* r)
 {
@@ -4252,7 +4262,7 @@ void write_result(const Result* r, real3 d, int iterations, int exactPass, __glo
 // patches' accuracy or the clearance (the verification's and the certification's tests), with
 // the foot across from O; where the solve failed (alongArc), with the foot round the circle of
 // contact on the face where the point across is not on it.
-void self_contact_sphere(const Model* m, __global const real* s1Point, __global const int* s1Face,
+BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point, __global const int* s1Face,
   __global const real* nodeBox, __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi,
   real3 Olo, real3 d, real scale, real t, int alongArc, Result* r)
 {
@@ -4340,7 +4350,7 @@ void self_contact_sphere(const Model* m, __global const real* s1Point, __global 
 
 // The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
 // the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
-void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
+BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* sp, int ownFace, real scale, real stepTol, real newtonTol,
   int maxIterations, int maxEdgeIterations, __global real* oR, __global int* oI)

@@ -14,6 +14,8 @@ packages=(
   ocl-icd-opencl-dev opencl-headers opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # Tests
   libgtest-dev googletest
+  # The kernel's GPU code size (Testing/KernelGpuCodeSize.sh): clang, LLVM and libclc's PTX built-ins
+  clang-14 llvm-14 libclc-14
   # The midsurface test runs the exported shell deck in CalculiX
   calculix-ccx
   # Headless rendering
