@@ -137,10 +137,18 @@ int main(int argc, char** argv)
   {
     try
     {
+      // The constructor builds the kernel programs: on a GPU the first build of a process is
+      // the driver's compiler at work (docs/Solver.md, "Compile time on GPUs").
+      std::printf("OpenCL: building the kernel programs for --device %s\n", device.c_str());
+      std::fflush(stdout);
+      const auto built = std::chrono::steady_clock::now();
       cl = std::make_unique<brt::OpenCLSolver>(device, useDouble);
       cl->SetFinishOnHost(finishOnHost);
-      std::printf("OpenCL device: %s (%s%s)\n", cl->DeviceName().c_str(), useDouble ? "double" : "float",
-        useDouble ? "" : cl->FinishesOnDevice() ? ", finished on the device" : ", finished on the host");
+      std::printf("OpenCL device: %s (%s%s), programs built in %.1f s\n", cl->DeviceName().c_str(),
+        useDouble ? "double" : "float",
+        useDouble ? "" : cl->FinishesOnDevice() ? ", finished on the device" : ", finished on the host",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count());
+      std::fflush(stdout);
     }
     catch (const std::exception& e)
     {
