@@ -6,12 +6,13 @@
 #   Utilities/run-device-bench.sh export [BUILD]
 #       here (the full build in BUILD, default build/): writes the solve dumps of the four real
 #       parts of Data/ to BUILD/device-dumps (36 MB), which the call carries.
-#   Utilities/run-device-bench.sh run DUMPS OUT [--device D] [--counts N,...] [--build DIR]
+#   Utilities/run-device-bench.sh run DUMPS OUT [--device D] [--counts N,...] [--build DIR] [--limit S]
 #       there: configures and builds the solver-only variant (no OpenCASCADE, no VTK; CMake, a
 #       C++17 compiler and an OpenCL library are all it needs) and runs brt_thickness_bench on
 #       every DUMPS/*.brtsolve in float, then in double, each against the native device on every
 #       core. Tables and the build's log go to OUT (gpu-float.txt, gpu-double.txt, build.log,
-#       platform.txt). Defaults: --device gpu, --counts 10000,100000,1000000.
+#       platform.txt). Defaults: --device gpu, --counts 10000,100000,1000000, --limit 240 (seconds
+#       for each precision's run).
 #
 # On an NVIDIA machine whose image has the CUDA toolkit but no OpenCL vendor file, the script
 # takes CUDA's OpenCL headers and loader and points the loader at the driver's OpenCL library
@@ -49,11 +50,13 @@ shift 2
 device=gpu
 counts=10000,100000,1000000
 bdir=/tmp/brt-solver-only
+limit=240
 while [ $# -gt 0 ]; do
   case "$1" in
     --device) device=$2; shift 2 ;;
     --counts) counts=$2; shift 2 ;;
     --build) bdir=$2; shift 2 ;;
+    --limit) limit=$2; shift 2 ;;
     *) usage ;;
   esac
 done
@@ -112,8 +115,12 @@ for precision in float double; do
   flag=()
   [ $precision = double ] && flag=(--double)
   echo "== $precision, --device $device, counts $counts"
-  "$bdir/brt_thickness_bench" --device "$device" "${flag[@]}" --counts "$counts" "$dumps"/*.brtsolve \
-    2>&1 | tee "$out/gpu-$precision.txt"
-  [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+  # Each precision within its own time limit, so that a driver whose compiler stalls on one
+  # program (the H200's first call, docs/Solver.md "Compile time on GPUs") still leaves the other.
+  timeout "$limit" "$bdir/brt_thickness_bench" --device "$device" "${flag[@]}" --counts "$counts" \
+    "$dumps"/*.brtsolve 2>&1 | tee "$out/gpu-$precision.txt"
+  status=${PIPESTATUS[0]}
+  [ "$status" -eq 124 ] && echo "run-device-bench: $precision stopped after $limit s" | tee -a "$out/gpu-$precision.txt"
+  [ "$status" -eq 0 ] || rc=1
 done
 exit $rc
