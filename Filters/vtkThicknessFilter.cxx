@@ -759,14 +759,20 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       if (!I.CL || I.CLKey != clKey)
       {
         I.CL.reset();
+        // The programs are built once per device and process; on a GPU that is the driver's
+        // compiler at work for tens of seconds (docs/Solver.md, "Compile time on GPUs").
+        this->SetProgressText("B-Rep Thickness: building the OpenCL programs");
+        this->UpdateProgress(0.05);
         I.CL = std::make_unique<brt::OpenCLSolver>(clDevice, useDouble);
         I.CLKey = clKey;
+        this->SetProgressText("B-Rep Thickness");
       }
       I.CL->Upload(model, data);
     }
     catch (const brt::OpenCLError& e)
     {
       I.CL.reset();
+      this->SetProgressText("B-Rep Thickness");
       if (device != "auto")
       {
         vtkErrorMacro(<< "Device '" << this->Device << "': " << e.what());
