@@ -3518,33 +3518,88 @@ real ray_thickness(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, r
 // a contact there is the trivial one (near_sample), so a sphere across such a wall is not the
 // wall's: it fails, or passes through the wall to whatever lies beyond (a 0.2 um plate read 2.7
 // to 4.9 mm, which CheckResults flags Unbounded).
-BRT_SPLIT real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale)
+BRT_SPLIT real thin_wall_across_at(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d,
+  real scale, int* face, int* patch, real2* uv)
 {
+  *face = -1;
   if (!(m->mode & MODE_CERTIFY) || (m->mode & MODE_EXTERIOR))
     return REAL_MAX;
   const real sMin = (real)256 * REAL_EPS * scale;
   const real sMax = (real)2 * m->slack;
   if (!(sMin < sMax))
     return REAL_MAX;
+  const real s = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, ownFace, Ohi, Olo, d,
+    sMin, sMax, (real)0.5, face, patch, uv);
+  return *face >= 0 && s < sMax ? s : REAL_MAX;
+}
+
+real thin_wall_across(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale)
+{
   int face, patch;
   real2 uv;
-  const real s = ray_first_hit(m, m->faceInfo[FACE_INTS * ownFace + 7], 0, ownFace, Ohi, Olo, d,
-    sMin, sMax, (real)0.5, &face, &patch, &uv);
-  return face >= 0 && s < sMax ? s : REAL_MAX;
+  return thin_wall_across_at(m, ownFace, Ohi, Olo, d, scale, &face, &patch, &uv);
+}
+
+// A wall across O thinner than 2 slack (thin_wall_across) between faces that meet at an angle of
+// more than 10 degrees is a wedge: O lies within a few slack of the edge where its face meets the
+// face the ray leaves through (the two tangent planes meet at w / tan(angle) from O), and the
+// maximal sphere at O is the two planes' in-sphere, of diameter 2t = w 2 cos(a) / (1 + cos(a)) for
+// the wall w and the angle a between d and that face's outward normal n, touching the face at
+// t (d + n) from O. A thread's flank where it runs out through a plate's top face at 30 degrees
+// (Voron's MIC6 bed plates: 12 samples of 20,484 whose mesh vertices lie 3e-5 off the edge)
+// is the case: a sharp edge, resolved at any tolerance, where the sphere is about 0 as at any
+// such edge. A plate or a knife edge (the faces within 10 degrees of parallel: a knife edge's
+// walls thinner than 2 slack lie within 3 degrees of its tangent point for radii from 1 mm) stays
+// ThinWall, which a finer tolerance resolves or nothing does. Returns 0 where the wall is not
+// thin, 1 for a plate or knife edge, 2 for a wedge, with *r its sphere.
+inline int thin_wall_or_wedge(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d,
+  real scale, Result* r)
+{
+  int face, patch;
+  real2 uv;
+  const real w = thin_wall_across_at(m, ownFace, Ohi, Olo, d, scale, &face, &patch, &uv);
+  if (!(w < REAL_MAX))
+    return 0;
+  const PatchEval e = eval_patch(m, patch, uv.x, uv.y);
+  real3 n = cross(e.Du, e.Dv) * (m->faceInfo[FACE_INTS * face + 6] ? (real)-1 : (real)1);
+  const real ln = length(n);
+  if (!(ln > (real)0))
+    return 1;
+  n = n / ln;
+  const real c = dot(n, d);
+  if (!(c < (real)0.98480775)) // cos 10 degrees
+    return 1;
+  const real t = w * c / ((real)1 + c);
+  Result w2 = no_result();
+  w2.type = CONTACT_SURFACE_SURFACE;
+  w2.reason = FAIL_NONE;
+  w2.t = t;
+  w2.foot = t * (d + n);
+  w2.param = uv;
+  w2.face = face;
+  w2.patch = patch;
+  *r = w2;
+  return 2;
 }
 
 // A failed sample across a wall thinner than 2 slack (thin_wall_across) fails as FAIL_THIN_WALL,
-// which says why and what to do (a finer conversion tolerance). Only failed samples are asked:
-// the ray on every sample cost 8% (NIST_MBE_PMI_11) to 20% (the ExpansionCard) of the solve, and
-// a sphere that passes through such a wall to whatever lies beyond stays as solved unless its
-// solid's box bounds it (CheckResults' Unbounded, which brt::NameThinWalls then names;
-// docs/Robustness.md, item 8 and Open).
+// which says why and what to do (a finer conversion tolerance), unless the wall is a wedge
+// (thin_wall_or_wedge), which gives the sphere. Only failed samples are asked: the ray on every
+// sample cost 8% (NIST_MBE_PMI_11) to 20% (the ExpansionCard) of the solve, and a sphere that
+// passes through such a wall to whatever lies beyond stays as solved unless its solid's box
+// bounds it (CheckResults' Unbounded, which brt::NameThinWalls then names; docs/Robustness.md,
+// item 8 and Open).
 inline void flag_thin_wall(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   Result* r)
 {
-  if (r->type == CONTACT_FAILED &&
-    thin_wall_across(m, ownFace, Ohi, Olo, d, scale) < REAL_MAX)
+  if (r->type != CONTACT_FAILED)
+    return;
+  Result wedge;
+  const int k = thin_wall_or_wedge(m, ownFace, Ohi, Olo, d, scale, &wedge);
+  if (k == 1)
     r->reason = FAIL_THIN_WALL;
+  else if (k == 2)
+    *r = wedge;
 }
 
 // (M - P).n_out / |n| at (u, v) of `face`: how far the sphere's centre lies on the outer side of
@@ -3623,7 +3678,8 @@ BRT_SPLIT int centre_in_own_solid(const Model* m, int ownFace, real3 Ohi, real3 
 // Those candidates, and only they (a few in ten thousand samples), have the centre tested against
 // the solid (centre_in_own_solid: one face the file orients the wrong way shows a candidate
 // whose centre lies inside), and a centre outside with the wall across O thinner than 2 slack
-// (thin_wall_across, the ray along d) fails the sample as ThinWall. A centre outside with a
+// (thin_wall_across, the ray along d) fails the sample as ThinWall, or gives it the wedge's sphere
+// (thin_wall_or_wedge). A centre outside with a
 // thicker wall across is left as it was: O on a piece of face that a sloppy file lets stand out
 // into the air past the fillet next to it (the unseen cover: 24 spheres of 2t = 0.004 to 0.01 at
 // such edges), where the sphere there is about 0 as at any convex edge. Vertex contacts are left
@@ -3660,11 +3716,17 @@ BRT_SPLIT void reject_contact_from_outside(const Model* m, int ownFace, real3 Oh
         outside = centre_side(m, f, u, v, q) > allowed;
     }
   }
-  if (outside && !centre_in_own_solid(m, ownFace, Ohi, Olo, d, r->t, scale) &&
-    thin_wall_across(m, ownFace, Ohi, Olo, d, scale) < REAL_MAX)
+  if (outside && !centre_in_own_solid(m, ownFace, Ohi, Olo, d, r->t, scale))
   {
-    r->type = CONTACT_FAILED;
-    r->reason = FAIL_THIN_WALL;
+    Result wedge;
+    const int k = thin_wall_or_wedge(m, ownFace, Ohi, Olo, d, scale, &wedge);
+    if (k == 1)
+    {
+      r->type = CONTACT_FAILED;
+      r->reason = FAIL_THIN_WALL;
+    }
+    else if (k == 2)
+      *r = wedge;
   }
 }
 
