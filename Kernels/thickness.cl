@@ -3582,6 +3582,22 @@ inline int thin_wall_or_wedge(const Model* m, int ownFace, real3 Ohi, real3 Olo,
   return 2;
 }
 
+// The verdict on a sample across a wall thinner than 2 slack: a plate or knife edge fails it as
+// FAIL_THIN_WALL, a wedge gives it the wedge's sphere (thin_wall_or_wedge); otherwise r stays.
+inline void thin_wall_verdict(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d,
+  real scale, Result* r)
+{
+  Result wedge;
+  const int k = thin_wall_or_wedge(m, ownFace, Ohi, Olo, d, scale, &wedge);
+  if (k == 1)
+  {
+    r->type = CONTACT_FAILED;
+    r->reason = FAIL_THIN_WALL;
+  }
+  else if (k == 2)
+    *r = wedge;
+}
+
 // A failed sample across a wall thinner than 2 slack (thin_wall_across) fails as FAIL_THIN_WALL,
 // which says why and what to do (a finer conversion tolerance), unless the wall is a wedge
 // (thin_wall_or_wedge), which gives the sphere. Only failed samples are asked: the ray on every
@@ -3592,14 +3608,8 @@ inline int thin_wall_or_wedge(const Model* m, int ownFace, real3 Ohi, real3 Olo,
 inline void flag_thin_wall(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
   Result* r)
 {
-  if (r->type != CONTACT_FAILED)
-    return;
-  Result wedge;
-  const int k = thin_wall_or_wedge(m, ownFace, Ohi, Olo, d, scale, &wedge);
-  if (k == 1)
-    r->reason = FAIL_THIN_WALL;
-  else if (k == 2)
-    *r = wedge;
+  if (r->type == CONTACT_FAILED)
+    thin_wall_verdict(m, ownFace, Ohi, Olo, d, scale, r);
 }
 
 // (M - P).n_out / |n| at (u, v) of `face`: how far the sphere's centre lies on the outer side of
@@ -3717,17 +3727,7 @@ BRT_SPLIT void reject_contact_from_outside(const Model* m, int ownFace, real3 Oh
     }
   }
   if (outside && !centre_in_own_solid(m, ownFace, Ohi, Olo, d, r->t, scale))
-  {
-    Result wedge;
-    const int k = thin_wall_or_wedge(m, ownFace, Ohi, Olo, d, scale, &wedge);
-    if (k == 1)
-    {
-      r->type = CONTACT_FAILED;
-      r->reason = FAIL_THIN_WALL;
-    }
-    else if (k == 2)
-      *r = wedge;
-  }
+    thin_wall_verdict(m, ownFace, Ohi, Olo, d, scale, r);
 }
 
 // The gap with all solids: whether O, on a face of its solid, lies on or inside another solid
