@@ -2259,8 +2259,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // NotMaximal.
   const real dn = length(wn - mr);
   const real nearO = (real)0.09 * reach * reach; // (0.3 of the radius)^2
-  if (face == ownFace && dn < reach * (real)1.001 && dot(wn, wn) > (real)0.01 * reach * reach &&
-    extent > reach)
+  if (face == ownFace && dn < reach * (real)1.001 && extent > reach)
   {
     const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)8);
     real fu = nearU, fv = nearV, fd = REAL_MAX;

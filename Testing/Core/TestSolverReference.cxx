@@ -336,6 +336,69 @@ TEST(SolverReference, OwnFaceBendsIntoTheSphere)
   }
 }
 
+/// The certification on O's own face where that face stays outside the sphere next to O and
+/// dips into it farther off: a grabcad pulley guard (AnalysisSitus' data) held its own B-spline
+/// face 1.4e-3 mm deep 0.36 mm from O in a sphere of 2t = 1.52 (3% too large), and the Newton
+/// from the 5 x 5 grid's nearest point ran back to O, the distance's local minimum, within a
+/// tenth of the radius of O, where the finer grid was not tried (docs/Solver.md, item 13, "A
+/// grazing valley"). Here the crest of CubicRidge's top, z = H - a x^2 - c x^3 with c < 0, one
+/// bicubic patch 4 x 12 mm that is its surface: with a = (1 - delta) / 2t the top curves less
+/// than the sphere of radius t next to O (x = 0) and, for x below -delta / (2 t |c|), bends into
+/// it; the 5 x 5 grid's nearest point lies on the other side, x = 1, whence Newton runs to O (the
+/// old certification found nothing on any of these spheres). Expected,
+/// independent of the solver: the profile's depth inside the sphere in the plane y = y0 (dense),
+/// beyond three tenths of the radius from O, where the certification counts; the sphere holds
+/// the top exactly where that depth exceeds the certification's (2 tolerances) with room.
+TEST(SolverReference, OwnFaceValleyFarFromO)
+{
+  const double H = 10, c = -0.5, L = 2, W = 12;
+  const double tol = ConversionOptions().Tolerance;
+  int checked = 0;
+  for (const double t : { 0.6, 0.8, 0.98 })
+    for (const double delta : { 0.02, 0.04 })
+    {
+      const double a = (1.0 - delta) / (2.0 * t);
+      auto z = [&](double x) { return H - a * x * x - c * x * x * x; };
+      // Patches as large as the faces (no split below the model's size): the top one patch.
+      ConversionOptions conv;
+      conv.Tolerance = tol;
+      conv.MaxPatchSize = 1e3;
+      const BRepModel model = ConvertShape(analytic::CubicRidge(H, a, c, L, W), conv);
+      const SolverData data = PrepareSolver(model, SolverOptions());
+      int top = -1;
+      for (size_t f = 0; f < model.Faces.size(); ++f)
+        if (PatchesAreTheSurface(model, static_cast<int>(f)) && model.Faces[f].DegreeU == 3)
+          top = static_cast<int>(f);
+      ASSERT_GE(top, 0);
+      ASSERT_EQ(model.Faces[top].PatchCount, 1);
+      // O on the crest, in the middle of the top; the sphere below it.
+      Sample o;
+      o.Point = { 0.0, 0.5 * W, H };
+      o.Direction = { 0.0, 0.0, -1.0 };
+      o.Face = top;
+      double deepest = -1.0;
+      for (int j = 0; j <= 200000; ++j)
+      {
+        const double x = -L + 2.0 * L * j / 200000.0;
+        if (std::fabs(x) >= 0.3 * t)
+          deepest = std::max(deepest, t - std::hypot(x, z(x) - (H - t)));
+      }
+      SampleResult r;
+      r.Type = ContactType::SurfaceSurface;
+      r.Radius = t;
+      r.Thickness = 2.0 * t;
+      r.OppositeFace = top;
+      const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, r);
+      std::printf("[closed form] crest of a ridge, sphere of radius %.2f, delta %.2f: the top "
+                  "%.2e deep beyond 0.3 t from O; certification %s\n",
+        t, delta, deepest, holds ? "holds it" : "finds nothing");
+      ASSERT_GT(deepest, 3.0 * tol) << "t " << t << ", delta " << delta;
+      ++checked;
+      EXPECT_TRUE(holds) << "t " << t << ", delta " << delta << ": the top " << deepest << " deep";
+    }
+  EXPECT_GE(checked, 4);
+}
+
 /// OpenCASCADE's distance from M to a patch: every extremum inside it, along its four edges, and
 /// its corners (the nearest point of a patch often lies on its edge, where the surface's own
 /// extrema miss it).
