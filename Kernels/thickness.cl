@@ -2249,14 +2249,15 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // A face that grazes the sphere along a valley of a patch much larger than the sphere: Newton
   // from the 5 x 5 grid's nearest point ends at the valley's shallow end, just outside the sphere,
   // and its deep point lies between the grid's points (Voron's corner_ptfe_plate: a 7 mm patch, a
-  // sphere of radius 0.6, O's own face 5.5e-4 inside; a grabcad pulley guard's 1.4e-3). Where
-  // Newton ends within a thousandth of the radius outside the sphere, a tenth of the radius or
-  // more from O, on a patch whose grid spans more than the radius, a grid of about a quarter of
-  // the radius (up to 9 x 9) and Newton from its nearest point, both counting only points three
-  // tenths of the radius or more from O. Nearer O the face osculates the sphere and the patches'
-  // error decides: counted from a tenth of the radius on, the unseen cover's extruded face 24
-  // gave points 3.8e-4 deep 0.098 from O where OpenCASCADE has none, and ten exact spheres failed
-  // NotMaximal.
+  // sphere of radius 0.6, O's own face 5.5e-4 inside), or runs back to O, the distance's local
+  // minimum, from a grid point on the far side of O from the valley (the grabcad pulley guard:
+  // its own face 1.4e-3 inside 0.36 from O, Newton ending 0.07 from O). Where Newton ends within
+  // a thousandth of the radius outside the sphere on a patch whose grid spans more than the
+  // radius, a grid of about a quarter of the radius (up to 9 x 9) and Newton from its nearest
+  // point, both counting only points three tenths of the radius or more from O. Nearer O the face
+  // osculates the sphere and the patches' error decides: counted from a tenth of the radius on,
+  // the unseen cover's extruded face 24 gave points 3.8e-4 deep 0.098 from O where OpenCASCADE
+  // has none, and ten exact spheres failed NotMaximal.
   const real dn = length(wn - mr);
   const real nearO = (real)0.09 * reach * reach; // (0.3 of the radius)^2
   if (face == ownFace && dn < reach * (real)1.001 && extent > reach)
