@@ -340,20 +340,21 @@ TEST(SolverReference, OwnFaceBendsIntoTheSphere)
 /// dips into it farther off: a grabcad pulley guard (AnalysisSitus' data) held its own B-spline
 /// face 1.4e-3 mm deep 0.36 mm from O in a sphere of 2t = 1.52 (3% too large), and the Newton
 /// from the 5 x 5 grid's nearest point ran back to O, the distance's local minimum, within a
-/// tenth of the radius of O, where the finer grid was not tried (docs/Solver.md, item 13, "A
-/// grazing valley"). Here the crest of CubicRidge's top, z = H - a x^2 - c x^3 with c < 0, one
-/// bicubic patch 4 x 12 mm that is its surface: with a = (1 - delta) / 2t the top curves less
-/// than the sphere of radius t next to O (x = 0) and, for x below -delta / (2 t |c|), bends into
-/// it; the 5 x 5 grid's nearest point lies on the other side, x = 1, whence Newton runs to O (the
-/// old certification found nothing on any of these spheres). Expected,
-/// independent of the solver: the profile's depth inside the sphere in the plane y = y0 (dense),
-/// beyond three tenths of the radius from O, where the certification counts; the sphere holds
-/// the top exactly where that depth exceeds the certification's (2 tolerances) with room.
+/// tenth of the radius of O, where the finer grid was not tried (docs/Solver.md, Accuracy, "A
+/// grazing valley next to O"). Here the crest of CubicRidge's top, z = H - a x^2 - c x^3 with
+/// c < 0, one bicubic patch 4 x 12 mm that is its surface: with a = (1 - delta) / 2t the top
+/// curves less than the sphere of radius t next to O (x = 0) and, for x below
+/// -delta / (2 t |c|), bends into it; the 5 x 5 grid's nearest point lies on the other side,
+/// x = 1, whence Newton runs to O (the old certification found nothing on the spheres of radius
+/// 0.6). Expected, independent of the solver, in the plane y = y0 (dense): the profile's depth
+/// inside the sphere beyond three tenths of the radius from O, where the certification counts,
+/// is more than 3 tolerances, so the sphere holds the top; the sphere a thousandth smaller than
+/// eq. 1's infimum over the profile holds nothing; and the solve at O (clearance 0) ends on eq.
+/// 1's sphere within 1e-6.
 TEST(SolverReference, OwnFaceValleyFarFromO)
 {
   const double H = 10, c = -0.5, L = 2, W = 12;
   const double tol = ConversionOptions().Tolerance;
-  int checked = 0;
   for (const double t : { 0.6, 0.8, 0.98 })
     for (const double delta : { 0.02, 0.04 })
     {
@@ -388,15 +389,39 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
       r.Radius = t;
       r.Thickness = 2.0 * t;
       r.OppositeFace = top;
-      const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, r);
+      // Eq. 1 over the profile: the largest empty sphere tangent at O.
+      double eq1 = std::numeric_limits<double>::infinity();
+      for (int j = 0; j <= 200000; ++j)
+      {
+        const double x = -L + 2.0 * L * j / 200000.0, h = H - z(x);
+        if (x != 0.0 && h > 0.0)
+          eq1 = std::min(eq1, (x * x + h * h) / (2.0 * h));
+      }
+      const NativeSolver native(model, data);
+      const bool holds = native.HoldsBoundary(SolverOptions(), o, r);
+      SampleResult smaller = r;
+      smaller.Radius = 0.999 * eq1;
+      smaller.Thickness = 2.0 * smaller.Radius;
+      const bool holdsSmaller = native.HoldsBoundary(SolverOptions(), o, smaller);
       std::printf("[closed form] crest of a ridge, sphere of radius %.2f, delta %.2f: the top "
-                  "%.2e deep beyond 0.3 t from O; certification %s\n",
-        t, delta, deepest, holds ? "holds it" : "finds nothing");
+                  "%.2e deep beyond 0.3 t from O; certification %s; eq. 1's sphere %.5f, a "
+                  "thousandth smaller %s\n",
+        t, delta, deepest, holds ? "holds it" : "finds nothing", eq1,
+        holdsSmaller ? "held" : "empty");
       ASSERT_GT(deepest, 3.0 * tol) << "t " << t << ", delta " << delta;
-      ++checked;
       EXPECT_TRUE(holds) << "t " << t << ", delta " << delta << ": the top " << deepest << " deep";
+      ASSERT_LT(eq1, t);
+      EXPECT_FALSE(holdsSmaller) << "t " << t << ", delta " << delta << ": radius " << smaller.Radius;
+      // The solve at O (clearance 0: eq. 1 exactly) ends on eq. 1's sphere.
+      SolverOptions strict;
+      strict.Clearance = 0.0;
+      std::vector<SampleResult> solved;
+      SolveReference(model, data, strict, { o }, solved);
+      ASSERT_EQ(solved.size(), 1u);
+      std::printf("  solved 2t = %.7f, eq. 1 %.7f\n", solved[0].Thickness, 2.0 * eq1);
+      EXPECT_NE(solved[0].Type, ContactType::Failed);
+      EXPECT_NEAR(solved[0].Radius, eq1, 1e-6 * eq1) << "t " << t << ", delta " << delta;
     }
-  EXPECT_GE(checked, 4);
 }
 
 /// OpenCASCADE's distance from M to a patch: every extremum inside it, along its four edges, and
