@@ -41,14 +41,15 @@ for file in "$@"; do
   name=$(basename "$file")
   if ! valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$bench" --device none --counts 0 \
     "$file" > "$tmp/out" 2> "$tmp/err"; then
-    echo "count-instructions: $file: the bench failed: $(tail -1 "$tmp/err")" >&2
+    echo "count-instructions: $file: the bench failed: $(grep -v "^==" "$tmp/err" | tail -1)" >&2
     rc=1
     continue
   fi
   # The bench's table: the samples are its second column.
   samples=$(awk 'NR > 1 && $2 ~ /^[0-9]+$/ { print $2; exit }' "$tmp/out")
   [ -n "$samples" ] && [ "$samples" -gt 0 ] ||
-    { echo "count-instructions: $file: no samples in the bench's table" >&2; rc=1; continue; }
+    { echo "count-instructions: $file: no samples in the bench's table: $(grep -v "^==" "$tmp/err" | tail -1)" >&2
+      rc=1; continue; }
   callgrind_annotate --inclusive=yes --threshold=100 "$tmp/cg" > "$tmp/annotated" 2> /dev/null
   printf '%-34s %8d' "$name" "$samples"
   for s in $steps; do
