@@ -283,9 +283,9 @@ inline int find_patch(const Model* m, int face, real u, real v)
 // product's hundreds: the solve's instructions fell by 6-14% on the Data/ parts, its time by 3-14%
 // (docs/Solver.md, Benchmark, thirtieth session). The results differ from the tensor product's by
 // its rounding, which moves some spheres between admissible contacts (the same docs).
-inline int plane_patch_frame(const Model* m, int p, real3* X, real3* Y)
+// plane_face_frame: the same for a face (plane_trim_gap).
+inline int plane_face_frame(const Model* m, int face, real3* X, real3* Y)
 {
-  const int face = m->patchFace[p];
   __global const int* fi = m->faceInfo + FACE_INTS * face;
   if (fi[8] != EXACT_PLANE || fi[11] == 0)
     return 0;
@@ -293,6 +293,11 @@ inline int plane_patch_frame(const Model* m, int p, real3* X, real3* Y)
   *X = make_real3(e[9], e[10], e[11]);
   *Y = (real)fi[11] * cross(make_real3(e[6], e[7], e[8]), *X);
   return 1;
+}
+
+inline int plane_patch_frame(const Model* m, int p, real3* X, real3* Y)
+{
+  return plane_face_frame(m, m->patchFace[p], X, Y);
 }
 
 // The point of patch p at face parameters (u, v) only, relative to the patch's anchor.
@@ -2857,12 +2862,12 @@ real plane_trim_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, re
   real need)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;
-  if (fi[8] != EXACT_PLANE || fi[11] == 0 || !(gap < need))
+  real3 X, Y;
+  if (!(gap < need) || !plane_face_frame(m, face, &X, &Y))
     return gap;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
   __global const real* e = fd + FACE_EXACT;
-  const real3 a = make_real3(e[6], e[7], e[8]), X = make_real3(e[9], e[10], e[11]);
-  const real3 Y = (real)fi[11] * cross(a, X);
+  const real3 a = make_real3(e[6], e[7], e[8]);
   const real3 XM = mr - anchor_minus(e, Ohi, Olo);
   const real h = fabs(dot(XM, a));
   // The plane's origin is its first patch's first control point, at that patch's (u0, v0).

@@ -57,7 +57,7 @@ for file in "$@"; do
     # the largest count where callgrind lists it more than once.
     ir=$(grep -E "brt::kernel[_a-z0-9]*::$s\(" "$tmp/annotated" |
       awk '{ gsub(",", "", $1); if ($1 + 0 > m) m = $1 + 0 } END { printf "%.0f\n", m + 0 }')
-    printf ' %11.0f' "$(echo "$ir / $samples" | bc -l)"
+    awk -v ir="$ir" -v n="$samples" 'BEGIN { printf " %11.0f", ir / n }'
   done
   printf '\n'
 done
