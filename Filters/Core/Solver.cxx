@@ -939,40 +939,76 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
   }
   // Keys (face << 30 | Morton code), sorted with their positions by a stable radix sort of 13-bit
   // digits: 2.6 ms for the ExpansionCard's 93k samples, where a comparison sort took 6 ms, more
-  // than half of what the order saves there (10 ms).
+  // than half of what the order saves there (10 ms). From 65,536 samples on, every core takes a
+  // contiguous range of the keys in each pass (its own counts, then its own part of the
+  // scatter), the order the same: on a GPU the order of a million samples on one core took as
+  // long as their solve (docs/Solver.md, Benchmark).
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned threads = static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(hw, n / 32768)));
+  auto range = [&](unsigned t) { return std::make_pair(n * t / threads, n * (t + 1) / threads); };
+  auto each = [&](auto&& f) {
+    if (threads == 1)
+      f(0u);
+    else
+      ParallelFor(threads, threads, [&](size_t t) { f(static_cast<unsigned>(t)); });
+  };
   std::vector<std::pair<uint64_t, size_t>> keys(n), tmp(n);
-  uint64_t largest = 0;
-  for (size_t j = 0; j < n; ++j)
-  {
-    const Sample& s = samples[index(j)];
-    const size_t f = static_cast<size_t>(std::max(s.Face + 1, 0));
-    const auto& b = box[f];
-    const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
-    uint32_t code = 0;
-    for (int k = 0; k < 3; ++k)
+  std::vector<uint64_t> largestOf(threads, 0);
+  each([&](unsigned t) {
+    const auto [first, last] = range(t);
+    uint64_t largest = 0;
+    for (size_t j = first; j < last; ++j)
     {
-      const double x = ext > 0.0 ? (s.Point[k] - b[k]) / ext * 1023.0 : 0.0;
-      // (A point that is not finite goes to the cell at the box's corner.)
-      code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
+      const Sample& s = samples[index(j)];
+      const size_t f = static_cast<size_t>(std::max(s.Face + 1, 0));
+      const auto& b = box[f];
+      const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
+      uint32_t code = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double x = ext > 0.0 ? (s.Point[k] - b[k]) / ext * 1023.0 : 0.0;
+        // (A point that is not finite goes to the cell at the box's corner.)
+        code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
+      }
+      keys[j] = { (static_cast<uint64_t>(f) << 30) | code, index(j) };
+      largest = std::max(largest, keys[j].first);
     }
-    keys[j] = { (static_cast<uint64_t>(f) << 30) | code, index(j) };
-    largest = std::max(largest, keys[j].first);
-  }
-  std::vector<uint32_t> count(8193);
+    largestOf[t] = largest;
+  });
+  const uint64_t largest = *std::max_element(largestOf.begin(), largestOf.end());
+  // count[t][d]: keys of thread t's range with digit d, then where the first of them goes.
+  std::vector<std::array<size_t, 8192>> count(threads);
   for (int shift = 0; shift < 64 && (largest >> shift) != 0; shift += 13)
   {
-    std::fill(count.begin(), count.end(), 0u);
-    for (const auto& k : keys)
-      ++count[((k.first >> shift) & 8191u) + 1];
-    for (int b = 0; b < 8192; ++b)
-      count[b + 1] += count[b];
-    for (const auto& k : keys)
-      tmp[count[(k.first >> shift) & 8191u]++] = k;
+    each([&](unsigned t) {
+      const auto [first, last] = range(t);
+      auto& c = count[t];
+      std::fill(c.begin(), c.end(), size_t(0));
+      for (size_t j = first; j < last; ++j)
+        ++c[(keys[j].first >> shift) & 8191u];
+    });
+    size_t at = 0;
+    for (size_t d = 0; d < 8192; ++d)
+      for (unsigned t = 0; t < threads; ++t)
+      {
+        const size_t c = count[t][d];
+        count[t][d] = at;
+        at += c;
+      }
+    each([&](unsigned t) {
+      const auto [first, last] = range(t);
+      auto& c = count[t];
+      for (size_t j = first; j < last; ++j)
+        tmp[c[(keys[j].first >> shift) & 8191u]++] = keys[j];
+    });
     keys.swap(tmp);
   }
   std::vector<size_t> order(n);
-  for (size_t j = 0; j < n; ++j)
-    order[j] = keys[j].second;
+  each([&](unsigned t) {
+    const auto [first, last] = range(t);
+    for (size_t j = first; j < last; ++j)
+      order[j] = keys[j].second;
+  });
   return order;
 }
 

@@ -1517,4 +1517,58 @@ TEST(Parallel, SpatialOrderKeepsNeighboursTogether)
   }
 }
 
+/// From 65,536 samples on, SpatialOrder sorts on every core: the same order as on one. On a line
+/// along y the order is fixed: the 1024 cells along the face's box, and within a cell the order
+/// given (the sort is stable), also for samples whose cell spans the threads' ranges.
+TEST(Parallel, SpatialOrderOnEveryCoreIsTheStableOrder)
+{
+  const int n = 200000;
+  std::vector<int> line(n);
+  std::iota(line.begin(), line.end(), 0);
+  std::shuffle(line.begin(), line.end(), std::mt19937(11));
+  std::vector<Sample> samples(n);
+  for (int i = 0; i < n; ++i)
+  {
+    // Faces 2 and 5 interleaved; y from 0 to 99.9995 on each.
+    samples[i].Face = i % 3 == 0 ? 5 : 2;
+    samples[i].Point = { 1.0, 0.0005 * line[i], 3.0 };
+  }
+  // Each face's extent along y (its box's largest).
+  double low[6], high[6];
+  std::fill(low, low + 6, 1e30);
+  std::fill(high, high + 6, -1e30);
+  for (const Sample& s : samples)
+  {
+    low[s.Face] = std::min(low[s.Face], s.Point[1]);
+    high[s.Face] = std::max(high[s.Face], s.Point[1]);
+  }
+  const std::vector<size_t> order = SpatialOrder(samples, nullptr);
+  ASSERT_EQ(order.size(), samples.size());
+  std::vector<size_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t i = 0; i < sorted.size(); ++i)
+    ASSERT_EQ(sorted[i], i);
+  auto cell = [&](size_t i) {
+    const int f = samples[i].Face;
+    return static_cast<int>(std::min((samples[i].Point[1] - low[f]) / (high[f] - low[f]) * 1023.0, 1023.0));
+  };
+  size_t faceTwo = 0;
+  for (size_t j = 0; j < order.size(); ++j)
+  {
+    faceTwo += samples[order[j]].Face == 2;
+    if (j == 0)
+      continue;
+    const size_t a = order[j - 1], b = order[j];
+    ASSERT_LE(samples[a].Face, samples[b].Face) << j;
+    if (samples[a].Face != samples[b].Face)
+    {
+      EXPECT_EQ(j, faceTwo);
+      continue;
+    }
+    ASSERT_LE(cell(a), cell(b)) << j;
+    if (cell(a) == cell(b))
+      ASSERT_LT(a, b) << j;
+  }
+}
+
 } // namespace
