@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -24,6 +27,25 @@ namespace
 constexpr size_t SampleReals = KernelSampleReals;
 constexpr size_t OutReals = KernelOutReals;
 constexpr size_t OutInts = KernelOutInts;
+
+double Since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Calls f(first, last) over [0, n) in blocks on every core; a few blocks' worth on the calling
+/// thread alone (starting the threads costs more than packing them).
+template <class F>
+void ForBlocks(size_t n, F&& f)
+{
+  constexpr size_t block = 4096;
+  if (n <= 2 * block)
+  {
+    f(size_t(0), n);
+    return;
+  }
+  ParallelFor((n + block - 1) / block, 0, [&](size_t b) { f(b * block, std::min(n, (b + 1) * block)); });
+}
 
 std::string Lower(std::string s)
 {
@@ -133,8 +155,12 @@ struct Runtime
     const char* src = ThicknessKernelSource;
     Program[k] = clCreateProgramWithSource(Context, 1, &src, nullptr, &err);
     Check(err, "clCreateProgramWithSource");
-    const char* options = useDouble ? "-DBRT_DOUBLE" : "";
-    if (clBuildProgram(Program[k], 1, &Device, options, nullptr, nullptr) != CL_SUCCESS)
+    // BRT_OPENCL_OPTIONS: more build options, for diagnostics (NVIDIA's -cl-nv-verbose prints
+    // each function's registers and spills into the build log, BRT_OPENCL_BUILD_LOG shows it).
+    std::string options = useDouble ? "-DBRT_DOUBLE" : "";
+    if (const char* more = std::getenv("BRT_OPENCL_OPTIONS"))
+      options += std::string(" ") + more;
+    if (clBuildProgram(Program[k], 1, &Device, options.c_str(), nullptr, nullptr) != CL_SUCCESS)
     {
       size_t n = 0;
       clGetProgramBuildInfo(Program[k], Device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -144,6 +170,15 @@ struct Runtime
       Program[k] = nullptr;
       throw OpenCLError("OpenCL: the thickness kernel does not build on " + Name + " (" +
         (useDouble ? "double" : "float") + "):\n" + log);
+    }
+    if (std::getenv("BRT_OPENCL_BUILD_LOG"))
+    {
+      size_t n = 0;
+      clGetProgramBuildInfo(Program[k], Device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+      std::string log(n, '\0');
+      clGetProgramBuildInfo(Program[k], Device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+      std::fprintf(stderr, "OpenCL build log (%s, options '%s'):\n%s\n", useDouble ? "double" : "float",
+        options.c_str(), log.c_str());
     }
     Solve[k] = clCreateKernel(Program[k], "brt_solve", &err);
     Check(err, "clCreateKernel");
@@ -172,7 +207,8 @@ std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
     cl_int err = CL_SUCCESS;
     made->Context = clCreateContext(nullptr, 1, &dev.Device, nullptr, nullptr, &err);
     Check(err, "clCreateContext");
-    made->Queue = clCreateCommandQueue(made->Context, dev.Device, 0, &err);
+    // Profiling on: the kernels' own time (OpenCLSolver::LastPhases) costs two timestamps each.
+    made->Queue = clCreateCommandQueue(made->Context, dev.Device, CL_QUEUE_PROFILING_ENABLE, &err);
     Check(err, "clCreateCommandQueue");
     rt = made;
   }
@@ -257,6 +293,8 @@ struct OpenCLSolver::Impl
   Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo;
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
   std::vector<unsigned char> ExactPass;
+  /// Where the last Solve's time went.
+  OpenCLSolver::Phases Times;
 
   template <class T>
   void UploadAs(const BRepModel& m, const SolverData& data);
@@ -353,6 +391,11 @@ bool OpenCLSolver::DoublePrecision() const
 bool OpenCLSolver::FinishesOnDevice() const
 {
   return !P->Double && P->RT->HasDouble && !FinishOnHost;
+}
+
+const OpenCLSolver::Phases& OpenCLSolver::LastPhases() const
+{
+  return P->Times;
 }
 
 size_t OpenCLSolver::DeviceBytes() const
@@ -462,11 +505,13 @@ void OpenCLSolver::Impl::WriteChunk(const SolverData& data, const std::vector<Sa
   Index index, size_t n, std::vector<T>& in, std::vector<int>& faces)
 {
   const int set = sizeof(T) == 8 ? 1 : 0;
-  for (size_t i = 0; i < n; ++i)
-  {
-    PackSample(data, samples[index(i)], &in[SampleReals * i]);
-    faces[i] = samples[index(i)].Face;
-  }
+  ForBlocks(n, [&](size_t a, size_t b) {
+    for (size_t i = a; i < b; ++i)
+    {
+      PackSample(data, samples[index(i)], &in[SampleReals * i]);
+      faces[i] = samples[index(i)].Face;
+    }
+  });
   Check(clEnqueueWriteBuffer(RT->Queue, SampleFace.Mem, CL_FALSE, 0, n * sizeof(int), faces.data(),
           0, nullptr, nullptr),
     "clEnqueueWriteBuffer");
@@ -488,7 +533,12 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   const size_t perSample = (SampleReals + OutReals) * (sizeof(T) + (finish ? 8 : 0)) +
     (2 * OutInts + 2) * sizeof(int);
   if (chunk == 0)
+  {
+    // At most 64 MiB of buffers, and at least four chunks where that leaves 65,536 samples or
+    // more in each: the host packs one chunk and unpacks another while the device solves a third.
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
+    chunk = std::min(chunk, std::max<size_t>(65536, (total + 3) / 4));
+  }
   chunk = std::min(chunk, total);
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
@@ -502,37 +552,66 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   }
   const KernelScalars ks = GetKernelScalars<T>(model, data, options);
   const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
-  std::vector<T> in(chunk * SampleReals), outR(chunk * OutReals);
-  std::vector<double> in64, outR64;
-  std::vector<int> outI(chunk * OutInts), faces(chunk), redo;
-  if (finish)
-  {
-    in64.resize(chunk * SampleReals);
-    outR64.resize(chunk * OutReals);
-    redo.resize(chunk);
-  }
 
-  std::lock_guard<std::mutex> guard(RT->Lock);
-  cl_kernel k = RT->Solve[set];
-  for (size_t first = 0; first < total; first += chunk)
+  // Two host slots: the queue runs in order, so one set of device buffers does, while the host
+  // staging of a chunk must outlive its transfers (until its last read completes).
+  struct Slot
   {
-    const size_t n = std::min(chunk, total - first);
-    auto index = [&](size_t i) { return which ? (*which)[first + i] : first + i; };
-    WriteChunk(data, samples, index, n, in, faces);
+    std::vector<T> In, OutR;
+    std::vector<double> In64, OutR64;
+    std::vector<int> OutI, Faces, Redo;
+    cl_event Kernel[2] = { nullptr, nullptr };
+    cl_event Read = nullptr;
+    size_t First = 0, Count = 0;
+    void Release()
+    {
+      for (cl_event* e : { &Kernel[0], &Kernel[1], &Read })
+        if (*e)
+        {
+          clReleaseEvent(*e);
+          *e = nullptr;
+        }
+    }
+  } slots[2];
+  for (Slot& s : slots)
+  {
+    s.In.resize(chunk * SampleReals);
+    s.OutI.resize(chunk * OutInts);
+    s.Faces.resize(chunk);
     if (finish)
-      for (size_t i = 0; i < n; ++i)
-        PackSample(data, samples[index(i)], &in64[SampleReals * i]);
+    {
+      s.In64.resize(chunk * SampleReals);
+      s.OutR64.resize(chunk * OutReals);
+      s.Redo.resize(chunk);
+    }
+    else
+      s.OutR.resize(chunk * OutReals);
+  }
+  auto at = [&](size_t j) { return which ? (*which)[j] : j; };
+
+  // Packs a slot's samples and queues their solve (and finish) and the read of the results.
+  auto launch = [&](Slot& s) {
+    const size_t first = s.First, n = s.Count;
+    const auto t0 = std::chrono::steady_clock::now();
+    WriteChunk(data, samples, [&](size_t i) { return at(first + i); }, n, s.In, s.Faces);
+    if (finish)
+      ForBlocks(n, [&](size_t a, size_t b) {
+        for (size_t i = a; i < b; ++i)
+          PackSample(data, samples[at(first + i)], &s.In64[SampleReals * i]);
+      });
+    Times.Host += Since(t0);
     const size_t local = 64;
     const size_t global = (n + local - 1) / local * local;
+    cl_kernel k = RT->Solve[set];
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
     Check(clSetKernelArg(k, OutArg, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
     Check(clSetKernelArg(k, OutArg + 1, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
-    Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, nullptr),
+    Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, &s.Kernel[0]),
       "clEnqueueNDRangeKernel");
     if (finish)
     {
       cl_kernel f = RT->Finish;
-      Check(clEnqueueWriteBuffer(q, Samples[1].Mem, CL_FALSE, 0, n * SampleReals * sizeof(double), in64.data(), 0, nullptr, nullptr),
+      Check(clEnqueueWriteBuffer(q, Samples[1].Mem, CL_FALSE, 0, n * SampleReals * sizeof(double), s.In64.data(), 0, nullptr, nullptr),
         "clEnqueueWriteBuffer");
       SetArgs(f, 1, Samples[1], static_cast<int>(n), ks64, true);
       Check(clSetKernelArg(f, OutArg, sizeof(cl_mem), &OutReal[0].Mem), "clSetKernelArg");
@@ -540,30 +619,80 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
       Check(clSetKernelArg(f, OutArg + 2, sizeof(cl_mem), &OutReal[1].Mem), "clSetKernelArg");
       Check(clSetKernelArg(f, OutArg + 3, sizeof(cl_mem), &OutInt[1].Mem), "clSetKernelArg");
       Check(clSetKernelArg(f, OutArg + 4, sizeof(cl_mem), &Redo.Mem), "clSetKernelArg");
-      Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &global, &local, 0, nullptr, nullptr),
+      Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &global, &local, 0, nullptr, &s.Kernel[1]),
         "clEnqueueNDRangeKernel");
-      Check(clEnqueueReadBuffer(q, OutReal[1].Mem, CL_FALSE, 0, n * OutReals * sizeof(double), outR64.data(), 0, nullptr, nullptr),
+      Check(clEnqueueReadBuffer(q, OutReal[1].Mem, CL_FALSE, 0, n * OutReals * sizeof(double), s.OutR64.data(), 0, nullptr, nullptr),
         "clEnqueueReadBuffer");
-      Check(clEnqueueReadBuffer(q, Redo.Mem, CL_FALSE, 0, n * sizeof(int), redo.data(), 0, nullptr, nullptr),
+      Check(clEnqueueReadBuffer(q, Redo.Mem, CL_FALSE, 0, n * sizeof(int), s.Redo.data(), 0, nullptr, nullptr),
         "clEnqueueReadBuffer");
-      Check(clEnqueueReadBuffer(q, OutInt[1].Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
+      Check(clEnqueueReadBuffer(q, OutInt[1].Mem, CL_FALSE, 0, n * OutInts * sizeof(int), s.OutI.data(), 0, nullptr, &s.Read),
         "clEnqueueReadBuffer");
-      for (size_t i = 0; i < n; ++i)
-      {
-        ExactPass[index(i)] = UnpackResult(samples[index(i)], &outR64[OutReals * i],
-          &outI[OutInts * i], results[index(i)]) ? 1 : 0;
-        if (redo[i])
-          again.push_back(index(i));
-      }
-      continue;
     }
-    Check(clEnqueueReadBuffer(q, OutReal[set].Mem, CL_FALSE, 0, n * OutReals * sizeof(T), outR.data(), 0, nullptr, nullptr),
-      "clEnqueueReadBuffer");
-    Check(clEnqueueReadBuffer(q, OutInt[set].Mem, CL_TRUE, 0, n * OutInts * sizeof(int), outI.data(), 0, nullptr, nullptr),
-      "clEnqueueReadBuffer");
-    for (size_t i = 0; i < n; ++i)
-      ExactPass[index(i)] = UnpackResult(samples[index(i)], &outR[OutReals * i],
-        &outI[OutInts * i], results[index(i)]) ? 1 : 0;
+    else
+    {
+      Check(clEnqueueReadBuffer(q, OutReal[set].Mem, CL_FALSE, 0, n * OutReals * sizeof(T), s.OutR.data(), 0, nullptr, nullptr),
+        "clEnqueueReadBuffer");
+      Check(clEnqueueReadBuffer(q, OutInt[set].Mem, CL_FALSE, 0, n * OutInts * sizeof(int), s.OutI.data(), 0, nullptr, &s.Read),
+        "clEnqueueReadBuffer");
+    }
+    Check(clFlush(q), "clFlush");
+  };
+  // Waits for a slot's results and unpacks them.
+  auto collect = [&](Slot& s) {
+    const size_t first = s.First, n = s.Count;
+    auto t0 = std::chrono::steady_clock::now();
+    Check(clWaitForEvents(1, &s.Read), "clWaitForEvents");
+    Times.Wait += Since(t0);
+    for (cl_event e : s.Kernel)
+    {
+      cl_ulong start = 0, end = 0;
+      if (e && clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof(start), &start, nullptr) == CL_SUCCESS &&
+        clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof(end), &end, nullptr) == CL_SUCCESS && end > start)
+        Times.Kernels += 1e-9 * static_cast<double>(end - start);
+    }
+    s.Release();
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<T>& outR = s.OutR;
+    const std::vector<double>& outR64 = s.OutR64;
+    ForBlocks(n, [&](size_t a, size_t b) {
+      for (size_t i = a; i < b; ++i)
+      {
+        const size_t j = at(first + i);
+        ExactPass[j] = (finish ? UnpackResult(samples[j], &outR64[OutReals * i], &s.OutI[OutInts * i], results[j])
+                               : UnpackResult(samples[j], &outR[OutReals * i], &s.OutI[OutInts * i], results[j]))
+          ? 1 : 0;
+      }
+    });
+    if (finish)
+      for (size_t i = 0; i < n; ++i)
+        if (s.Redo[i])
+          again.push_back(at(first + i));
+    Times.Host += Since(t0);
+  };
+
+  std::lock_guard<std::mutex> guard(RT->Lock);
+  Slot* pending = nullptr;
+  try
+  {
+    for (size_t first = 0, c = 0; first < total; first += chunk, ++c)
+    {
+      Slot& s = slots[c % 2];
+      s.First = first;
+      s.Count = std::min(chunk, total - first);
+      launch(s);
+      if (pending)
+        collect(*pending);
+      pending = &s;
+    }
+    collect(*pending);
+  }
+  catch (...)
+  {
+    // The device may still read or write the slots' staging: done before it goes.
+    clFinish(q);
+    for (Slot& s : slots)
+      s.Release();
+    throw;
   }
   return again;
 }
@@ -646,6 +775,7 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
 {
   results.assign(samples.size(), SampleResult());
   P->ExactPass.assign(samples.size(), 0);
+  P->Times = Phases();
   if (samples.empty())
     return;
   // Without Upload (or after one of another model) the kernels would read buffers that are not
@@ -659,7 +789,9 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
     return;
   }
   // Neighbours in one work-group walk the same nodes (SpatialOrder).
+  const auto t0 = std::chrono::steady_clock::now();
   const std::vector<size_t> order = SpatialOrder(samples, nullptr);
+  P->Times.Order = Since(t0);
   // The double kernels run the whole solve, the certification included: they are final.
   if (P->Double)
   {

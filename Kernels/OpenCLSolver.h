@@ -54,6 +54,17 @@ public:
     const std::vector<Sample>& samples, std::vector<double>& thickness,
     std::vector<int>* face = nullptr);
 
+  /// Where the last Solve's time went, in seconds: Order, the samples' SpatialOrder; Host, their
+  /// packing and the results' unpacking (on every core, overlapping the device's work); Wait,
+  /// the host's wait for the device's results; Kernels, the kernels' own time on the device
+  /// (OpenCL's profiling; 0 where the device reports none). The float finish on the host (a
+  /// device without double precision) is in none of them.
+  struct Phases
+  {
+    double Order = 0.0, Host = 0.0, Wait = 0.0, Kernels = 0.0;
+  };
+  const Phases& LastPhases() const;
+
   /// Bytes of device memory held (model, s1, BVH and the chunk buffers).
   size_t DeviceBytes() const;
 

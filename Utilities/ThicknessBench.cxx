@@ -76,8 +76,10 @@ int main(int argc, char** argv)
   std::vector<std::string> files;
   std::string device = "any", exportDir;
   [[maybe_unused]] bool useDouble = false;
-  bool finishOnHost = false, native = true, help = false, certify = true, delaunay = false;
+  bool finishOnHost = false, native = true, help = false, certify = true, phases = false;
+  [[maybe_unused]] bool delaunay = false;
   [[maybe_unused]] double tolerance = 1e-4; // the reader's default conversion tolerance
+  [[maybe_unused]] double maxEdge = 0.0;    // the reader's default sample spacing
 
   for (int i = 1; i < argc; ++i)
   {
@@ -93,12 +95,16 @@ int main(int argc, char** argv)
       exportDir = argv[++i];
     else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
       tolerance = std::stod(argv[++i]);
+    else if (!std::strcmp(argv[i], "--max-edge") && i + 1 < argc)
+      maxEdge = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--no-native") || !std::strcmp(argv[i], "--no-reference"))
       native = false;
     else if (!std::strcmp(argv[i], "--no-certify"))
       certify = false;
     else if (!std::strcmp(argv[i], "--delaunay"))
       delaunay = true;
+    else if (!std::strcmp(argv[i], "--phases"))
+      phases = true;
     else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
     {
       counts.clear();
@@ -125,8 +131,11 @@ int main(int argc, char** argv)
       "  --no-certify      skip the check of the spheres against the patches\n"
       "  --counts N,...    sample counts (default 1000,10000,100000; 0: every mesh vertex)\n"
       "  --tolerance T     Bezier conversion tolerance in mm (default 1e-4)\n"
+      "  --max-edge L      display mesh (the samples): no edge longer than L mm (default 1/50 of\n"
+      "                    the diagonal); a smaller L gives more distinct samples\n"
       "  --delaunay        display mesh (the samples) refined with Delaunay flips\n"
       "  --export DIR      write each prepared model as DIR/<name>.brtsolve\n"
+      "  --phases          after each OpenCL row, where its solve's time went (host and device)\n"
       "  --help            this text\n",
       argv[0]);
     return help ? 0 : 2;
@@ -177,6 +186,7 @@ int main(int argc, char** argv)
         brt::ConversionOptions conversion;
         conversion.Tolerance = tolerance;
         conversion.DelaunayRefinement = delaunay;
+        conversion.MaxEdgeLength = maxEdge;
         model = brt::ConvertStepFile(file, conversion);
         data = brt::PrepareSolver(model, options);
         all = brt::SamplesFromMesh(model, data);
@@ -212,6 +222,7 @@ int main(int argc, char** argv)
         n = all.size(); // 0: every mesh sample once
       const std::vector<brt::Sample> samples = Take(all, n);
       std::vector<brt::SampleResult> results;
+      char phaseLine[256] = "";
       double refRate = 0.0, refFail = 0.0, clRate = 0.0, clFail = 0.0, devMiB = 0.0, agree = -1.0;
       if (native)
       {
@@ -232,6 +243,11 @@ int main(int argc, char** argv)
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         clRate = n / s;
         clFail = FailedPercent(clResults, "OpenCL");
+        const brt::OpenCLSolver::Phases& ph = cl->LastPhases();
+        if (phases)
+          std::snprintf(phaseLine, sizeof(phaseLine),
+            "  phases: %.4f s in all; order %.4f s, pack and unpack %.4f s (every core), wait for the device %.4f s, kernels %.4f s (%.0f samples/s)\n",
+            s, ph.Order, ph.Host, ph.Wait, ph.Kernels, ph.Kernels > 0 ? n / ph.Kernels : 0.0);
         devMiB = cl->DeviceBytes() / (1024.0 * 1024.0);
         if (!results.empty())
         {
@@ -254,6 +270,7 @@ int main(int argc, char** argv)
       std::printf("%-32s %8zu %8zu %8d %12.0f %7.3f%% %12.0f %7.3f%% %7.2f%% %9.1f %9.1f\n", name,
         n, data.S1.size(), model.Stats.Patches, refRate, refFail, clRate, clFail, agree,
         PeakRSSMiB(), devMiB);
+      std::fputs(phaseLine, stdout);
       std::fflush(stdout);
     }
   }

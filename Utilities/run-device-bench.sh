@@ -10,7 +10,7 @@
 #       there: configures and builds the solver-only variant (no OpenCASCADE, no VTK; CMake, a
 #       C++17 compiler and an OpenCL library are all it needs) and runs brt_thickness_bench on
 #       every DUMPS/*.brtsolve in float, then in double, each against the native device on every
-#       core. Tables and the build's log go to OUT (gpu-float.txt, gpu-double.txt, build.log,
+#       core, with each solve's phases (--phases: host and device time). Tables and the build's log go to OUT (gpu-float.txt, gpu-double.txt, build.log,
 #       platform.txt). Defaults: --device gpu, --counts 10000,100000,1000000, --limit 240 (seconds
 #       for each precision's run).
 #
@@ -117,7 +117,7 @@ for precision in float double; do
   echo "== $precision, --device $device, counts $counts"
   # Each precision within its own time limit, so that a driver whose compiler stalls on one
   # program (the H200's first call, docs/Solver.md "Compile time on GPUs") still leaves the other.
-  timeout "$limit" "$bdir/brt_thickness_bench" --device "$device" "${flag[@]}" --counts "$counts" \
+  timeout "$limit" "$bdir/brt_thickness_bench" --device "$device" "${flag[@]}" --phases --counts "$counts" \
     "$dumps"/*.brtsolve 2>&1 | tee "$out/gpu-$precision.txt"
   status=${PIPESTATUS[0]}
   [ "$status" -eq 124 ] && echo "run-device-bench: $precision stopped after $limit s" | tee -a "$out/gpu-$precision.txt"
