@@ -799,9 +799,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const bool rayOnly = this->Method == RAY && !gapOnly;
   const bool withGap = this->Measure != MEASURE_THICKNESS;
   // Progress steps of a fiftieth (at least 512 samples) on the native device, where only the
-  // calling thread reports, between its blocks; an OpenCL device solves in chunks of at least
-  // 16,384 samples (each chunk a launch with its transfers: chunks of 2,048 cost PoCL a third of
-  // its rate on NIST_MBE_PMI_11's 10,644 samples).
+  // calling thread reports, between its blocks; an OpenCL device reports between its chunks
+  // (OpenCLSolver::Solve: at least 65,536 samples each; chunks of 2,048 cost PoCL a third of its
+  // rate on NIST_MBE_PMI_11's 10,644 samples).
   // Samples on open or non-manifold solids are flagged failed by CheckResults below whatever
   // the solve gives them, and theirs is the slowest solve of all (spheres that find no wall):
   // they are not solved. On a part with an open surface model beside its solid that was most of
@@ -810,7 +810,6 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const size_t m = measured.size();
   const bool every = m == n;
   const size_t step = std::max<size_t>(512, (m + 49) / 50);
-  const size_t chunk = std::max<size_t>(16384, (m + 19) / 20);
   auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
                     std::vector<brt::SampleResult>& out, double from, double to, const char* what) {
     out.assign(n, brt::SampleResult());
@@ -837,21 +836,10 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
       // abort come between the calling thread's blocks.
       return cpu->Solve(o, in, out, every ? nullptr : &measured, 0, nullptr, progress);
     }
-    for (size_t first = 0; first < m; first += chunk)
-    {
-      const size_t last = std::min(m, first + chunk);
-      std::vector<brt::Sample> part;
-      part.reserve(last - first);
-      for (size_t j = first; j < last; ++j)
-        part.push_back(in[measured[j]]);
-      std::vector<brt::SampleResult> got;
-      I.CL->Solve(model, data, o, part, got);
-      for (size_t j = first; j < last; ++j)
-        out[measured[j]] = got[j - first];
-      if (!progress(last))
-        return false;
-    }
-    return true;
+    // One call, its progress and abort between its chunks: the device solves one chunk while
+    // the host packs the next (a call per progress step left a GPU idle between them, and
+    // underfilled with 16,384-sample launches).
+    return I.CL->Solve(model, data, o, in, out, 0, every ? nullptr : &measured, progress);
   };
   I.Results.assign(n, brt::SampleResult());
   if (!rayOnly && !gapOnly &&

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -126,6 +127,7 @@ struct Runtime
   cl_kernel Finish = nullptr; ///< the double program's brt_finish
   std::string Name;
   bool HasDouble = false;
+  bool IsGpu = false; ///< chunks of at least 65,536 samples there, 16,384 elsewhere
   std::mutex Lock; ///< one launch sequence at a time on the shared kernel objects
   ~Runtime()
   {
@@ -204,6 +206,7 @@ std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
     made->Device = dev.Device;
     made->Name = dev.Label;
     made->HasDouble = Info(dev.Device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos;
+    made->IsGpu = (dev.Type & CL_DEVICE_TYPE_GPU) != 0;
     cl_int err = CL_SUCCESS;
     made->Context = clCreateContext(nullptr, 1, &dev.Device, nullptr, nullptr, &err);
     Check(err, "clCreateContext");
@@ -305,7 +308,7 @@ struct OpenCLSolver::Impl
   std::vector<size_t> SolveAs(const BRepModel& m, const SolverData& data,
     const SolverOptions& options, const std::vector<Sample>& samples,
     std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk,
-    bool finish);
+    bool finish, const std::function<bool(size_t)>* progress = nullptr, bool* stopped = nullptr);
   void SetArgs(cl_kernel k, int set, const Buffer& samples, int count, const KernelScalars& ks,
     bool asDouble);
   /// The chunk buffers of precision T for `chunk` samples.
@@ -523,7 +526,8 @@ void OpenCLSolver::Impl::WriteChunk(const SolverData& data, const std::vector<Sa
 template <class T>
 std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
-  std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk, bool finish)
+  std::vector<SampleResult>& results, const std::vector<size_t>* which, size_t chunk, bool finish,
+  const std::function<bool(size_t)>* progress, bool* stopped)
 {
   std::vector<size_t> again;
   const size_t total = which ? which->size() : samples.size();
@@ -534,10 +538,14 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     (2 * OutInts + 2) * sizeof(int);
   if (chunk == 0)
   {
-    // At most 64 MiB of buffers, and at least four chunks where that leaves 65,536 samples or
-    // more in each: the host packs one chunk and unpacks another while the device solves a third.
+    // At most 64 MiB of buffers, and several chunks where each still fills the device: the host
+    // packs one chunk and unpacks another while the device solves a third, and the caller's
+    // progress and abort come between chunks. A GPU: four chunks of at least 65,536 samples
+    // (the H200 holds about 34,000 of the kernel's threads at once); a CPU device (PoCL):
+    // sixteen of at least 16,384, for the progress bar of a slow device.
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
-    chunk = std::min(chunk, std::max<size_t>(65536, (total + 3) / 4));
+    const size_t parts = RT->IsGpu ? 4 : 16, least = RT->IsGpu ? 65536 : 16384;
+    chunk = std::min(chunk, std::max(least, (total + parts - 1) / parts));
   }
   chunk = std::min(chunk, total);
   cl_context ctx = RT->Context;
@@ -672,6 +680,14 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
 
   std::lock_guard<std::mutex> guard(RT->Lock);
   Slot* pending = nullptr;
+  // After a chunk's results: false where the caller's progress asks to stop.
+  auto goOn = [&](const Slot& s) {
+    if (!progress || !*progress || (*progress)(s.First + s.Count))
+      return true;
+    if (stopped)
+      *stopped = true;
+    return false;
+  };
   try
   {
     for (size_t first = 0, c = 0; first < total; first += chunk, ++c)
@@ -681,10 +697,20 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
       s.Count = std::min(chunk, total - first);
       launch(s);
       if (pending)
+      {
         collect(*pending);
+        if (!goOn(*pending))
+        {
+          // The chunk in flight is dropped: its samples stay failed.
+          Check(clFinish(q), "clFinish");
+          s.Release();
+          return again;
+        }
+      }
       pending = &s;
     }
     collect(*pending);
+    goOn(*pending);
   }
   catch (...)
   {
@@ -769,34 +795,36 @@ void OpenCLSolver::Upload(const BRepModel& model, const SolverData& data)
   P->UploadedData = &data;
 }
 
-void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
+bool OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   const SolverOptions& options, const std::vector<Sample>& samples,
-  std::vector<SampleResult>& results, size_t chunk)
+  std::vector<SampleResult>& results, size_t chunk, const std::vector<size_t>* which,
+  const std::function<bool(size_t)>& progress)
 {
   results.assign(samples.size(), SampleResult());
   P->ExactPass.assign(samples.size(), 0);
   P->Times = Phases();
-  if (samples.empty())
-    return;
+  if (samples.empty() || (which && which->empty()))
+    return true;
   // Without Upload (or after one of another model) the kernels would read buffers that are not
   // this model's: a crash in the kernels.
   if (&model != P->UploadedModel || &data != P->UploadedData)
     Upload(model, data);
-  if (data.Nodes.empty())
-  {
-    for (auto& r : results)
-      r.Reason = FailReason::NoOppositePoint;
-    return;
-  }
   // Neighbours in one work-group walk the same nodes (SpatialOrder).
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<size_t> order = SpatialOrder(samples, nullptr);
+  const std::vector<size_t> order = SpatialOrder(samples, which);
   P->Times.Order = Since(t0);
+  if (data.Nodes.empty())
+  {
+    for (size_t i : order)
+      results[i].Reason = FailReason::NoOppositePoint;
+    return !progress || progress(order.size());
+  }
+  bool stopped = false;
   // The double kernels run the whole solve, the certification included: they are final.
   if (P->Double)
   {
-    P->SolveAs<double>(model, data, options, samples, results, &order, chunk, false);
-    return;
+    P->SolveAs<double>(model, data, options, samples, results, &order, chunk, false, &progress, &stopped);
+    return !stopped;
   }
   // The float kernels, then their finish in double: every contact polished (polish_result: its
   // own Newton, then the local part of the second look) and certified again, and the samples the
@@ -805,17 +833,19 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   // the native device (the same source).
   const bool onDevice = Finish && FinishesOnDevice();
   std::vector<size_t> hard =
-    P->SolveAs<float>(model, data, options, samples, results, &order, chunk, onDevice);
+    P->SolveAs<float>(model, data, options, samples, results, &order, chunk, onDevice, &progress, &stopped);
+  if (stopped)
+    return false;
   if (!Finish)
-    return;
+    return true;
   if (onDevice)
   {
     if (!hard.empty())
       P->SolveAs<double>(model, data, options, samples, results, &hard, chunk, false);
-    return;
+    return true;
   }
   std::vector<size_t> solved;
-  for (size_t i = 0; i < samples.size(); ++i)
+  for (size_t i : order)
     (results[i].Type == ContactType::Failed ? hard : solved).push_back(i);
   SolverOptions exact = options;
   exact.Clearance = 0.0;
@@ -835,6 +865,7 @@ void OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
       hard.push_back(i);
   if (!hard.empty())
     native.Solve(options, samples, results, &hard);
+  return true;
 }
 
 } // namespace brt

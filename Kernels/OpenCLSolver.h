@@ -5,6 +5,7 @@
 
 #include "Solver.h"
 
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -43,9 +44,17 @@ public:
 
   /// Solves `samples` (after Upload with the same model and data; without it, or with another
   /// model or data, it uploads them first), `chunk` samples per launch (0: as many as fit in
-  /// 64 MiB of result and sample buffers).
-  void Solve(const BRepModel& model, const SolverData& data, const SolverOptions& options,
-    const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk = 0);
+  /// 64 MiB of result and sample buffers; on a GPU at least four chunks from 262,144 samples on,
+  /// on a CPU device sixteen from 262,144 and chunks of 16,384 from 32,768). With
+  /// `which`, only samples[which[j]] (the others' results stay as SampleResult() leaves them).
+  /// `progress(done)`, where given, is called after each chunk with the samples solved so far
+  /// (of which->size() or samples.size()); false stops the solve: Solve returns false, the
+  /// samples not yet solved left failed. One call keeps the device busy (the next chunk is
+  /// packed while one is solved); the filter calls it once, not once per progress step.
+  bool Solve(const BRepModel& model, const SolverData& data, const SolverOptions& options,
+    const std::vector<Sample>& samples, std::vector<SampleResult>& results, size_t chunk = 0,
+    const std::vector<size_t>* which = nullptr,
+    const std::function<bool(size_t)>& progress = nullptr);
 
   /// The ray thickness of every sample (after Upload with the same model and data):
   /// NativeSolver::RayThickness on this device, in double wherever the device has it (in float

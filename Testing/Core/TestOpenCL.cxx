@@ -317,6 +317,70 @@ TEST(NativeDevice, SameAsOpenCLDoubleKernels)
   }
 }
 
+// The filter's call: a subset of the samples (`which`: those on closed solids), the progress
+// after each chunk, and a stop. The subset's results are the whole solve's, sample by sample;
+// the others stay as SampleResult() leaves them; a stop after the first chunk leaves the rest
+// failed and returns false.
+TEST(OpenCLKernels, SubsetProgressAndStop)
+{
+  for (const bool useDouble : { false, true })
+  {
+    std::string why;
+    auto cl = Device(useDouble, &why);
+    if (!cl)
+    {
+      std::printf("[subset] %s: %s\n", useDouble ? "double" : "float", why.c_str());
+      continue;
+    }
+    const BRepModel m = ConvertStepFile(test::DataFile("FRAMEWORK_DESKTOP_BLANK_TILE.stp"), ConversionOptions());
+    SolverOptions options;
+    const SolverData data = PrepareSolver(m, options);
+    const std::vector<Sample> samples = SamplesFromMesh(m, data);
+    std::vector<SampleResult> all, some, stopped;
+    cl->Upload(m, data);
+    ASSERT_TRUE(cl->Solve(m, data, options, samples, all, 4096));
+    std::vector<size_t> which;
+    for (size_t i = 0; i < samples.size(); i += 3)
+      which.push_back(i);
+    std::vector<size_t> calls;
+    ASSERT_TRUE(cl->Solve(m, data, options, samples, some, 4096, &which, [&](size_t done) {
+      calls.push_back(done);
+      return true;
+    }));
+    // One call per chunk, counting up to the subset's size.
+    ASSERT_EQ(calls.size(), (which.size() + 4095) / 4096);
+    for (size_t k = 0; k < calls.size(); ++k)
+      EXPECT_EQ(calls[k], std::min(which.size(), 4096 * (k + 1)));
+    std::vector<char> in(samples.size(), 0);
+    for (size_t i : which)
+      in[i] = 1;
+    size_t differ = 0, touched = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+      if (in[i])
+        differ += some[i].Type != all[i].Type || some[i].Thickness != all[i].Thickness ||
+          some[i].OppositeFace != all[i].OppositeFace;
+      else
+        touched += some[i].Type != ContactType::Failed || some[i].Reason != FailReason::None;
+    EXPECT_EQ(differ, 0u) << (useDouble ? "double" : "float");
+    EXPECT_EQ(touched, 0u) << (useDouble ? "double" : "float");
+    // A stop after the first chunk.
+    size_t asked = 0;
+    EXPECT_FALSE(cl->Solve(m, data, options, samples, stopped, 4096, nullptr, [&](size_t) {
+      ++asked;
+      return false;
+    }));
+    size_t solved = 0;
+    for (const SampleResult& r : stopped)
+      solved += r.Type != ContactType::Failed;
+    EXPECT_EQ(asked, 1u);
+    EXPECT_GT(solved, 4000u);
+    EXPECT_LE(solved, 4096u);
+    std::printf("[subset] %s: %zu of %zu samples, %zu progress calls, 0 differ; stopped after "
+                "the first chunk: %zu solved\n",
+      useDouble ? "double" : "float", which.size(), samples.size(), calls.size(), solved);
+  }
+}
+
 // The float kernels' finish (polish, certification, solve again in double) runs on the device
 // where it has double precision and on the host elsewhere: the same source, so the same results.
 TEST(OpenCLKernels, FinishOnDeviceSameAsOnHost)
