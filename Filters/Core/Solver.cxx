@@ -921,28 +921,11 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
       order[j] = index(j);
     return order;
   }
-  // Each face's box over its samples (faces as their own index; -1 and others kept apart).
-  int faces = 0;
-  for (size_t j = 0; j < n; ++j)
-    faces = std::max(faces, samples[index(j)].Face + 2);
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<std::array<double, 6>> box(static_cast<size_t>(faces), { inf, inf, inf, -inf, -inf, -inf });
-  for (size_t j = 0; j < n; ++j)
-  {
-    const Sample& s = samples[index(j)];
-    auto& b = box[static_cast<size_t>(std::max(s.Face + 1, 0))];
-    for (int k = 0; k < 3; ++k)
-    {
-      b[k] = std::min(b[k], s.Point[k]);
-      b[3 + k] = std::max(b[3 + k], s.Point[k]);
-    }
-  }
-  // Keys (face << 30 | Morton code), sorted with their positions by a stable radix sort of 13-bit
-  // digits: 2.6 ms for the ExpansionCard's 93k samples, where a comparison sort took 6 ms, more
-  // than half of what the order saves there (10 ms). From 65,536 samples on, every core takes a
-  // contiguous range of the keys in each pass (its own counts, then its own part of the
-  // scatter), the order the same: on a GPU the order of a million samples on one core took as
-  // long as their solve (docs/Solver.md, Benchmark).
+  // Every step on every core from 65,536 samples on, each core a contiguous range of them (on
+  // a GPU the order of a million samples on one core took as long as their solve; docs/Solver.md,
+  // Benchmark). The order: by face (faces as their own index; -1 and others kept apart), then
+  // along a Morton curve of 1024 cells a side over the face's box, in the given order within a
+  // cell (stable).
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const unsigned threads = static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(hw, n / 32768)));
   auto range = [&](unsigned t) { return std::make_pair(n * t / threads, n * (t + 1) / threads); };
@@ -952,16 +935,75 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
     else
       ParallelFor(threads, threads, [&](size_t t) { f(static_cast<unsigned>(t)); });
   };
-  std::vector<std::pair<uint64_t, size_t>> keys(n), tmp(n);
-  std::vector<uint64_t> largestOf(threads, 0);
+  auto faceOf = [&](size_t j) { return static_cast<size_t>(std::max(samples[index(j)].Face + 1, 0)); };
+  // Each face's box over its samples, each core's own boxes merged.
+  std::vector<size_t> largestOf(threads, 0);
   each([&](unsigned t) {
     const auto [first, last] = range(t);
-    uint64_t largest = 0;
+    for (size_t j = first; j < last; ++j)
+      largestOf[t] = std::max(largestOf[t], faceOf(j));
+  });
+  const size_t faces = *std::max_element(largestOf.begin(), largestOf.end()) + 1;
+  const double inf = std::numeric_limits<double>::infinity();
+  using Box = std::array<double, 6>;
+  std::vector<std::vector<Box>> boxOf(threads, std::vector<Box>(faces, Box{ inf, inf, inf, -inf, -inf, -inf }));
+  // count[t][f]: the samples of face f in core t's range.
+  std::vector<std::vector<size_t>> count(threads, std::vector<size_t>(faces, 0));
+  each([&](unsigned t) {
+    const auto [first, last] = range(t);
+    std::vector<Box>& box = boxOf[t];
     for (size_t j = first; j < last; ++j)
     {
+      const size_t f = faceOf(j);
       const Sample& s = samples[index(j)];
-      const size_t f = static_cast<size_t>(std::max(s.Face + 1, 0));
-      const auto& b = box[f];
+      ++count[t][f];
+      for (int k = 0; k < 3; ++k)
+      {
+        box[f][k] = std::min(box[f][k], s.Point[k]);
+        box[f][3 + k] = std::max(box[f][3 + k], s.Point[k]);
+      }
+    }
+  });
+  std::vector<Box>& box = boxOf[0];
+  for (unsigned t = 1; t < threads; ++t)
+    for (size_t f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k)
+      {
+        box[f][k] = std::min(box[f][k], boxOf[t][f][k]);
+        box[f][3 + k] = std::max(box[f][3 + k], boxOf[t][f][3 + k]);
+      }
+  // Where each core's samples of each face go (by face, then core: stable), and each face's run.
+  std::vector<size_t> start(faces + 1, 0);
+  {
+    size_t at = 0;
+    for (size_t f = 0; f < faces; ++f)
+    {
+      start[f] = at;
+      for (unsigned t = 0; t < threads; ++t)
+      {
+        const size_t c = count[t][f];
+        count[t][f] = at;
+        at += c;
+      }
+    }
+    start[faces] = at;
+  }
+  // Keys (Morton code, position), put in their face's run: 2.6 ms for the ExpansionCard's 93k
+  // samples on one core, where a comparison sort of the whole took 6 ms, more than half of what
+  // the order saves there (10 ms).
+  struct Key
+  {
+    uint32_t Code, At;
+  };
+  std::vector<Key> keys(n);
+  each([&](unsigned t) {
+    const auto [first, last] = range(t);
+    std::vector<size_t>& to = count[t];
+    for (size_t j = first; j < last; ++j)
+    {
+      const size_t f = faceOf(j);
+      const Sample& s = samples[index(j)];
+      const Box& b = box[f];
       const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
       uint32_t code = 0;
       for (int k = 0; k < 3; ++k)
@@ -970,44 +1012,49 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
         // (A point that is not finite goes to the cell at the box's corner.)
         code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
       }
-      keys[j] = { (static_cast<uint64_t>(f) << 30) | code, index(j) };
-      largest = std::max(largest, keys[j].first);
+      keys[to[f]++] = { code, static_cast<uint32_t>(j) };
     }
-    largestOf[t] = largest;
   });
-  const uint64_t largest = *std::max_element(largestOf.begin(), largestOf.end());
-  // count[t][d]: keys of thread t's range with digit d, then where the first of them goes.
-  std::vector<std::array<size_t, 8192>> count(threads);
-  for (int shift = 0; shift < 64 && (largest >> shift) != 0; shift += 13)
-  {
-    each([&](unsigned t) {
-      const auto [first, last] = range(t);
-      auto& c = count[t];
-      std::fill(c.begin(), c.end(), size_t(0));
-      for (size_t j = first; j < last; ++j)
-        ++c[(keys[j].first >> shift) & 8191u];
-    });
-    size_t at = 0;
-    for (size_t d = 0; d < 8192; ++d)
-      for (unsigned t = 0; t < threads; ++t)
+  // Each face's run sorted by its codes: a stable radix sort of three 10-bit digits in the run
+  // (which the cache holds), runs of up to 32 by insertion; the faces dealt out to the cores.
+  std::atomic<size_t> nextFace{ 0 };
+  each([&](unsigned) {
+    std::vector<Key> tmp;
+    std::array<uint32_t, 1025> digits;
+    for (size_t f; (f = nextFace.fetch_add(1)) < faces;)
+    {
+      Key* run = keys.data() + start[f];
+      const size_t len = start[f + 1] - start[f];
+      if (len <= 32)
       {
-        const size_t c = count[t][d];
-        count[t][d] = at;
-        at += c;
+        for (size_t i = 1; i < len; ++i)
+          for (size_t k = i; k > 0 && run[k - 1].Code > run[k].Code; --k)
+            std::swap(run[k - 1], run[k]);
+        continue;
       }
-    each([&](unsigned t) {
-      const auto [first, last] = range(t);
-      auto& c = count[t];
-      for (size_t j = first; j < last; ++j)
-        tmp[c[(keys[j].first >> shift) & 8191u]++] = keys[j];
-    });
-    keys.swap(tmp);
-  }
+      tmp.resize(len);
+      Key* from = run;
+      Key* to = tmp.data();
+      for (int shift = 0; shift < 30; shift += 10)
+      {
+        digits.fill(0u);
+        for (size_t i = 0; i < len; ++i)
+          ++digits[((from[i].Code >> shift) & 1023u) + 1];
+        for (int d = 0; d < 1024; ++d)
+          digits[d + 1] += digits[d];
+        for (size_t i = 0; i < len; ++i)
+          to[digits[(from[i].Code >> shift) & 1023u]++] = from[i];
+        std::swap(from, to);
+      }
+      // (Three passes: the sorted run is in tmp.)
+      std::copy(from, from + len, run);
+    }
+  });
   std::vector<size_t> order(n);
   each([&](unsigned t) {
     const auto [first, last] = range(t);
     for (size_t j = first; j < last; ++j)
-      order[j] = keys[j].second;
+      order[j] = index(keys[j].At);
   });
   return order;
 }
