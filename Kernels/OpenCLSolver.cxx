@@ -233,6 +233,50 @@ std::shared_ptr<Runtime> GetRuntime(const DeviceEntry& dev, bool useDouble)
   return rt;
 }
 
+/// Host staging of one chunk in flight (OpenCLSolver::Impl::SolveAs), with its events.
+template <class T>
+struct HostSlot
+{
+  std::vector<T> In, OutR;
+  std::vector<double> In64, OutR64;
+  std::vector<int> OutI, Faces, Redo;
+  cl_event Kernel[2] = { nullptr, nullptr };
+  cl_event Read = nullptr;
+  size_t First = 0, Count = 0;
+  HostSlot() = default;
+  HostSlot(const HostSlot&) = delete;
+  HostSlot& operator=(const HostSlot&) = delete;
+  ~HostSlot() { Release(); }
+  /// Room for `chunk` samples (never shrinks).
+  void Grow(size_t chunk, bool finish)
+  {
+    auto grow = [](auto& v, size_t n) {
+      if (v.size() < n)
+        v.resize(n);
+    };
+    grow(In, chunk * SampleReals);
+    grow(OutI, chunk * OutInts);
+    grow(Faces, chunk);
+    if (finish)
+    {
+      grow(In64, chunk * SampleReals);
+      grow(OutR64, chunk * OutReals);
+      grow(Redo, chunk);
+    }
+    else
+      grow(OutR, chunk * OutReals);
+  }
+  void Release()
+  {
+    for (cl_event* e : { &Kernel[0], &Kernel[1], &Read })
+      if (*e)
+      {
+        clReleaseEvent(*e);
+        *e = nullptr;
+      }
+  }
+};
+
 struct Buffer
 {
   cl_mem Mem = nullptr;
@@ -294,6 +338,11 @@ struct OpenCLSolver::Impl
   /// The float kernels' finish on the host, where the device has no double precision.
   std::unique_ptr<NativeSolver> Native;
   Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo;
+  /// The host staging of SolveAs, per precision.
+  HostSlot<float> SlotsFloat[2];
+  HostSlot<double> SlotsDouble[2];
+  template <class T>
+  HostSlot<T>* SlotsOf();
   /// Per sample of the last Solve: 1 where the kernels' pass without clearance found it.
   std::vector<unsigned char> ExactPass;
   /// Where the last Solve's time went.
@@ -323,6 +372,18 @@ struct OpenCLSolver::Impl
   void RayAs(const BRepModel& m, const SolverData& data, const std::vector<Sample>& samples,
     std::vector<double>& thickness, std::vector<int>* face);
 };
+
+template <>
+HostSlot<float>* OpenCLSolver::Impl::SlotsOf<float>()
+{
+  return SlotsFloat;
+}
+
+template <>
+HostSlot<double>* OpenCLSolver::Impl::SlotsOf<double>()
+{
+  return SlotsDouble;
+}
 
 OpenCLSolver::OpenCLSolver(const std::string& device, bool useDouble)
   : P(std::make_unique<Impl>())
@@ -562,39 +623,13 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
 
   // Two host slots: the queue runs in order, so one set of device buffers does, while the host
-  // staging of a chunk must outlive its transfers (until its last read completes).
-  struct Slot
-  {
-    std::vector<T> In, OutR;
-    std::vector<double> In64, OutR64;
-    std::vector<int> OutI, Faces, Redo;
-    cl_event Kernel[2] = { nullptr, nullptr };
-    cl_event Read = nullptr;
-    size_t First = 0, Count = 0;
-    void Release()
-    {
-      for (cl_event* e : { &Kernel[0], &Kernel[1], &Read })
-        if (*e)
-        {
-          clReleaseEvent(*e);
-          *e = nullptr;
-        }
-    }
-  } slots[2];
-  for (Slot& s : slots)
-  {
-    s.In.resize(chunk * SampleReals);
-    s.OutI.resize(chunk * OutInts);
-    s.Faces.resize(chunk);
-    if (finish)
-    {
-      s.In64.resize(chunk * SampleReals);
-      s.OutR64.resize(chunk * OutReals);
-      s.Redo.resize(chunk);
-    }
-    else
-      s.OutR.resize(chunk * OutReals);
-  }
+  // staging of a chunk must outlive its transfers (until its last read completes). Kept from
+  // call to call: fresh staging for a million samples (about 120 MiB) cost its page faults and
+  // zeroing on every solve.
+  using Slot = HostSlot<T>;
+  Slot* slots = SlotsOf<T>();
+  for (int k = 0; k < 2; ++k)
+    slots[k].Grow(chunk, finish);
   auto at = [&](size_t j) { return which ? (*which)[j] : j; };
 
   // Packs a slot's samples and queues their solve (and finish) and the read of the results.
@@ -701,9 +736,11 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
         collect(*pending);
         if (!goOn(*pending))
         {
-          // The chunk in flight is dropped: its samples stay failed.
+          // The chunk in flight is dropped: its samples and those after it are failed.
           Check(clFinish(q), "clFinish");
           s.Release();
+          for (size_t j = s.First; j < total; ++j)
+            results[at(j)] = SampleResult();
           return again;
         }
       }
@@ -716,8 +753,8 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   {
     // The device may still read or write the slots' staging: done before it goes.
     clFinish(q);
-    for (Slot& s : slots)
-      s.Release();
+    for (int k = 0; k < 2; ++k)
+      slots[k].Release();
     throw;
   }
   return again;
@@ -800,7 +837,13 @@ bool OpenCLSolver::Solve(const BRepModel& model, const SolverData& data,
   std::vector<SampleResult>& results, size_t chunk, const std::vector<size_t>* which,
   const std::function<bool(size_t)>& progress)
 {
-  results.assign(samples.size(), SampleResult());
+  // Every sample solved is unpacked over a fresh SampleResult, so a whole solve needs no reset
+  // first (zeroing a million results, 130 MiB, took a tenth of a GPU's solve); a subset, a
+  // stop and a model without walls do.
+  if (which || data.Nodes.empty())
+    results.assign(samples.size(), SampleResult());
+  else
+    results.resize(samples.size());
   P->ExactPass.assign(samples.size(), 0);
   P->Times = Phases();
   if (samples.empty() || (which && which->empty()))

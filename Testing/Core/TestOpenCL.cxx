@@ -363,7 +363,9 @@ TEST(OpenCLKernels, SubsetProgressAndStop)
         touched += some[i].Type != ContactType::Failed || some[i].Reason != FailReason::None;
     EXPECT_EQ(differ, 0u) << (useDouble ? "double" : "float");
     EXPECT_EQ(touched, 0u) << (useDouble ? "double" : "float");
-    // A stop after the first chunk.
+    // A stop after the first chunk, into results that hold a whole solve: the samples after the
+    // first chunk are failed again, not left as they were.
+    stopped = all;
     size_t asked = 0;
     EXPECT_FALSE(cl->Solve(m, data, options, samples, stopped, 4096, nullptr, [&](size_t) {
       ++asked;
