@@ -947,31 +947,29 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
   const double inf = std::numeric_limits<double>::infinity();
   using Box = std::array<double, 6>;
   std::vector<std::vector<Box>> boxOf(threads, std::vector<Box>(faces, Box{ inf, inf, inf, -inf, -inf, -inf }));
+  auto include = [](Box& into, const Box& b) {
+    for (int k = 0; k < 3; ++k)
+    {
+      into[k] = std::min(into[k], b[k]);
+      into[3 + k] = std::max(into[3 + k], b[3 + k]);
+    }
+  };
   // count[t][f]: the samples of face f in core t's range.
   std::vector<std::vector<size_t>> count(threads, std::vector<size_t>(faces, 0));
   each([&](unsigned t) {
     const auto [first, last] = range(t);
-    std::vector<Box>& box = boxOf[t];
     for (size_t j = first; j < last; ++j)
     {
       const size_t f = faceOf(j);
-      const Sample& s = samples[index(j)];
+      const auto& p = samples[index(j)].Point;
       ++count[t][f];
-      for (int k = 0; k < 3; ++k)
-      {
-        box[f][k] = std::min(box[f][k], s.Point[k]);
-        box[f][3 + k] = std::max(box[f][3 + k], s.Point[k]);
-      }
+      include(boxOf[t][f], Box{ p[0], p[1], p[2], p[0], p[1], p[2] });
     }
   });
   std::vector<Box>& box = boxOf[0];
   for (unsigned t = 1; t < threads; ++t)
     for (size_t f = 0; f < faces; ++f)
-      for (int k = 0; k < 3; ++k)
-      {
-        box[f][k] = std::min(box[f][k], boxOf[t][f][k]);
-        box[f][3 + k] = std::max(box[f][3 + k], boxOf[t][f][3 + k]);
-      }
+      include(box[f], boxOf[t][f]);
   // Where each core's samples of each face go (by face, then core: stable), and each face's run.
   std::vector<size_t> start(faces + 1, 0);
   {
