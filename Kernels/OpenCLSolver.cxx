@@ -607,6 +607,10 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
     const size_t parts = RT->IsGpu ? 4 : 16, least = RT->IsGpu ? 65536 : 16384;
     chunk = std::min(chunk, std::max(least, (total + parts - 1) / parts));
+    // Chunks of one size: 100,000 samples as two of 50,000, not 65,536 and a last one that
+    // fills a GPU a third.
+    const size_t count = (total + chunk - 1) / chunk;
+    chunk = (total + count - 1) / count;
   }
   chunk = std::min(chunk, total);
   cl_context ctx = RT->Context;
