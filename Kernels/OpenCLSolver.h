@@ -43,9 +43,10 @@ public:
   void Upload(const BRepModel& model, const SolverData& data);
 
   /// Solves `samples` (after Upload with the same model and data; without it, or with another
-  /// model or data, it uploads them first), `chunk` samples per launch (0: as many as fit in
-  /// 64 MiB of result and sample buffers; on a GPU at least four chunks from 262,144 samples on,
-  /// on a CPU device sixteen from 262,144 and chunks of 16,384 from 32,768). With
+  /// model or data, it uploads them first), `chunk` samples per launch (0: chunks of one size,
+  /// each within 64 MiB of result and sample buffers: on a GPU four from 262,144 samples on and
+  /// at least 65,536 each below, on a CPU device sixteen from 262,144 on and at least 16,384
+  /// each below). With
   /// `which`, only samples[which[j]] (the others' results stay as SampleResult() leaves them).
   /// `progress(done)`, where given, is called after each chunk with the samples solved so far
   /// (of which->size() or samples.size()); false stops the solve: Solve returns false, the

@@ -88,7 +88,7 @@ done
 mkdir -p "$out" || exit 1
 # Compressed dumps (export-dense) are unpacked to /tmp first (xz, else Python's lzma).
 if ls "$dumps"/*.brtsolve.xz > /dev/null 2>&1; then
-  mkdir -p /tmp/brt-dumps || exit 1
+  rm -rf /tmp/brt-dumps && mkdir -p /tmp/brt-dumps || exit 1
   for f in "$dumps"/*.brtsolve.xz; do
     to=/tmp/brt-dumps/$(basename "$f" .xz)
     if command -v xz > /dev/null; then
