@@ -91,8 +91,10 @@ inline int clamp(int x, int lo, int hi) { return std::min(std::max(x, lo), hi); 
 } // namespace kernel
 } // namespace brt
 
-#define make_real2(a, b) (::brt::kernel::real2{ (double)(a), (double)(b) })
-#define make_real3(a, b, c) (::brt::kernel::real3{ (double)(a), (double)(b), (double)(c) })
+// Unqualified: the kernel source's namespace says which real2 and real3 (brt::kernel's, or
+// KernelLanguageWide.h's brt::kernel_wide for the x86-64-v3 build).
+#define make_real2(a, b) (real2{ (double)(a), (double)(b) })
+#define make_real3(a, b, c) (real3{ (double)(a), (double)(b), (double)(c) })
 #define splat_real3(s) make_real3((s), (s), (s))
 #define splat_real2(s) make_real2((s), (s))
 #define REAL_MAX DBL_MAX
