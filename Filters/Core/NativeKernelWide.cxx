@@ -41,6 +41,15 @@ namespace kernel_v3
 {
 using namespace ::brt::kernel_wide;
 #include "thickness.cl"
+
+// ray_thickness from plain arrays: its real3 arguments (32-byte vectors) are made here, inside
+// the target pragma, rather than passed by value from the baseline code below.
+double ray_thickness_from(const Model* m, int ownFace, const double* Ohi, const double* Olo,
+  const double* d, real stepTol, int* hitFace)
+{
+  return ray_thickness(m, ownFace, make_real3(Ohi[0], Ohi[1], Ohi[2]),
+    make_real3(Olo[0], Olo[1], Olo[2]), make_real3(d[0], d[1], d[2]), stepTol, hitFace);
+}
 } // namespace kernel_v3
 } // namespace brt
 
@@ -83,9 +92,7 @@ double RayThicknessWide(const KernelModel<double>& K, const KernelScalars& s, in
   const double Ohi[3], const double Olo[3], const double d[3], int ownFace, int* hitFace)
 {
   const kernel_v3::Model m = KernelView<kernel_v3::Model>(K, s, patchCount);
-  using kernel_wide::real3;
-  return kernel_v3::ray_thickness(&m, ownFace, make_real3(Ohi[0], Ohi[1], Ohi[2]),
-    make_real3(Olo[0], Olo[1], Olo[2]), make_real3(d[0], d[1], d[2]), s.StepTol, hitFace);
+  return kernel_v3::ray_thickness_from(&m, ownFace, Ohi, Olo, d, s.StepTol, hitFace);
 }
 } // namespace brt
 
