@@ -3141,14 +3141,43 @@ real face_gauss_newton_step(const Model* m, int face, real3 Ohi, real3 Olo, real
   return fabs(du) + fabs(dv);
 }
 
+// The face across the edge of trimming segment seg (at its parameter param) tangent there to a
+// sphere of centre c (relative to O), within 1e-3 rad: the edge is a tangent edge where the sphere
+// touches it, so a foot in the trim's tolerance band of that edge is the contact of the faces
+// either side (a plate's face where its round begins). Next to a convex edge the face across meets
+// such a sphere at an angle, and the band does not count (docs/Solver.md, "Exact finish").
+int tangent_across(const Model* m, int face, int seg, real param, real3 Ohi, real3 Olo, real3 c)
+{
+  if (seg < 0)
+    return 0;
+  const int edge = m->trimEdge[seg];
+  if (edge < 0 || m->edgeInfo[4 * edge + 1] == 0)
+    return 0;
+  const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
+  const int other = f0 == face ? f1 : (f1 == face ? f0 : -1);
+  if (other < 0 || other == face)
+    return 0;
+  const real T = m->trimRange[2 * seg] + param * (m->trimRange[2 * seg + 1] - m->trimRange[2 * seg]);
+  real u, v;
+  if (!edge_point_on_face(m, other, edge, T, &u, &v))
+    return 0;
+  real3 C, Ct, Ctt;
+  eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+  const PatchEval e = eval_patch(m, find_patch(m, other, u, v), u, v);
+  const real3 n = cross(e.Du, e.Dv), q = C - c;
+  const real ln = length(n), lq = length(q);
+  return ln > (real)0 && lq > (real)0 && length(cross(n, q)) <= (real)1e-3 * ln * lq;
+}
+
 // `foot` (relative to O) projected onto `face`'s patches from (u, v): Gauss-Newton on
-// |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim (with
-// `band`, within its tolerance band of an edge too), with its (u, v) and patch. Where the trim
-// test is known to put every point within insideRadius of insideUV (in UV) on the face, a point
-// reached within that disk needs no test of its own (the disk holds no trimming curve);
-// insideRadius 0: no such disk.
+// |S(u, v) - foot|^2. 1 when it reaches the foot (within the slack) inside the face's trim, with
+// its (u, v) and patch. Within the trim's tolerance band of an edge too: with band 1 anywhere,
+// with band 2 where the face across is tangent there to the sphere of centre `centre` (relative
+// to O; tangent_across); band 0, strictly inside only. Where the trim test is known to put every
+// point within insideRadius of insideUV (in UV) on the face, a point reached within that disk
+// needs no test of its own (the disk holds no trimming curve); insideRadius 0: no such disk.
 BRT_SPLIT int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band,
-  real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut)
+  real3 centre, real2 insideUV, real insideRadius, real* uio, real* vio, int* patchOut)
 {
   real u = *uio, v = *vio;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -3171,7 +3200,8 @@ BRT_SPLIT int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Ol
     int seg;
     real param, trimDist;
     const int inside = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
-    if (!inside && !(band && trimDist <= fd[6]))
+    if (!inside && !(band && trimDist <= fd[6] &&
+                     (band == 1 || tangent_across(m, face, seg, param, Ohi, Olo, centre))))
       return 0;
   }
   *uio = u;
@@ -3184,8 +3214,8 @@ BRT_SPLIT int project_on_face_near(const Model* m, int face, real3 Ohi, real3 Ol
 int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, int band, real* uio,
   real* vio, int* patchOut)
 {
-  return project_on_face_near(m, face, Ohi, Olo, foot, band, splat_real2(0), (real)0, uio, vio,
-    patchOut);
+  return project_on_face_near(m, face, Ohi, Olo, foot, band, splat_real3(0), splat_real2(0),
+    (real)0, uio, vio, patchOut);
 }
 
 // The sphere tangent at O of a surface/surface contact on an analytic face (or a surface/edge
@@ -3310,7 +3340,9 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
     length(moved) <= (real)0.005 * m->slack && r->trimSeg != -2 && r->trimUV.x == u &&
     r->trimUV.y == v)
   {
-    if (!r->trimInside)
+    if (!r->trimInside &&
+      !(r->trimDist <= m->faceDomain[FACE_REALS * face + 6] &&
+        tangent_across(m, face, r->trimSeg, r->trimParam, Ohi, Olo, t * d)))
       return;
     patch = find_patch(m, face, u, v);
   }
@@ -3321,7 +3353,7 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
     const int known = r->type == CONTACT_SURFACE_SURFACE && r->trimSeg != -2 && r->trimInside &&
       r->trimUV.x == u && r->trimUV.y == v;
     if (!project_on_face_near(m, face, Ohi, Olo, foot,
-          r->type == CONTACT_SURFACE_EDGE || selfContact, make_real2(u, v),
+          r->type == CONTACT_SURFACE_EDGE || selfContact ? 1 : 2, t * d, make_real2(u, v),
           known ? (real)0.999 * r->trimDist : (real)0, &u, &v, &patch))
       return;
   }
