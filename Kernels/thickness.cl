@@ -4091,6 +4091,61 @@ BRT_SPLIT int wall_partner_start(const Model* m, int ownFace, real3 Ohi, real3 O
   return 0;
 }
 
+// Refines a contact found in lower precision: the same contact's Newton from
+// its foot (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then
+// the local part of the second look, and keeps the result where the Newton converged within rho
+// of the old foot. r carries the foot relative to O and the foot's parameters; m->delta is the
+// clearance of the pass that found it. 1 where r was replaced.
+BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
+  real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
+  Result* r)
+{
+  if (r->type == CONTACT_FAILED || r->type == CONTACT_OTHER_SOLID)
+    return 0;
+  const real reported = sphere_radius(d, r->foot, (real)0);
+  const real tDelta = sphere_radius(d, r->foot, m->delta);
+  Result c = no_result();
+  if (r->type == CONTACT_SURFACE_SURFACE &&
+    shallow_own_face_contact(m, ownFace, r->face, r->foot, d, reported))
+  {
+    // Only the descent finds such a contact (an osculating sphere next to O, on a concave
+    // round): Newton from it goes to the trivial solution P = O. Descend again.
+    c = descend(m, ownFace, r->face, Ohi, Olo, d, r->param.x, r->param.y, scale, newtonTol,
+      maxIterations, maxEdgeIterations, iterations);
+  }
+  else if (r->type == CONTACT_SURFACE_SURFACE)
+  {
+    const SurfaceSolve ss = surface_newton(m, r->face, Ohi, Olo, d, r->param.x, r->param.y,
+      tDelta > (real)0 && tDelta < REAL_MAX ? tDelta : reported, scale, stepTol, newtonTol,
+      maxIterations, iterations);
+    if (valid_surface_solve(m, ownFace, r->face, &ss, d, scale, newtonTol))
+      c = surface_result(r->face, &ss);
+  }
+  else if (r->edge >= 0)
+  {
+    // A vertex: the edge's end exactly (a float T is the end rounded).
+    real T = r->param.x;
+    if (r->type == CONTACT_SURFACE_VERTEX)
+    {
+      const real T0 = m->edgeRange[4 * r->edge], T1 = m->edgeRange[4 * r->edge + 1];
+      T = fabs(T - T1) < fabs(T - T0) ? T1 : T0;
+    }
+    const EdgeMinimum em =
+      minimise_on_edge(m, r->edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
+    c = edge_contact(m, ownFace, r->face, r->edge, &em, d, newtonTol);
+  }
+  if (c.type == CONTACT_FAILED)
+    return 0;
+  const real rho = fmax((real)1e-2 * reported, (real)10 * m->slack);
+  const real3 moved = c.foot - r->foot;
+  if (dot(moved, moved) > rho * rho)
+    return 0;
+  second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+    maxEdgeIterations, iterations, &c);
+  *r = c;
+  return 1;
+}
+
 // One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
@@ -4296,7 +4351,22 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       // deepest point of the faces instead (the shrinking ball), then check s1 once more.
       if (settle_not_maximal(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, Ohi, Olo,
             d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations, &r))
+      {
+        // The shrinking ball stops where no point lies deeper than the certification's depth:
+        // where the sphere meets the surface at a grazing angle (an edge or face next to O, as
+        // on a thread's flank), that leaves it larger than the tangent one by up to that depth
+        // over 1 - cos of the angle at the centre between O and the point. Its contact's own
+        // Newton from the ball's foot (polish_result: eq. 4 on its face, or the minimum of
+        // eq. 1 along its edge) makes it tangent; kept where it shrinks the sphere, which then
+        // lies inside the one certified.
+        Result p = r;
+        if (polish_result(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
+              maxEdgeIterations, iterations, &p) &&
+          p.type != CONTACT_FAILED &&
+          sphere_radius(d, p.foot, (real)0) < sphere_radius(d, r.foot, (real)0))
+          r = p;
         break;
+      }
       r.type = CONTACT_FAILED;
       r.reason = FAIL_NOT_MAXIMAL;
       r.patch = -1;
@@ -4306,61 +4376,6 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
     r = again;
   }
   return r;
-}
-
-// Refines a contact found in lower precision: the same contact's Newton from
-// its foot (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then
-// the local part of the second look, and keeps the result where the Newton converged within rho
-// of the old foot. r carries the foot relative to O and the foot's parameters; m->delta is the
-// clearance of the pass that found it. 1 where r was replaced.
-BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
-  real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
-  Result* r)
-{
-  if (r->type == CONTACT_FAILED || r->type == CONTACT_OTHER_SOLID)
-    return 0;
-  const real reported = sphere_radius(d, r->foot, (real)0);
-  const real tDelta = sphere_radius(d, r->foot, m->delta);
-  Result c = no_result();
-  if (r->type == CONTACT_SURFACE_SURFACE &&
-    shallow_own_face_contact(m, ownFace, r->face, r->foot, d, reported))
-  {
-    // Only the descent finds such a contact (an osculating sphere next to O, on a concave
-    // round): Newton from it goes to the trivial solution P = O. Descend again.
-    c = descend(m, ownFace, r->face, Ohi, Olo, d, r->param.x, r->param.y, scale, newtonTol,
-      maxIterations, maxEdgeIterations, iterations);
-  }
-  else if (r->type == CONTACT_SURFACE_SURFACE)
-  {
-    const SurfaceSolve ss = surface_newton(m, r->face, Ohi, Olo, d, r->param.x, r->param.y,
-      tDelta > (real)0 && tDelta < REAL_MAX ? tDelta : reported, scale, stepTol, newtonTol,
-      maxIterations, iterations);
-    if (valid_surface_solve(m, ownFace, r->face, &ss, d, scale, newtonTol))
-      c = surface_result(r->face, &ss);
-  }
-  else if (r->edge >= 0)
-  {
-    // A vertex: the edge's end exactly (a float T is the end rounded).
-    real T = r->param.x;
-    if (r->type == CONTACT_SURFACE_VERTEX)
-    {
-      const real T0 = m->edgeRange[4 * r->edge], T1 = m->edgeRange[4 * r->edge + 1];
-      T = fabs(T - T1) < fabs(T - T0) ? T1 : T0;
-    }
-    const EdgeMinimum em =
-      minimise_on_edge(m, r->edge, T, Ohi, Olo, d, scale, maxEdgeIterations, iterations);
-    c = edge_contact(m, ownFace, r->face, r->edge, &em, d, newtonTol);
-  }
-  if (c.type == CONTACT_FAILED)
-    return 0;
-  const real rho = fmax((real)1e-2 * reported, (real)10 * m->slack);
-  const real3 moved = c.foot - r->foot;
-  if (dot(moved, moved) > rho * rho)
-    return 0;
-  second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
-    maxEdgeIterations, iterations, &c);
-  *r = c;
-  return 1;
 }
 
 // One result in the output layout (OUT_REALS, OUT_INTS): the reported radius is eq. 1's t(P) at
