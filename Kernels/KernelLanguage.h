@@ -46,10 +46,6 @@ inline real2 operator-(real2 a) { return { -a.x, -a.y }; }
 inline real2 operator*(double s, real2 a) { return { s * a.x, s * a.y }; }
 inline real2 operator*(real2 a, double s) { return { a.x * s, a.y * s }; }
 inline real2 operator/(real2 a, double s) { return { a.x / s, a.y / s }; }
-inline real2& operator+=(real2& a, real2 b) { a = a + b; return a; }
-inline real2& operator-=(real2& a, real2 b) { a = a - b; return a; }
-inline real2& operator*=(real2& a, double s) { a = a * s; return a; }
-inline real2& operator/=(real2& a, double s) { a = a / s; return a; }
 
 inline real3 operator+(real3 a, real3 b) { return { a.x + b.x, a.y + b.y, a.z + b.z }; }
 inline real3 operator-(real3 a, real3 b) { return { a.x - b.x, a.y - b.y, a.z - b.z }; }
@@ -57,20 +53,10 @@ inline real3 operator-(real3 a) { return { -a.x, -a.y, -a.z }; }
 inline real3 operator*(double s, real3 a) { return { s * a.x, s * a.y, s * a.z }; }
 inline real3 operator*(real3 a, double s) { return { a.x * s, a.y * s, a.z * s }; }
 inline real3 operator/(real3 a, double s) { return { a.x / s, a.y / s, a.z / s }; }
-inline real3& operator+=(real3& a, real3 b) { a = a + b; return a; }
-inline real3& operator-=(real3& a, real3 b) { a = a - b; return a; }
-inline real3& operator*=(real3& a, double s) { a = a * s; return a; }
-inline real3& operator/=(real3& a, double s) { a = a / s; return a; }
 
 inline double dot(real2 a, real2 b) { return a.x * b.x + a.y * b.y; }
 inline double dot(real3 a, real3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline real3 cross(real3 a, real3 b)
-{
-  return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
-}
-inline double length(real2 a) { return std::sqrt(dot(a, a)); }
-inline double length(real3 a) { return std::sqrt(dot(a, a)); }
-inline real3 normalize(real3 a) { return a / length(a); }
+#include "KernelLanguageVectorOps.inc"
 
 using std::fabs;
 using std::floor;

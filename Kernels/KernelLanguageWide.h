@@ -84,28 +84,18 @@ struct real3
 #pragma clang diagnostic pop
 #endif
 
-inline real2 operator+(real2 a, real2 b) { return real2(a.v + b.v); }
-inline real2 operator-(real2 a, real2 b) { return real2(a.v - b.v); }
-inline real2 operator-(real2 a) { return real2(-a.v); }
-inline real2 operator*(double s, real2 a) { return real2(s * a.v); }
-inline real2 operator*(real2 a, double s) { return real2(a.v * s); }
-inline real2 operator/(real2 a, double s) { return real2(a.v / s); }
-inline real2& operator+=(real2& a, real2 b) { return a = a + b; }
-inline real2& operator-=(real2& a, real2 b) { return a = a - b; }
-inline real2& operator*=(real2& a, double s) { return a = a * s; }
-inline real2& operator/=(real2& a, double s) { return a = a / s; }
-
-// The fourth lane: 0 + 0, 0 * s, 0 / s (s is never 0 where the kernel divides a vector).
-inline real3 operator+(real3 a, real3 b) { return real3(a.v + b.v); }
-inline real3 operator-(real3 a, real3 b) { return real3(a.v - b.v); }
-inline real3 operator-(real3 a) { return real3(-a.v); }
-inline real3 operator*(double s, real3 a) { return real3(s * a.v); }
-inline real3 operator*(real3 a, double s) { return real3(a.v * s); }
-inline real3 operator/(real3 a, double s) { return real3(a.v / s); }
-inline real3& operator+=(real3& a, real3 b) { return a = a + b; }
-inline real3& operator-=(real3& a, real3 b) { return a = a - b; }
-inline real3& operator*=(real3& a, double s) { return a = a * s; }
-inline real3& operator/=(real3& a, double s) { return a = a / s; }
+// Lane by lane; the fourth lane of a real3: 0 + 0, 0 * s, 0 / s (s is never 0 where the kernel
+// divides a vector).
+#define BRT_LANE_OPERATORS(T)                                                                    \
+  inline T operator+(T a, T b) { return T(a.v + b.v); }                                         \
+  inline T operator-(T a, T b) { return T(a.v - b.v); }                                         \
+  inline T operator-(T a) { return T(-a.v); }                                                   \
+  inline T operator*(double s, T a) { return T(s * a.v); }                                      \
+  inline T operator*(T a, double s) { return T(a.v * s); }                                      \
+  inline T operator/(T a, double s) { return T(a.v / s); }
+BRT_LANE_OPERATORS(real2)
+BRT_LANE_OPERATORS(real3)
+#undef BRT_LANE_OPERATORS
 
 inline double dot(real2 a, real2 b)
 {
@@ -117,13 +107,7 @@ inline double dot(real3 a, real3 b)
   const real4v p = a.v * b.v;
   return p[0] + p[1] + p[2];
 }
-inline real3 cross(real3 a, real3 b)
-{
-  return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
-}
-inline double length(real2 a) { return std::sqrt(dot(a, a)); }
-inline double length(real3 a) { return std::sqrt(dot(a, a)); }
-inline real3 normalize(real3 a) { return a / length(a); }
+#include "KernelLanguageVectorOps.inc"
 
 using std::fabs;
 using std::floor;

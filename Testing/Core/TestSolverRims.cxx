@@ -81,6 +81,25 @@ double ExactRadius(const TopoDS_Shape& faces, const Sample& s, double hi, double
   return 0.5 * (lo + hi);
 }
 
+/// The solver's definition of the radius at sample o, as brt_exact_check computes it: the
+/// clearance's sphere by bisection (ExactRadius, searched up to twice the solver's `radius`), then
+/// eq. 1's radius through the exact point nearest to its centre. -1 where OpenCASCADE finds no
+/// such point, or it lies behind O's tangent plane.
+double ExactSphereRadius(const TopoDS_Shape& faces, const Sample& o, double radius, double tolerance)
+{
+  const double lo = ExactRadius(faces, o, 2.0 * radius + 10.0 * tolerance, tolerance);
+  BRepExtrema_DistShapeShape nearest(BRepBuilderAPI_MakeVertex(gp_Pnt(o.Point[0] +
+                                       lo * o.Direction[0], o.Point[1] + lo * o.Direction[1],
+                                       o.Point[2] + lo * o.Direction[2])).Vertex(),
+    faces, Extrema_ExtFlag_MIN);
+  if (!nearest.IsDone() || nearest.NbSolution() == 0)
+    return -1.0;
+  const gp_Pnt P = nearest.PointOnShape2(1);
+  const double w[3] = { P.X() - o.Point[0], P.Y() - o.Point[1], P.Z() - o.Point[2] };
+  const double h = w[0] * o.Direction[0] + w[1] * o.Direction[1] + w[2] * o.Direction[2];
+  return h > 0.0 ? 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / h : -1.0;
+}
+
 void CheckRims(const char* name, const TopoDS_Shape& shape, double h)
 {
   // Tight conversion so that the patches do not limit the comparison.
@@ -275,6 +294,27 @@ std::vector<SampleResult> SolveAt(const Part& part, const std::vector<Numbered>&
   return res;
 }
 
+/// The samples solved, each sphere empty within the allowance (the clearance twice and the
+/// patches' accuracy) and its radius within 1e-3 relative of ExactSphereRadius.
+void ExpectExactSpheres(const char* tag, const Part& part, const std::vector<Numbered>& numbered)
+{
+  std::vector<Sample> samples;
+  std::vector<size_t> ids;
+  const std::vector<SampleResult> res = SolveAt(part, numbered, samples, ids);
+  const double tolerance = part.Model.Tolerance;
+  for (size_t k = 0; k < samples.size(); ++k)
+  {
+    ASSERT_NE(res[k].Type, ContactType::Failed) << ids[k] << ": " << FailReasonName(res[k].Reason);
+    const double overlap = res[k].Radius - BoundaryDistance(part.Faces, res[k].Center);
+    const double exact = ExactSphereRadius(part.Faces, samples[k], res[k].Radius, tolerance);
+    ASSERT_GT(exact, 0.0) << ids[k];
+    std::printf("[%s] sample %zu: 2t = %.6g, %.3g into the exact faces; exact 2t = %.6g\n", tag,
+      ids[k], res[k].Thickness, overlap, 2.0 * exact);
+    EXPECT_LE(overlap, 3.0 * tolerance) << ids[k];
+    EXPECT_NEAR(res[k].Radius, exact, 1e-3 * exact) << ids[k];
+  }
+}
+
 /// Two samples of the FRAMEWORK tile whose spheres (2t = 0.726 and 1.221) cut 0.009 and 0.011 mm
 /// into a convex corner of the part over less than one s1 spacing, between the patch grid's
 /// points, so the verification passed them (the exact spheres are 2t = 0.596 and 1.210, touching
@@ -356,7 +396,6 @@ TEST(SolverExact, ShrinkingBallWhereNothingConverges)
 TEST(SolverExact, EdgeCurveOffItsFace)
 {
   const Part card = LoadPart("ExpansionCard_SelfTapping.stp");
-  const BRepModel& m = card.Model;
   // Samples of the ExpansionCard's display mesh of 92,898 vertices.
   const std::vector<Numbered> numbered{
     { 53951, 87, 0.31892324133254041, 0.00082550641506325194, { -13.17895080172933, 3.99787925313673, -31.124407705050608 }, { 0.90755255711053162, 0.043238217083936117, 0.41770661075153881 } },
@@ -375,34 +414,7 @@ TEST(SolverExact, EdgeCurveOffItsFace)
     { 57676, 150, 0.45986002576181395, 0.00081826846958995604, { 13.419637003090205, 4.2226123340192876, -31.079756950124125 }, { -0.13475643468667542, 0.95334758304407974, 0.27012791269053821 } },
     { 57677, 150, 0.57937970161415364, 0.00081778563159986986, { 13.430049826734857, 4.2159167901233978, -31.040047474152065 }, { -0.16957898854661471, 0.97614029827871074, 0.13562110720627837 } }
   };
-  std::vector<Sample> samples;
-  std::vector<size_t> ids;
-  const std::vector<SampleResult> res = SolveAt(card, numbered, samples, ids);
-  const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
-  for (size_t k = 0; k < samples.size(); ++k)
-  {
-    ASSERT_NE(res[k].Type, ContactType::Failed) << ids[k] << ": " << FailReasonName(res[k].Reason);
-    const double overlap = res[k].Radius - BoundaryDistance(card.Faces, res[k].Center);
-    // The solver's definition, as brt_exact_check computes it: the clearance's sphere, then
-    // eq. 1's radius through the exact point nearest to its centre.
-    const Sample& o = samples[k];
-    const double lo =
-      ExactRadius(card.Faces, o, 2.0 * res[k].Radius + 10.0 * m.Tolerance, m.Tolerance);
-    BRepExtrema_DistShapeShape nearest(BRepBuilderAPI_MakeVertex(gp_Pnt(o.Point[0] +
-                                         lo * o.Direction[0], o.Point[1] + lo * o.Direction[1],
-                                         o.Point[2] + lo * o.Direction[2])).Vertex(),
-      card.Faces, Extrema_ExtFlag_MIN);
-    ASSERT_TRUE(nearest.IsDone() && nearest.NbSolution() > 0) << ids[k];
-    const gp_Pnt P = nearest.PointOnShape2(1);
-    const double w[3] = { P.X() - o.Point[0], P.Y() - o.Point[1], P.Z() - o.Point[2] };
-    const double h = w[0] * o.Direction[0] + w[1] * o.Direction[1] + w[2] * o.Direction[2];
-    ASSERT_GT(h, 0.0) << ids[k];
-    const double exact = 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / h;
-    std::printf("[edge curve] sample %zu: 2t = %.6g, %.3g into the exact faces; exact 2t = %.6g\n",
-      ids[k], res[k].Thickness, overlap, 2.0 * exact);
-    EXPECT_LE(overlap, allowed) << ids[k];
-    EXPECT_NEAR(res[k].Radius, exact, 1e-3 * exact) << ids[k];
-  }
+  ExpectExactSpheres("edge curve", card, numbered);
 }
 
 /// The moulded cover (Data/unseen/; traced in the seventh session, so no longer unseen): its long
@@ -757,39 +769,11 @@ TEST(SolverExact, TangentEdgeFootOnTheExactSurface)
 TEST(SolverExact, SettledSphereMadeTangent)
 {
   const Part cover = LoadPart("unseen/FRAMEWORK_DESKTOP_TOP_COVER_V0.stp");
-  const BRepModel& m = cover.Model;
   // Samples of the cover's display mesh of 67,208 vertices.
   const std::vector<Numbered> numbered{
     { 11048, { 8, 1.029462478462787, 0.99999657490955374, { -2.8003418964792042, 96.800000962171183, 200.09999031420244 }, { 0.0029205360283572498, -0.98817531898457911, -0.15330038949406594 } } },
     { 56775, { 487, 0.82825168685747219, 0.0056755526939071075, { -0.56516927496116598, 94.901113131671892, 0.069265517093226897 }, { -0.28117641197343657, 0.00090536266631182217, 0.9596556703673389 } } },
     { 59415, { 490, 0.82791068990983629, 0.00017082216476714491, { -0.56473647452575537, 0.069394922499504408, 1.4989206886684336 }, { -0.28150416407102691, 0.95955929902742876, 0.0011650153055306712 } } }
   };
-  std::vector<Sample> samples;
-  std::vector<size_t> ids;
-  const std::vector<SampleResult> res = SolveAt(cover, numbered, samples, ids);
-  const double allowed = 3.0 * m.Tolerance; // clearance (2x) + patches (1x)
-  for (size_t k = 0; k < samples.size(); ++k)
-  {
-    ASSERT_NE(res[k].Type, ContactType::Failed) << ids[k] << ": " << FailReasonName(res[k].Reason);
-    const double overlap = res[k].Radius - BoundaryDistance(cover.Faces, res[k].Center);
-    // The clearance's sphere by bisection, then eq. 1's radius through the exact point nearest to
-    // its centre (as in EdgeCurveOffItsFace).
-    const Sample& o = samples[k];
-    const double lo =
-      ExactRadius(cover.Faces, o, 2.0 * res[k].Radius + 10.0 * m.Tolerance, m.Tolerance);
-    BRepExtrema_DistShapeShape nearest(BRepBuilderAPI_MakeVertex(gp_Pnt(o.Point[0] +
-                                         lo * o.Direction[0], o.Point[1] + lo * o.Direction[1],
-                                         o.Point[2] + lo * o.Direction[2])).Vertex(),
-      cover.Faces, Extrema_ExtFlag_MIN);
-    ASSERT_TRUE(nearest.IsDone() && nearest.NbSolution() > 0) << ids[k];
-    const gp_Pnt P = nearest.PointOnShape2(1);
-    const double w[3] = { P.X() - o.Point[0], P.Y() - o.Point[1], P.Z() - o.Point[2] };
-    const double h = w[0] * o.Direction[0] + w[1] * o.Direction[1] + w[2] * o.Direction[2];
-    ASSERT_GT(h, 0.0) << ids[k];
-    const double exact = 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / h;
-    std::printf("[settled] sample %zu: 2t = %.6g, %.3g into the exact faces; exact 2t = %.6g\n",
-      ids[k], res[k].Thickness, overlap, 2.0 * exact);
-    EXPECT_LE(overlap, allowed) << ids[k];
-    EXPECT_NEAR(res[k].Radius, exact, 1e-3 * exact) << ids[k];
-  }
+  ExpectExactSpheres("settled", cover, numbered);
 }
