@@ -3224,7 +3224,8 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
 // point of the exact surface to the centre. Kept only where the sphere is more than twice the
 // patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
 // sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
-// (5% of t along a seam) and stays strictly inside the face's trim; else r is left as it is. A
+// (5% of t along a seam) and stays inside the face's trim (in its tolerance band only at a tangent
+// edge, tangent_across); else r is left as it is. A
 // sphere touching O's own cylinder, sphere or torus across takes self_contact_radius's closed
 // form instead of the Newton.
 BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
@@ -3311,11 +3312,11 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
   // patches' error e (up to half the slack) moves the foot by up to about sqrt(4 e t), far more
   // than e on a small sphere; and one found on a seam slides along the smooth surface. Up to 5%
   // of t, or twice sqrt(slack t), or twice the slack, it is the same contact: the new foot must
-  // still lie strictly inside the face's trim (below), and a sphere that shrinks lies inside the
-  // one certified. A sphere that shrinks by more than the slack is no longer the patches'
-  // contact made exact: next to a convex edge, where the face across meets the sphere at a
-  // grazing angle, the clearance's sphere (which may hold that face up to the clearance deep,
-  // step 0) is much larger than the strict one, and the clearance's stays.
+  // still lie inside the face's trim (below; in its band at a tangent edge), and a sphere that
+  // shrinks lies inside the one certified. A sphere that shrinks by more than the slack is no
+  // longer the patches' contact made exact: next to a convex edge, where the face across meets
+  // the sphere at a grazing angle, the clearance's sphere (which may hold that face up to the
+  // clearance deep, step 0) is much larger than the strict one, and the clearance's stays.
   const real reach =
     fmax(fmax((real)2 * m->slack, (real)0.05 * t), (real)2 * sqrt(m->slack * t));
   const real tPatches = sphere_radius(d, r->foot, (real)0);
@@ -3330,7 +3331,8 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
     return;
   int patch;
   // Strictly inside for a face contact: a foot within the trim's tolerance band of an edge, where
-  // the sphere may touch the edge rather than the surface, keeps the patches' contact. A seam's or
+  // the sphere may touch the edge rather than the surface, keeps the patches' contact, unless the
+  // face across that edge is tangent to the sphere there (tangent_across). A seam's or
   // split line's foot lies on the same surface either side: the band counts, as it does for a
   // sphere touching its own closed surface across (its foot may fall on the surface's seam).
   // A face contact whose foot moves by less than half a hundredth of the slack (a plane's: its
@@ -4362,7 +4364,6 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
         Result p = r;
         if (polish_result(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
               maxEdgeIterations, iterations, &p) &&
-          p.type != CONTACT_FAILED &&
           sphere_radius(d, p.foot, (real)0) < sphere_radius(d, r.foot, (real)0))
           r = p;
         break;

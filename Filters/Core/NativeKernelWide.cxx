@@ -11,10 +11,10 @@
 // are included before the target pragma, so their out-of-line copies are baseline ones too; the
 // functions after it may inline them. The kernel source here takes its vector types from
 // KernelLanguageWide.h (brt::kernel_wide: real2 and real3 as two- and four-lane vectors, one AVX
-// instruction per operation; 10-13% faster on the Data/ parts than KernelLanguage.h's plain
+// instruction per operation; 9-14% faster on the Data/ parts than KernelLanguage.h's plain
 // structs, which the baseline build keeps, thirty-second session). That header is included after
 // the pragma: compiled for the baseline, its 32-byte operations were split into SSE halves before
-// they were inlined here (the solve 15% slower than with the plain structs). Its names are this
+// they were inlined here (the solve 16% slower than with the plain structs). Its names are this
 // file's alone, so no other object holds a copy of them. FMA is left out of the target, and the
 // file is compiled with -ffp-contract=off as well (Filters/Core/CMakeLists.txt): a fused
 // a * b + c would round differently.
