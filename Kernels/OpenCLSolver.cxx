@@ -240,6 +240,7 @@ struct HostSlot
   std::vector<T> In, OutR;
   std::vector<double> In64, OutR64;
   std::vector<int> OutI, Faces, Redo;
+  std::vector<cl_int> Chains; ///< its chains' first samples (from First), then Count
   cl_event Kernel[2] = { nullptr, nullptr };
   cl_event Read = nullptr;
   size_t First = 0, Count = 0;
@@ -337,7 +338,7 @@ struct OpenCLSolver::Impl
   const SolverData* UploadedData = nullptr;
   /// The float kernels' finish on the host, where the device has no double precision.
   std::unique_ptr<NativeSolver> Native;
-  Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo;
+  Buffer Samples[2], SampleFace, OutReal[2], OutInt[2], Redo, ChainFirst;
   /// The host staging of SolveAs, per precision.
   HostSlot<float> SlotsFloat[2];
   HostSlot<double> SlotsDouble[2];
@@ -464,7 +465,7 @@ const OpenCLSolver::Phases& OpenCLSolver::LastPhases() const
 
 size_t OpenCLSolver::DeviceBytes() const
 {
-  size_t n = P->SampleFace.Bytes + P->Redo.Bytes;
+  size_t n = P->SampleFace.Bytes + P->Redo.Bytes + P->ChainFirst.Bytes;
   for (int k = 0; k < 2; ++k)
   {
     n += P->Samples[k].Bytes + P->OutReal[k].Bytes + P->OutInt[k].Bytes;
@@ -613,9 +614,23 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     chunk = (total + count - 1) / count;
   }
   chunk = std::min(chunk, total);
+  const KernelScalars ks = GetKernelScalars<T>(model, data, options);
+  const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
+  // The chains (solve_chain, ChainStarts: the native device's): a chunk holds whole ones (a
+  // chain is at most KernelMaxChain samples, a chunk at least 1024 or all).
+  std::vector<size_t> indices;
+  if (!which)
+  {
+    indices.resize(total);
+    for (size_t j = 0; j < total; ++j)
+      indices[j] = j;
+  }
+  const std::vector<size_t> starts = ChainStarts(samples, which ? *which : indices,
+    std::min(std::max(options.Chain, 1), KernelMaxChain));
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
   AllocateChunk<T>(chunk);
+  ChainFirst.Allocate(ctx, (chunk + 1) * sizeof(cl_int), CL_MEM_READ_ONLY);
   if (finish)
   {
     Samples[1].Allocate(ctx, chunk * SampleReals * sizeof(double), CL_MEM_READ_ONLY);
@@ -623,8 +638,6 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     OutInt[1].Allocate(ctx, chunk * OutInts * sizeof(int), CL_MEM_WRITE_ONLY);
     Redo.Allocate(ctx, chunk * sizeof(int), CL_MEM_WRITE_ONLY);
   }
-  const KernelScalars ks = GetKernelScalars<T>(model, data, options);
-  const KernelScalars ks64 = GetKernelScalars<double>(model, data, options);
 
   // Two host slots: the queue runs in order, so one set of device buffers does, while the host
   // staging of a chunk must outlive its transfers (until its last read completes). Kept from
@@ -647,12 +660,20 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
           PackSample(data, samples[at(first + i)], &s.In64[SampleReals * i]);
       });
     Times.Host += Since(t0);
+    // One work-item per chain; the finish, one per sample.
+    const cl_int chains = static_cast<cl_int>(s.Chains.size() - 1);
+    Check(clEnqueueWriteBuffer(q, ChainFirst.Mem, CL_FALSE, 0, s.Chains.size() * sizeof(cl_int),
+            s.Chains.data(), 0, nullptr, nullptr),
+      "clEnqueueWriteBuffer");
     const size_t local = 64;
-    const size_t global = (n + local - 1) / local * local;
+    const size_t global = (static_cast<size_t>(chains) + local - 1) / local * local;
+    const size_t globalFinish = (n + local - 1) / local * local;
     cl_kernel k = RT->Solve[set];
     SetArgs(k, set, Samples[set], static_cast<int>(n), ks, sizeof(T) == 8);
     Check(clSetKernelArg(k, OutArg, sizeof(cl_mem), &OutReal[set].Mem), "clSetKernelArg");
     Check(clSetKernelArg(k, OutArg + 1, sizeof(cl_mem), &OutInt[set].Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg + 2, sizeof(cl_mem), &ChainFirst.Mem), "clSetKernelArg");
+    Check(clSetKernelArg(k, OutArg + 3, sizeof(cl_int), &chains), "clSetKernelArg");
     Check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, &s.Kernel[0]),
       "clEnqueueNDRangeKernel");
     if (finish)
@@ -666,7 +687,7 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
       Check(clSetKernelArg(f, OutArg + 2, sizeof(cl_mem), &OutReal[1].Mem), "clSetKernelArg");
       Check(clSetKernelArg(f, OutArg + 3, sizeof(cl_mem), &OutInt[1].Mem), "clSetKernelArg");
       Check(clSetKernelArg(f, OutArg + 4, sizeof(cl_mem), &Redo.Mem), "clSetKernelArg");
-      Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &global, &local, 0, nullptr, &s.Kernel[1]),
+      Check(clEnqueueNDRangeKernel(q, f, 1, nullptr, &globalFinish, &local, 0, nullptr, &s.Kernel[1]),
         "clEnqueueNDRangeKernel");
       Check(clEnqueueReadBuffer(q, OutReal[1].Mem, CL_FALSE, 0, n * OutReals * sizeof(double), s.OutR64.data(), 0, nullptr, nullptr),
         "clEnqueueReadBuffer");
@@ -729,11 +750,19 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   };
   try
   {
-    for (size_t first = 0, c = 0; first < total; first += chunk, ++c)
+    for (size_t ci = 0, c = 0; ci + 1 < starts.size(); ++c)
     {
+      // Whole chains, up to `chunk` samples.
+      size_t cj = ci + 1;
+      while (cj + 1 < starts.size() && starts[cj + 1] - starts[ci] <= chunk)
+        ++cj;
       Slot& s = slots[c % 2];
-      s.First = first;
-      s.Count = std::min(chunk, total - first);
+      s.First = starts[ci];
+      s.Count = starts[cj] - starts[ci];
+      s.Chains.clear();
+      for (size_t k = ci; k <= cj; ++k)
+        s.Chains.push_back(static_cast<cl_int>(starts[k] - s.First));
+      ci = cj;
       launch(s);
       if (pending)
       {

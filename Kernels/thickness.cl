@@ -4151,11 +4151,41 @@ BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
 // One sample at the clearance m->delta: initialisation (eq. 1),
 // steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
 // more than delta inside it restarts the solve there, at most 3 times.
+// The start a chain's previous sample hands on (solve_chain): the face of its contact across and
+// the contact's (u, v) there; face -1: none.
+typedef struct
+{
+  int face;
+  real u, v;
+} Hint;
+
+// eq. 1's sphere through the hint's point P (w = P - O): where P stands in front of O as
+// initialise asks of an s1 point, 1 with its radius in *t. An upper bound of the maximal sphere,
+// as eq. 1 through any point of the faces is.
+inline int hint_start(const Model* m, const Hint* h, int solid, int notStart, real3 Ohi,
+  real3 Olo, real3 d, real scale, real* t, real3* w)
+{
+  if (h->face < 0 || h->face == notStart || !in_scope(m->faceInfo, h->face, solid))
+    return 0;
+  const int p = find_patch(m, h->face, h->u, h->v);
+  *w = eval_patch_point(m, p, h->u, h->v) + anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+#ifdef BRT_DOUBLE
+  const real minDist = (real)1e-9 * scale, noise = (real)0;
+#else
+  const real minDist = (real)1e-5 * scale, noise = (real)4 * FLT_EPSILON * scale;
+#endif
+  const real e = dot(d, *w) - m->delta, l2 = dot(*w, *w);
+  if (!(e > noise) || e * e <= (real)1e-12 * l2 || l2 <= minDist * minDist)
+    return 0;
+  *t = (real)0.5 * (l2 - m->delta * m->delta) / e;
+  return *t < scale;
+}
+
 BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d,
   real scale, real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations,
-  int* iterations)
+  const Hint* hint, int* iterations)
 {
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
@@ -4185,9 +4215,15 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
     if (dev >= (real)0 && dev <= (real)1e-9 * scale)
       notStart = ownFace;
   }
+  // The start: eq. 1 through the previous sample's contact where a chain hands one on (the
+  // sample next to it in SpatialOrder mostly touches the same face near there), else eq. 1's
+  // minimum over s1. Either is an upper bound of the maximal sphere and only starts the solve:
+  // the certification below decides whether the sphere is empty (docs/Solver.md, "Chains").
   real t;
-  int best = initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid, notStart,
-    scale, REAL_MAX, m->delta, 0, &t);
+  real3 hintW = splat_real3(0);
+  const int hinted = hint_start(m, hint, solid, notStart, Ohi, Olo, d, scale, &t, &hintW);
+  int best = hinted ? -1 : initialise(s1Point, s1Face, faceInfo, nodeBox, nodeInfo, O, d, solid,
+    notStart, scale, REAL_MAX, m->delta, 0, &t);
   Result r = no_result();
   // The gap: where no s1 point lies in front of O, or even the first sphere (eq. 1 over s1, an
   // upper bound of the maximal one) is wider than the model's diagonal, and the sphere of that
@@ -4196,16 +4232,23 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
   // s1 misses) starts the solve instead.
   int startFace = -1;
   real startU = 0, startV = 0;
-  if (best >= 0)
+  if (hinted)
+  {
+    startFace = hint->face;
+    startU = hint->u;
+    startV = hint->v;
+  }
+  else if (best >= 0)
   {
     startFace = s1_face(s1Face, best);
     startU = s1UV[2 * best];
     startV = s1UV[2 * best + 1];
   }
+  const int started = hinted || best >= 0;
   // Across a thin wall, the point of the face across nearest to O (wall_partner_start).
-  const int partner = best >= 0 && !(m->mode & MODE_EXTERIOR) &&
+  const int partner = started && !(m->mode & MODE_EXTERIOR) &&
     wall_partner_start(m, ownFace, Ohi, Olo, d, &t, &startFace, &startU, &startV);
-  if ((m->mode & MODE_EXTERIOR) && (best < 0 || !(t < scale)))
+  if ((m->mode & MODE_EXTERIOR) && (!started || !(t < scale)))
   {
     PointInside inside;
     if (!find_point_inside(m, ownFace, Ohi, Olo, d, scale, check_depth(m, scale), &inside))
@@ -4213,7 +4256,7 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       r.reason = FAIL_NO_OPPOSITE;
       return r;
     }
-    if (best < 0)
+    if (!started)
     {
       startFace = inside.face;
       startU = inside.u;
@@ -4221,12 +4264,12 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       t = inside.t;
     }
   }
-  else if (best < 0)
+  else if (!started)
   {
     r.reason = FAIL_NO_OPPOSITE;
     return r;
   }
-  const int fromCertification = best < 0;
+  const int fromCertification = !started;
   const real firstT = t;
   if (selfContact && !fromCertification && !partner && same_exact_surface(m, startFace, ownFace))
   {
@@ -4236,8 +4279,9 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
     // such samples and the descents after it stray). That sphere, its foot the circle's point
     // next to the start, is the candidate; the checks below decide as for any other.
     __global const real* e = m->faceDomain + FACE_REALS * ownFace + FACE_EXACT;
-    const real3 near = make_real3(s1Point[3 * best], s1Point[3 * best + 1],
-      s1Point[3 * best + 2]) - O;
+    const real3 near = hinted ? hintW
+                              : make_real3(s1Point[3 * best], s1Point[3 * best + 1],
+                                  s1Point[3 * best + 2]) - O;
     real3 foot;
     real u = startU, v = startV;
     int patch;
@@ -4500,7 +4544,7 @@ BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point,
 BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
   __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
   __global const real* sp, int ownFace, real scale, real stepTol, real newtonTol,
-  int maxIterations, int maxEdgeIterations, __global real* oR, __global int* oI)
+  int maxIterations, int maxEdgeIterations, Hint* hint, __global real* oR, __global int* oI)
 {
   const real clearance = mm.delta;
   const real3 Ohi = make_real3(sp[0], sp[1], sp[2]), Olo = make_real3(sp[3], sp[4], sp[5]);
@@ -4521,7 +4565,18 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
     }
   }
   Result r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV,
-    Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &iterations);
+    Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, hint, &iterations);
+  Hint none;
+  none.face = -1;
+  none.u = none.v = (real)0;
+  if (r.type == CONTACT_FAILED && hint->face >= 0)
+  {
+    // Failed from the chain's start (a start across the wrong wall, whose restarts could not
+    // shrink the sphere): solved again from s1, as without chains, so that a chain fails no
+    // sample the start from s1 solves.
+    r = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, ownUV, Ohi,
+      Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &none, &iterations);
+  }
   if (r.type == CONTACT_FAILED && clearance > (real)0)
   {
     // Failed with the clearance (next to an acute convex edge, say): solve without it
@@ -4529,7 +4584,7 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
     mm.delta = 0;
     const Result exact = solve_with_clearance(&mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo,
       ownFace, ownUV, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-      &iterations);
+      &none, &iterations);
     if (exact.type != CONTACT_FAILED)
     {
       r = exact;
@@ -4559,6 +4614,42 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   reject_contact_from_outside(&mm, ownFace, Ohi, Olo, d, scale, &r);
   flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
   write_result(&r, d, iterations, exactPass, oR, oI);
+  // The next sample of the chain starts from this one's contact across: its point on the face,
+  // or for an edge or vertex contact, the edge's point on the edge's first face (where the
+  // previous sample's edge contact is the next one's too, eq. 4 from there runs onto the edge).
+  hint->face = r.type == CONTACT_SURFACE_SURFACE ? r.face : -1;
+  hint->u = r.param.x;
+  hint->v = r.param.y;
+  if ((r.type == CONTACT_SURFACE_EDGE || r.type == CONTACT_SURFACE_VERTEX) && r.edge >= 0)
+  {
+    const int f0 = mm.edgeInfo[4 * r.edge + 2];
+    real u, v;
+    if (f0 >= 0 && edge_point_on_face(&mm, f0, r.edge, r.param.x, &u, &v))
+    {
+      hint->face = f0;
+      hint->u = u;
+      hint->v = v;
+    }
+  }
+}
+
+// A chain: n samples of one face (SAMPLE_REALS each, neighbours in SpatialOrder) solved in turn,
+// each after the first started from the one before it (Hint); results in OUT_REALS and OUT_INTS
+// per sample. The host cuts the chains (brt::ChainStarts) from the samples' order alone, so every
+// device and thread count solves each sample from the same start (docs/Solver.md, item 20,
+// "Chains").
+void solve_chain(Model mm, __global const real* s1Point, __global const int* s1Face,
+  __global const real* s1UV, __global const real* nodeBox, __global const int* nodeInfo,
+  __global const real* sp, __global const int* faces, int n, real scale, real stepTol,
+  real newtonTol, int maxIterations, int maxEdgeIterations, __global real* oR, __global int* oI)
+{
+  Hint hint;
+  hint.face = -1;
+  hint.u = hint.v = (real)0;
+  for (int k = 0; k < n; ++k)
+    solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, sp + SAMPLE_REALS * k, faces[k],
+      scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &hint, oR + OUT_REALS * k,
+      oI + OUT_INTS * k);
 }
 
 #ifdef __OPENCL_VERSION__
@@ -4592,17 +4683,20 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
     clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, patchSector, edgeBoxes,           \
     boxNodeBox, boxNodeInfo, boxItems, patchCount, mode }
 
-// The solve: one work-item per sample; results in OUT_REALS and OUT_INTS per sample (arguments
-// 45, 46).
-__kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __global int* outInt)
+// The solve: one work-item per chain (solve_chain; brt::ChainStarts), chain k the samples
+// [chainFirst[k], chainFirst[k + 1]); results in OUT_REALS and OUT_INTS per sample (arguments
+// 45, 46; the chains 47 and their count 48).
+__kernel void brt_solve(MODEL_PARAMS, LAUNCH_PARAMS, __global real* outReal, __global int* outInt,
+  __global const int* chainFirst, const int chains)
 {
   const int gid = get_global_id(0);
-  if (gid >= count)
+  if (gid >= chains)
     return;
   const Model mm = MODEL_INIT;
-  solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, samples + SAMPLE_REALS * gid,
-    sampleFace[gid], scale, stepTol, newtonTol, maxIterations, maxEdgeIterations,
-    outReal + OUT_REALS * gid, outInt + OUT_INTS * gid);
+  const int first = chainFirst[gid];
+  solve_chain(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, samples + SAMPLE_REALS * first,
+    sampleFace + first, chainFirst[gid + 1] - first, scale, stepTol, newtonTol, maxIterations,
+    maxEdgeIterations, outReal + OUT_REALS * first, outInt + OUT_INTS * first);
 }
 
 // The ray thickness (ray_thickness): one work-item per sample; the distance in outRay (REAL_MAX

@@ -11,7 +11,11 @@
 // extremum on the faces and edges near the centre: GeomAPI_ProjectPointOnSurf and
 // GeomAPI_ProjectPointOnCurve, kept where the face's classifier puts the point on the face).
 // --indices I,J,... checks those samples (every mesh vertex
-// numbered as brt_thickness_bench --counts 0 numbers them) instead. A sphere overlaps when its radius exceeds that distance by
+// numbered as brt_thickness_bench --counts 0 numbers them) instead. Every sample of the mesh is
+// solved, as the filter solves them (a sample's chain, SolverOptions::Chain, is its neighbours
+// in SpatialOrder), and the drawn ones are checked; --solve-drawn solves the drawn ones alone
+// (chains of samples far apart: each starts from a distant one's contact, a test of the
+// certification), --chain N sets the chains' length. A sphere overlaps when its radius exceeds that distance by
 // more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
 // solved, failed (per reason; the results checked as the filter checks them, brt::CheckResults:
 // a sample on an open shell or a non-manifold solid is failed, not measured) and overlapping
@@ -67,10 +71,10 @@ namespace
 const char* const Usage =
   "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
   "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] [--indices I,J,...]\n"
-  "       [--grid N] [--delaunay]\n"
+  "       [--grid N] [--delaunay] [--chain N] [--solve-drawn]\n"
   "       FILE.step ...\n"
-  "Solves N random samples of each file (default 2500, native CPU device) and measures each sphere\n"
-  "against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid\n"
+  "Solves every sample of each file (native CPU device by default) and measures N random ones\n"
+  "(default 2500) against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid\n"
   "(BRepExtrema, and every extremum on the faces and edges near the centre where that is nearer,\n"
   "and with --grid N the nearest point on the face of an N x N grid over each such face's\n"
   "parameters, refined three times: a third opinion, slow, off by default).\n"
@@ -87,7 +91,10 @@ const char* const Usage =
   "--counts 0 numbers them) instead of a random draw; with --thickness, each failed one also\n"
   "gets its exact thickness.\n"
   "--delaunay: the display mesh (whose vertices are the samples) refined with Delaunay flips\n"
-  "(the reader's DelaunayRefinement).\n";
+  "(the reader's DelaunayRefinement).\n"
+  "--chain N: SolverOptions::Chain (default 8; 1: every sample started from s1).\n"
+  "--solve-drawn: solve the drawn samples alone, not the whole mesh: each chain's samples lie far\n"
+  "apart, and each starts from a distant one's contact (a test of the certification).\n";
 }
 
 int main(int argc, char** argv)
@@ -100,7 +107,8 @@ int main(int argc, char** argv)
   size_t exactCount = 0;
   std::string device = "native";
   [[maybe_unused]] bool useDouble = false;
-  bool certify = true;
+  bool certify = true, solveDrawn = false;
+  int chain = brt::SolverOptions().Chain;
   brt::ConversionOptions conversion;
   std::vector<size_t> indices;
   std::vector<std::string> files;
@@ -133,6 +141,10 @@ int main(int argc, char** argv)
       useDouble = true;
     else if (a == "--no-certify")
       certify = false;
+    else if (a == "--solve-drawn")
+      solveDrawn = true;
+    else if (a == "--chain" && i + 1 < argc)
+      chain = std::atoi(argv[++i]);
     else if (a == "--delaunay")
       conversion.DelaunayRefinement = true;
     else if (a == "--list" && i + 1 < argc)
@@ -212,6 +224,7 @@ int main(int argc, char** argv)
     options.Certify = certify;
     options.Exterior = gap;
     options.AllSolids = gap && allSolids;
+    options.Chain = chain;
     const brt::SolverData data = brt::PrepareSolver(m, options);
     std::vector<brt::Sample> all = brt::SamplesFromMesh(m, data);
     if (gap)
@@ -235,9 +248,11 @@ int main(int argc, char** argv)
     std::vector<brt::Sample> samples;
     for (size_t i : pick)
       samples.push_back(all[i]);
-    std::vector<brt::SampleResult> res(samples.size());
+    // Every sample, as the filter solves them, unless --solve-drawn.
+    const std::vector<brt::Sample>& toSolve = solveDrawn ? samples : all;
+    std::vector<brt::SampleResult> res(toSolve.size());
     if (device == "native" || device == "reference")
-      brt::SolveReference(m, data, options, samples, res);
+      brt::SolveReference(m, data, options, toSolve, res);
     else
     {
 #ifdef BRT_HAVE_OPENCL
@@ -245,7 +260,7 @@ int main(int argc, char** argv)
       {
         brt::OpenCLSolver cl(device, useDouble);
         cl.Upload(m, data);
-        cl.Solve(m, data, options, samples, res);
+        cl.Solve(m, data, options, toSolve, res);
       }
       catch (const brt::OpenCLError& e)
       {
@@ -256,6 +271,13 @@ int main(int argc, char** argv)
       std::fprintf(stderr, "error: built without OpenCL\n");
       return 2;
 #endif
+    }
+    if (!solveDrawn)
+    {
+      std::vector<brt::SampleResult> drawn;
+      for (size_t i : pick)
+        drawn.push_back(res[i]);
+      res = std::move(drawn);
     }
     // As the filter does: samples on open shells or non-manifold solids, and impossible values,
     // are flagged failed, so that the figures are those a user sees (in the gap, a sphere beyond

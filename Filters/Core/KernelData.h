@@ -59,6 +59,10 @@ struct KernelModel
 };
 
 /// The scalars every launch gets, from the model, its data and the options.
+/// The longest chain (SolverOptions::Chain; longer ones are cut) the native device packs on its
+/// stack.
+constexpr int KernelMaxChain = 64;
+
 struct KernelScalars
 {
   double Scale = 1.0;     ///< bounding-box diagonal

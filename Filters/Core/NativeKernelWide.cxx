@@ -80,11 +80,11 @@ bool NativeKernelWide()
   return wide;
 }
 
-void SolveSampleWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
-  const double* sample, int ownFace, double* outR, int* outI)
+void SolveChainWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
+  const double* samples, const int* faces, int n, double* outR, int* outI)
 {
-  kernel_v3::solve_sample(KernelView<kernel_v3::Model>(K, s, patchCount), K.S1Point.data(),
-    K.S1Face.data(), K.S1UV.data(), K.NodeBox.data(), K.NodeInfo.data(), sample, ownFace,
+  kernel_v3::solve_chain(KernelView<kernel_v3::Model>(K, s, patchCount), K.S1Point.data(),
+    K.S1Face.data(), K.S1UV.data(), K.NodeBox.data(), K.NodeInfo.data(), samples, faces, n,
     s.Scale, s.StepTol, s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, outR, outI);
 }
 

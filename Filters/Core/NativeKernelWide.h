@@ -37,9 +37,10 @@ bool NativeKernelWide();
 const char* NativeKernelBuild();
 
 #if BRT_NATIVE_WIDE
-/// solve_sample of the x86-64-v3 build (call only where NativeKernelWide()).
-void SolveSampleWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
-  const double* sample, int ownFace, double* outR, int* outI);
+/// solve_chain of the x86-64-v3 build (call only where NativeKernelWide()): n packed samples and
+/// their faces, results in KernelOutReals and KernelOutInts per sample.
+void SolveChainWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
+  const double* samples, const int* faces, int n, double* outR, int* outI);
 /// ray_thickness of the x86-64-v3 build; Ohi, Olo, d as the kernel takes them.
 double RayThicknessWide(const KernelModel<double>& K, const KernelScalars& s, int patchCount,
   const double Ohi[3], const double Olo[3], const double d[3], int ownFace, int* hitFace);

@@ -90,25 +90,39 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   const bool wide = P->Wide;
   const int patchCount = P->PatchCount();
 #endif
-  // Blocks of 32 samples in SpatialOrder: neighbours share the trees' nodes near them.
+  // The chains (solve_chain, ChainStarts) in SpatialOrder, in blocks of about 32 samples:
+  // neighbours share the trees' nodes near them.
   const std::vector<size_t> order = SpatialOrder(samples, which);
-  return ParallelForWithProgress(n, threads, 32, [&](size_t j) {
-    const size_t i = order[j];
-    double in[KernelSampleReals], outR[KernelOutReals];
-    int outI[KernelOutInts];
-    PackSample(P->Data, samples[i], in);
+  const int chain = std::min(std::max(options.Chain, 1), KernelMaxChain);
+  const std::vector<size_t> starts = ChainStarts(samples, order, chain);
+  const size_t chains = starts.size() - 1;
+  return ParallelForWithProgress(chains, threads, std::max(1, 32 / chain), [&](size_t c) {
+    const size_t first = starts[c], count = starts[c + 1] - first;
+    double in[KernelMaxChain * KernelSampleReals], outR[KernelMaxChain * KernelOutReals];
+    int faces[KernelMaxChain], outI[KernelMaxChain * KernelOutInts];
+    for (size_t k = 0; k < count; ++k)
+    {
+      const Sample& sample = samples[order[first + k]];
+      PackSample(P->Data, sample, in + KernelSampleReals * k);
+      faces[k] = sample.Face;
+    }
 #if BRT_NATIVE_WIDE
     if (wide)
-      SolveSampleWide(K, s, patchCount, in, samples[i].Face, outR, outI);
+      SolveChainWide(K, s, patchCount, in, faces, static_cast<int>(count), outR, outI);
     else
 #endif
-      kernel::solve_sample(view, K.S1Point.data(), K.S1Face.data(), K.S1UV.data(),
-        K.NodeBox.data(), K.NodeInfo.data(), in, samples[i].Face, s.Scale, s.StepTol,
-        s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, outR, outI);
-    const bool exact = UnpackResult(samples[i], outR, outI, results[i]);
-    if (exactPass)
-      (*exactPass)[i] = exact ? 1 : 0;
-  }, [&](size_t done) { return !progress || progress(done); });
+      kernel::solve_chain(view, K.S1Point.data(), K.S1Face.data(), K.S1UV.data(),
+        K.NodeBox.data(), K.NodeInfo.data(), in, faces, static_cast<int>(count), s.Scale,
+        s.StepTol, s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, outR, outI);
+    for (size_t k = 0; k < count; ++k)
+    {
+      const size_t i = order[first + k];
+      const bool exact =
+        UnpackResult(samples[i], outR + KernelOutReals * k, outI + KernelOutInts * k, results[i]);
+      if (exactPass)
+        (*exactPass)[i] = exact ? 1 : 0;
+    }
+  }, [&](size_t done) { return !progress || progress(done < chains ? starts[done] : n); });
 }
 
 namespace

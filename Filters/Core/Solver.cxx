@@ -907,19 +907,75 @@ uint32_t SpreadBits(uint32_t x)
   x = (x | (x << 2)) & 0x09249249u;
   return x;
 }
+
+/// p's cell on a Morton curve of 1024 cells a side over box b (min, max).
+uint32_t MortonCode(const std::array<double, 6>& b, const std::array<double, 3>& p)
+{
+  const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
+  uint32_t code = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double x = ext > 0.0 ? (p[k] - b[k]) / ext * 1023.0 : 0.0;
+    // (A point that is not finite goes to the cell at the box's corner.)
+    code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
+  }
+  return code;
+}
 } // namespace
+
+std::vector<size_t> ChainStarts(const std::vector<Sample>& samples,
+  const std::vector<size_t>& order, int chain)
+{
+  const size_t length = static_cast<size_t>(std::max(chain, 1));
+  std::vector<size_t> starts;
+  for (size_t j = 0, inRun = 0; j < order.size(); ++j, ++inRun)
+  {
+    if (j == 0 || samples[order[j]].Face != samples[order[j - 1]].Face)
+      inRun = 0;
+    if (inRun % length == 0)
+      starts.push_back(j);
+  }
+  starts.push_back(order.size());
+  return starts;
+}
 
 std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::vector<size_t>* which)
 {
   const size_t n = which ? which->size() : samples.size();
   auto index = [&](size_t j) { return which ? (*which)[j] : j; };
-  // A few samples keep their order: the sort's tables (32 KiB a pass) would cost more than
-  // their solve (a single sample took 12 us instead of 5).
+  // A few samples: the same order by comparison sorts, without the tables below, which are
+  // sized by the largest face index and cost more than the solve of a single sample (it took
+  // 12 us instead of 5).
   if (n <= 256)
   {
     std::vector<size_t> order(n);
     for (size_t j = 0; j < n; ++j)
       order[j] = index(j);
+    auto faceKey = [&](size_t i) { return std::max(samples[i].Face + 1, 0); };
+    std::stable_sort(order.begin(), order.end(),
+      [&](size_t a, size_t b) { return faceKey(a) < faceKey(b); });
+    for (size_t a = 0; a < n;)
+    {
+      size_t b = a;
+      std::array<double, 6> box{ std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity() };
+      for (; b < n && faceKey(order[b]) == faceKey(order[a]); ++b)
+        for (int k = 0; k < 3; ++k)
+        {
+          box[k] = std::min(box[k], samples[order[b]].Point[k]);
+          box[3 + k] = std::max(box[3 + k], samples[order[b]].Point[k]);
+        }
+      std::vector<std::pair<uint32_t, size_t>> run;
+      for (size_t j = a; j < b; ++j)
+        run.emplace_back(MortonCode(box, samples[order[j]].Point), order[j]);
+      std::stable_sort(run.begin(), run.end(),
+        [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (size_t j = a; j < b; ++j)
+        order[j] = run[j - a].second;
+      a = b;
+    }
     return order;
   }
   // Every step on every core from 65,536 samples on, each core a contiguous range of them (on
@@ -1004,17 +1060,7 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
     for (size_t j = first; j < last; ++j)
     {
       const size_t f = faceOf(j);
-      const Sample& s = samples[index(j)];
-      const Box& b = box[f];
-      const double ext = std::max({ b[3] - b[0], b[4] - b[1], b[5] - b[2] });
-      uint32_t code = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        const double x = ext > 0.0 ? (s.Point[k] - b[k]) / ext * 1023.0 : 0.0;
-        // (A point that is not finite goes to the cell at the box's corner.)
-        code |= SpreadBits(static_cast<uint32_t>(x >= 0.0 ? std::min(x, 1023.0) : 0.0)) << k;
-      }
-      keys[to[f]++] = { code, static_cast<uint32_t>(j) };
+      keys[to[f]++] = { MortonCode(box[f], samples[index(j)].Point), static_cast<uint32_t>(j) };
     }
   });
   // Each face's run sorted by its codes: a stable radix sort of three 10-bit digits in the run

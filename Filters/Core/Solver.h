@@ -111,6 +111,12 @@ struct SolverOptions
   /// Walls of every solid bound the sphere (the clearance between the solids of an assembly),
   /// not only those of the sample's own solid.
   bool AllSolids = false;
+  /// Samples solved in a row by one thread or work-item (1 to 64): each face's samples, in
+  /// SpatialOrder, fall into chains of this many (ChainStarts), and each sample of a chain after
+  /// its first starts from its predecessor's contact across instead of eq. 1's walk over s1
+  /// (docs/Solver.md, item 20, "Chains"). Every device and thread count solves a sample from the
+  /// same start. 1: every sample from s1.
+  int Chain = 8;
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.
@@ -201,11 +207,18 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
 
 /// The indices of the samples to solve (which, or 0..n-1 where null) in the order the solvers
 /// take them: by face, and within a face along a Morton curve over the face's samples' bounding
-/// box (10 bits per axis), the given order kept within a cell (and for up to 256 samples).
+/// box (10 bits per axis), the given order kept within a cell.
 /// Neighbouring samples walk the same nodes of the trees; in the mesh's order they took 6-13%
 /// longer on the native device, shuffled 1.3-1.8 times as long (docs/Solver.md, Host layer,
 /// "Sample order").
 std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::vector<size_t>* which);
+
+/// The chains (SolverOptions::Chain) in `order` (SpatialOrder's): the positions where they start,
+/// then order.size(). Each face's run is cut every `chain` samples from its first, so a face's
+/// chains depend on its own samples alone (not on the other faces solved with them, as in a
+/// process's piece of the faces under MPI).
+std::vector<size_t> ChainStarts(const std::vector<Sample>& samples,
+  const std::vector<size_t>& order, int chain);
 
 /// The solver's reference: steps 3-8 (docs/Solver.md) for every sample, by the native device
 /// (NativeSolver: the kernel source compiled as C++ in double) on `threads` threads (0: one per

@@ -168,20 +168,26 @@ TEST(SolverRims, FilletedLBracketAgainstExactDistance)
   CheckRims("L-bracket", analytic::LBracket(60, 8, 40, 5), 8.0);
 }
 
-/// Every Data/ model, real parts included, against the exact B-Rep: for about 400 samples spread
-/// over the mesh, the reference's sphere (centre M, radius t) must not overlap the solid's
-/// exact faces: t - dist(M, faces) stays within the clearance plus the conversion tolerance
-/// (the sphere is tangent to the patches, which lie within the tolerance of the exact faces, and
-/// the clearance lets boundary points that deep into it). A larger overlap is a sphere that is
-/// not maximal: a wall the s1 verification missed. This is the independent check that the
-/// agreement of the kernels with the reference cannot give.
-TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
+/// Solved, failed and overlapping samples of about 400 spread over a Data/ model's mesh (solved
+/// together, with `options`), against the solid's exact faces (BoundaryDistance): a sphere
+/// overlaps where t - dist(M, faces) exceeds the clearance plus the conversion tolerance (the
+/// sphere is tangent to the patches, which lie within the tolerance of the exact faces, and the
+/// clearance lets boundary points that deep into it) and 1e-4 t.
+struct Overlaps
 {
-  for (const auto& name : test::DataModels())
+  size_t Samples = 0, Solved = 0, Overlapping = 0;
+  double Worst = 0.0, WorstT = 0.0, Allowed = 0.0;
+};
+
+Overlaps CountOverlaps(const std::string& name, const SolverOptions& options)
+{
+  Overlaps out;
   {
     std::vector<TopoDS_Face> faces;
     const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions(), &faces);
-    ASSERT_EQ(faces.size(), m.Faces.size()) << name;
+    EXPECT_EQ(faces.size(), m.Faces.size()) << name;
+    if (faces.size() != m.Faces.size())
+      return out;
     // Thickness is a property of one solid: each solid's own faces.
     int solids = 0;
     for (const Face& F : m.Faces)
@@ -193,7 +199,6 @@ TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
     for (size_t f = 0; f < faces.size(); ++f)
       b.Add(bySolid[static_cast<size_t>(m.Faces[f].Solid + 1)], faces[f]);
 
-    SolverOptions options;
     const SolverData data = PrepareSolver(m, options);
     const std::vector<Sample> all = SamplesFromMesh(m, data);
     const size_t stride = std::max<size_t>(1, all.size() / 400);
@@ -203,39 +208,70 @@ TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
     std::vector<SampleResult> res;
     SolveReference(m, data, options, samples, res);
 
-    const double allowed = 2.0 * m.Tolerance + m.Tolerance; // clearance (2x) + patches (1x)
-    size_t solved = 0, overlapping = 0;
-    double worst = 0.0, worstT = 0.0;
+    out.Allowed = 2.0 * m.Tolerance + m.Tolerance; // clearance (2x) + patches (1x)
+    out.Samples = samples.size();
     for (size_t k = 0; k < samples.size(); ++k)
     {
       const SampleResult& r = res[k];
       if (r.Type == ContactType::Failed)
         continue;
-      ++solved;
+      ++out.Solved;
       const TopoDS_Shape& own = bySolid[static_cast<size_t>(m.Faces[samples[k].Face].Solid + 1)];
       const double overlap = r.Radius - BoundaryDistance(own, r.Center);
-      if (overlap > allowed && overlap > 1e-4 * r.Radius)
+      if (overlap > out.Allowed && overlap > 1e-4 * r.Radius)
       {
-        ++overlapping;
-        std::printf("[overlap] %s sample %zu: 2t = %.6g, sphere %.3g into the exact faces "
-                    "(%s)\n",
-          name.c_str(), k * stride, r.Thickness, overlap, ContactTypeName(r.Type));
+        ++out.Overlapping;
+        std::printf("[overlap] %s (chains of %d) sample %zu: 2t = %.6g, sphere %.3g into the "
+                    "exact faces (%s)\n",
+          name.c_str(), options.Chain, k * stride, r.Thickness, overlap, ContactTypeName(r.Type));
       }
-      if (overlap > worst)
+      if (overlap > out.Worst)
       {
-        worst = overlap;
-        worstT = r.Radius;
+        out.Worst = overlap;
+        out.WorstT = r.Radius;
       }
     }
-    std::printf("[exact] %s: %zu of %zu samples solved; %zu (%.2f%%) overlap the exact faces by "
-                "more than %.1e and 1e-4 t; largest overlap %.3g (t = %.4g)\n",
-      name.c_str(), solved, samples.size(), overlapping, 100.0 * overlapping / std::max<size_t>(solved, 1),
-      allowed, worst, worstT);
+    std::printf("[exact] %s (chains of %d): %zu of %zu samples solved; %zu (%.2f%%) overlap the "
+                "exact faces by more than %.1e and 1e-4 t; largest overlap %.3g (t = %.4g)\n",
+      name.c_str(), options.Chain, out.Solved, out.Samples, out.Overlapping,
+      100.0 * out.Overlapping / std::max<size_t>(out.Solved, 1), out.Allowed, out.Worst,
+      out.WorstT);
+  }
+  return out;
+}
+
+/// Every Data/ model, real parts included, against the exact B-Rep (CountOverlaps, the default
+/// options): a sphere overlapping the exact faces is not maximal, a wall the verification and
+/// the certification missed. This is the independent check that the agreement of the kernels
+/// with the reference cannot give.
+TEST(SolverExact, EveryDataModelAgainstBRepExtrema)
+{
+  for (const auto& name : test::DataModels())
+  {
+    const Overlaps o = CountOverlaps(name, SolverOptions());
     // Measured (docs/Solver.md): 0 on the analytic models; 0-0.73% on the real parts with s1 at
     // 1/300 of the diagonal and points along the edges (the NIST part's 1.5 mm round, where the
     // sphere touches a whole arc; 1.0-3.4% at 1/100, before the second look more). The bound
     // sits above; the rest is an open item, listed above.
-    EXPECT_LE(overlapping * 1000, solved * 15) << name;
+    EXPECT_LE(o.Overlapping * 1000, o.Solved * 15) << name;
+  }
+}
+
+/// Chains (SolverOptions::Chain, docs/Solver.md "Chains"): a sample starts from its predecessor's
+/// contact, which only starts the solve; the certification decides. The ~400 samples spread over
+/// each Data/ model solved as chains of 64 take every start from a sample far away, often across
+/// another wall or on another face altogether: no sphere may overlap the exact faces, and no
+/// sample may fail that the starts from s1 (chains of 1) solve.
+TEST(SolverExact, FarChainStartsLeaveNoOverlap)
+{
+  for (const auto& name : test::DataModels())
+  {
+    SolverOptions far, s1;
+    far.Chain = 64;
+    s1.Chain = 1;
+    const Overlaps a = CountOverlaps(name, far), b = CountOverlaps(name, s1);
+    EXPECT_EQ(a.Overlapping, 0u) << name;
+    EXPECT_GE(a.Solved, b.Solved) << name;
   }
 }
 
