@@ -800,8 +800,8 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const bool withGap = this->Measure != MEASURE_THICKNESS;
   // Progress steps of a fiftieth (at least 512 samples) on the native device, where only the
   // calling thread reports, between its blocks; an OpenCL device reports between its chunks
-  // (OpenCLSolver::Solve: at least 65,536 samples each on a GPU, 16,384 on a CPU device; chunks
-  // of 2,048 cost PoCL a third of its rate on NIST_MBE_PMI_11's 10,644 samples).
+  // (OpenCLSolver::Solve: at least 65,536 work-items each on a GPU, 16,384 samples on a CPU
+  // device; chunks of 2,048 cost PoCL a third of its rate on NIST_MBE_PMI_11's 10,644 samples).
   // Samples on open or non-manifold solids are flagged failed by CheckResults below whatever
   // the solve gives them, and theirs is the slowest solve of all (spheres that find no wall):
   // they are not solved. On a part with an open surface model beside its solid that was most of

@@ -127,7 +127,7 @@ struct Runtime
   cl_kernel Finish = nullptr; ///< the double program's brt_finish
   std::string Name;
   bool HasDouble = false;
-  bool IsGpu = false; ///< chunks of at least 65,536 samples there, 16,384 elsewhere
+  bool IsGpu = false; ///< chunks of at least 65,536 work-items there, 16,384 samples elsewhere
   std::mutex Lock; ///< one launch sequence at a time on the shared kernel objects
   ~Runtime()
   {
@@ -602,11 +602,17 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
   {
     // At most 64 MiB of buffers, and several chunks where each still fills the device: the host
     // packs one chunk and unpacks another while the device solves a third, and the caller's
-    // progress and abort come between chunks. A GPU: four chunks of at least 65,536 samples
-    // (the H200 holds about 34,000 of the kernel's threads at once); a CPU device (PoCL):
-    // sixteen of at least 16,384, for the progress bar of a slow device.
+    // progress and abort come between chunks. A GPU: four chunks of at least 65,536 work-items
+    // (the H200 holds about 34,000 of the kernel's threads at once), a work-item a chain of
+    // samples (SolverOptions::Chain), so with chains of 8 at least 524,288 samples and their
+    // buffers (147 MiB in float with the finish); a CPU device (PoCL): sixteen of at least
+    // 16,384 samples, for the progress bar of a slow device.
+    const size_t chainLength =
+      static_cast<size_t>(std::min(std::max(options.Chain, 1), KernelMaxChain));
+    const size_t parts = RT->IsGpu ? 4 : 16, least = RT->IsGpu ? 65536 * chainLength : 16384;
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
-    const size_t parts = RT->IsGpu ? 4 : 16, least = RT->IsGpu ? 65536 : 16384;
+    if (RT->IsGpu)
+      chunk = std::max(chunk, least);
     chunk = std::min(chunk, std::max(least, (total + parts - 1) / parts));
     // Chunks of one size: 100,000 samples as two of 50,000, not 65,536 and a last one that
     // fills a GPU a third.

@@ -15,8 +15,8 @@
 // solved, as the filter solves them (a sample's chain, SolverOptions::Chain, is its neighbours
 // in SpatialOrder), and the drawn ones are checked; --solve-drawn solves the drawn ones alone
 // (chains of samples far apart: each starts from a distant one's contact, a test of the
-// certification), --chain N sets the chains' length. A sphere overlaps when its radius exceeds that distance by
-// more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
+// certification), --chain N sets the chains' length. A sphere overlaps when its radius exceeds
+// that distance by more than the clearance plus the conversion tolerance and by more than 1e-4 t. Prints the
 // solved, failed (per reason; the results checked as the filter checks them, brt::CheckResults:
 // a sample on an open shell or a non-manifold solid is failed, not measured) and overlapping
 // shares, the largest overlap and the K worst samples. With --thickness M, the first M solved samples also get an independent exact
@@ -74,10 +74,10 @@ const char* const Usage =
   "       [--grid N] [--delaunay] [--chain N] [--solve-drawn]\n"
   "       FILE.step ...\n"
   "Solves every sample of each file (native CPU device by default) and measures N random ones\n"
-  "(default 2500) against OpenCASCADE's exact distance from its centre to the faces of the sample's own solid\n"
-  "(BRepExtrema, and every extremum on the faces and edges near the centre where that is nearer,\n"
-  "and with --grid N the nearest point on the face of an N x N grid over each such face's\n"
-  "parameters, refined three times: a third opinion, slow, off by default).\n"
+  "(default 2500) against OpenCASCADE's exact distance from its centre to the faces of the\n"
+  "sample's own solid (BRepExtrema, and every extremum on the faces and edges near the centre\n"
+  "where that is nearer, and with --grid N the nearest point on the face of an N x N grid over\n"
+  "each such face's parameters, refined three times: a third opinion, slow, off by default).\n"
   "Prints solved, failed (per reason, flagged as the filter flags them: samples on open shells\n"
   "and non-manifold solids fail) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list),\n"
