@@ -1,5 +1,6 @@
 // BRepThickness: the maximal-sphere solver (Lemasson et al. 2014, sections 2.1-2.3), written
-// once. One work-item per sample O: BVH initialisation (eq. 1), surface/surface Newton (eq. 4),
+// once. One work-item per chain of samples O (solve_chain), each: BVH initialisation (eq. 1) or
+// the previous sample's contact as the start, surface/surface Newton (eq. 4),
 // trim test (eq. 6 and the corner rule), surface/edge Newton (eq. 7), the verification against
 // s1 and the certification against the patches, with restarts from any point found inside.
 // The same source is compiled as OpenCL C (Kernels/OpenCLSolver: float, or double with
