@@ -958,6 +958,29 @@ inline int s1_face(__global const int* s1Face, int i)
   return f < 0 ? ~f : f;
 }
 
+// Eq. 1's starts (initialise's s1 points, a chain's hint_start): *minDist, below which a point is
+// O itself within rounding (the reference's 1e-9 of the model's size in double; float rounding
+// needs more room), and *noise, how far a point must stand in front of O's tangent plane (0 in
+// double; in float P - O carries rounding of about 1e-7 of the model's size, so a point of O's
+// own face must stand clearly in front of it to count).
+inline void start_tolerances(real scale, real* minDist, real* noise)
+{
+#ifdef BRT_DOUBLE
+  *minDist = (real)1e-9 * scale;
+  *noise = (real)0;
+#else
+  *minDist = (real)1e-5 * scale;
+  *noise = (real)4 * FLT_EPSILON * scale;
+#endif
+}
+
+// A point w = P - O can start eq. 1: e = d.w - delta exceeds max(1e-6 |w|, noise) (squared,
+// without a root; l2 = |w|^2) and |w| exceeds minDist.
+inline int starts_eq1(real e, real l2, real noise, real minDist)
+{
+  return !(!(e > noise) || e * e <= (real)1e-12 * l2 || l2 <= minDist * minDist);
+}
+
 // Eq. 1 with the clearance over the BVH: the s1 point with the smallest
 // t_delta below `bound` (REAL_MAX: any), pruning nodes farther than t - delta from M. With a
 // finite bound it finds the s1 points more than delta deep inside that sphere (the verification);
@@ -970,17 +993,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
   int best = -1;
   real t = bound;
   const int bounded = bound < REAL_MAX;
-    // Candidates closer to O than this are O itself within rounding (same as the reference's
-    // 1e-9 * scale in double; float rounding needs more room).
-#ifdef BRT_DOUBLE
-    const real minDist = (real)1e-9 * scale;
-    const real noise = (real)0;
-#else
-    const real minDist = (real)1e-5 * scale;
-    // s1 - O carries float rounding of about 1e-7 of the model size: a point of O's own face
-    // must stand clearly in front of O's tangent plane to count.
-    const real noise = (real)4 * FLT_EPSILON * scale;
-#endif
+    real minDist, noise;
+    start_tolerances(scale, &minDist, &noise);
     int stack[64];
     int top = 0;
     // Below a split root (brt::S1SplitRoot) the faces' points lie left, the edges' right: a start
@@ -1034,9 +1048,8 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           if ((f < 0 ? !bounded : edgesOnly) || (f < 0 ? ~f : f) == excludeFace)
             continue;
           const real3 w = make_real3(s1Point[3 * i], s1Point[3 * i + 1], s1Point[3 * i + 2]) - O;
-          // e = d.w - delta must exceed max(1e-6 |w|, noise): squared, without a root.
           const real e = dot(d, w) - delta, l2 = dot(w, w);
-          if (!(e > noise) || e * e <= (real)1e-12 * l2 || l2 <= minDist * minDist)
+          if (!starts_eq1(e, l2, noise, minDist))
             continue;
           // t_delta = (l2 - delta^2) / (2 e) below t, compared without a division.
           const real num = (real)0.5 * (l2 - delta * delta);
@@ -4149,9 +4162,6 @@ BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
   return 1;
 }
 
-// One sample at the clearance m->delta: initialisation (eq. 1),
-// steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
-// more than delta inside it restarts the solve there, at most 3 times.
 // The start a chain's previous sample hands on (solve_chain): the face of its contact across and
 // the contact's (u, v) there; face -1: none.
 typedef struct
@@ -4170,18 +4180,18 @@ inline int hint_start(const Model* m, const Hint* h, int solid, int notStart, re
     return 0;
   const int p = find_patch(m, h->face, h->u, h->v);
   *w = eval_patch_point(m, p, h->u, h->v) + anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
-#ifdef BRT_DOUBLE
-  const real minDist = (real)1e-9 * scale, noise = (real)0;
-#else
-  const real minDist = (real)1e-5 * scale, noise = (real)4 * FLT_EPSILON * scale;
-#endif
+  real minDist, noise;
+  start_tolerances(scale, &minDist, &noise);
   const real e = dot(d, *w) - m->delta, l2 = dot(*w, *w);
-  if (!(e > noise) || e * e <= (real)1e-12 * l2 || l2 <= minDist * minDist)
+  if (!starts_eq1(e, l2, noise, minDist))
     return 0;
   *t = (real)0.5 * (l2 - m->delta * m->delta) / e;
   return *t < scale;
 }
 
+// One sample at the clearance m->delta: initialisation (eq. 1),
+// steps 4-7, the descent fallback, then the verification that the sphere is maximal: an s1 point
+// more than delta inside it restarts the solve there, at most 3 times.
 BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d,

@@ -58,11 +58,11 @@ struct KernelModel
   bool HasBoxes() const { return !BoxNodeInfo.empty(); }
 };
 
-/// The scalars every launch gets, from the model, its data and the options.
 /// The longest chain (SolverOptions::Chain; longer ones are cut) the native device packs on its
 /// stack.
 constexpr int KernelMaxChain = 64;
 
+/// The scalars every launch gets, from the model, its data and the options.
 struct KernelScalars
 {
   double Scale = 1.0;     ///< bounding-box diagonal
