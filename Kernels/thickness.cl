@@ -118,6 +118,21 @@ typedef struct
   real3 P, Du, Dv, Duu, Duv, Dvv;
 } PatchEval;
 
+// What the samples of a chain learn for the ones after them besides the start (solve_chain):
+// disks of (u, v) on isometric planes that lie inside the face's trim, each the disk around a
+// foot that the surface Newton's trim test (classify) found inside, of its distance from the
+// nearest trimming segment (a thousandth less, for rounding). The next sample's foot on the same
+// face mostly falls within it (two thirds of NIST_MBE_PMI_11's plane feet), and the disk answers
+// the trim test there (surface_newton). Only speed depends on it: a foot the disk holds gets the
+// trim test's answer as classify would give it (docs/Solver.md, item 20, "Chains").
+#define MEMO_DISKS 2
+typedef struct
+{
+  int face[MEMO_DISKS]; // -1: empty
+  real u[MEMO_DISKS], v[MEMO_DISKS], r[MEMO_DISKS];
+  int next; // the slot the next new face takes
+} ChainMemo;
+
 typedef struct
 {
   __global const real* patches;     // 48 per patch, relative to the patch's anchor
@@ -158,6 +173,7 @@ typedef struct
   __global const int* boxItems;     // patch p, or edge segment e as patchCount + e
   int patchCount;
   int mode; // MODE_* bits: certification, the exterior (gap) sphere, the walls of all solids
+  ChainMemo* memo; // the chain's (solve_chain); 0 outside a chain
 } Model;
 
 // The sphere touches `face` from inside: its centre on the material side at the foot (side <= 0),
@@ -800,6 +816,67 @@ inline int ss_on_face(const SurfaceSolve* s, __global const real* fd, real newto
 // Steps in a row without halving the residual that end a Newton (surface_newton).
 #define STALL_STEPS 4
 
+// The chain's memo answers the trim test at (u, v) on `face` (an isometric plane) where one of
+// its disks holds (u, v) with room to spare: inside, the distance from the trim at least the
+// room left (a lower bound of classify's exact distance), and no nearest segment kept (seg -1).
+// The room asked for is twice the second look's radius (second_look_near: max(1e-2 t, 10 slack)),
+// so that the second look, which takes the nearest segment's edge point where it lies within
+// that radius of the foot, would find none there either: on an isometric plane a distance in
+// (u, v) is one in space, and the edge lies within its deviation (below that radius) of its
+// trimming curve.
+inline int memo_inside(const Model* m, int face, real u, real v, real t, SurfaceSolve* out)
+{
+  ChainMemo* memo = m->memo;
+  real3 X, Y;
+  if (!memo || !plane_face_frame(m, face, &X, &Y))
+    return 0;
+  const real room = (real)2 * fmax((real)1e-2 * t, (real)10 * m->slack);
+  for (int k = 0; k < MEMO_DISKS; ++k)
+  {
+    if (memo->face[k] != face)
+      continue;
+    const real du = u - memo->u[k], dv = v - memo->v[k];
+    const real left = memo->r[k] - sqrt(du * du + dv * dv);
+    if (!(left > room))
+      return 0;
+    out->inside = 1;
+    out->seg = -1;
+    out->param = (real)0;
+    out->trimDist = left;
+    return 1;
+  }
+  return 0;
+}
+
+// A trim test's answer on an isometric plane, inside at distance dist from the trim, becomes the
+// chain's disk on that face (memo_inside), where its nearest point lies inside a segment that is
+// not a sliver (param, on seg): there the side is the tangent's, along the normal from the
+// curve, while at a corner the corner rule decides from the tangents, which fails next to a cusp
+// (a loop that turns back on itself: control_arm's face 102, whose foot classify took for inside
+// though it lies outside the spike; a disk around it spread that to the feet next to it).
+inline void memo_record(const Model* m, int face, real u, real v, int inside, int seg,
+  real param, real dist)
+{
+  ChainMemo* memo = m->memo;
+  real3 X, Y;
+  if (!memo || !inside || seg < 0 || !(param > (real)1e-9 && param < (real)(1.0 - 1e-9)) ||
+    !(seg_length(m->trim + TRIM_REALS * seg) > (real)1e-3 * dist) ||
+    !plane_face_frame(m, face, &X, &Y))
+    return;
+  int k = 0;
+  while (k < MEMO_DISKS && memo->face[k] != face)
+    ++k;
+  if (k == MEMO_DISKS)
+  {
+    k = memo->next;
+    memo->next = (memo->next + 1) % MEMO_DISKS;
+  }
+  memo->face[k] = face;
+  memo->u[k] = u;
+  memo->v[k] = v;
+  memo->r[k] = (real)0.999 * dist;
+}
+
 // Newton on (u, v, t) on `face`, with trust region and backtracking, then the trim test.
 BRT_SPLIT SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3 Olo, real3 d, real u,
   real v, real t, real scale, real stepTol, real newtonTol, int maxIterations, int* iterations)
@@ -907,7 +984,11 @@ BRT_SPLIT SurfaceSolve surface_newton(const Model* m, int face, real3 Ohi, real3
   out.foot = e.P;
   out.clamped = clamped;
   out.capped = capped;
-  out.inside = classify(m, face, make_real2(u, v), &out.seg, &out.param, &out.trimDist);
+  if (!memo_inside(m, face, u, v, t, &out))
+  {
+    out.inside = classify(m, face, make_real2(u, v), &out.seg, &out.param, &out.trimDist);
+    memo_record(m, face, u, v, out.inside, out.seg, out.param, out.trimDist);
+  }
   const real3 n = cross(e.Du, e.Dv);
   const real side = -dot(w, n) / length(n) * (m->faceInfo[FACE_INTS * face + 6] ? -1 : 1);
   out.side = side;
@@ -4657,6 +4738,14 @@ void solve_chain(Model mm, __global const real* s1Point, __global const int* s1F
   Hint hint;
   hint.face = -1;
   hint.u = hint.v = (real)0;
+  ChainMemo memo;
+  for (int k = 0; k < MEMO_DISKS; ++k)
+  {
+    memo.face[k] = -1;
+    memo.u[k] = memo.v[k] = memo.r[k] = (real)0;
+  }
+  memo.next = 0;
+  mm.memo = &memo;
   for (int k = 0; k < n; ++k)
     solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, sp + SAMPLE_REALS * k, faces[k],
       scale, stepTol, newtonTol, maxIterations, maxEdgeIterations, &hint, oR + OUT_REALS * k,
@@ -4692,7 +4781,7 @@ void solve_chain(Model mm, __global const real* s1Point, __global const int* s1F
     trimRange, trimNodeBox, trimNodeInfo, trimItems, edgeInfo, edgeRange, edgeSeg, edgeAnchor,   \
     edgeSegRange, vertexInfo, slack,                                                             \
     clearance, s1Spacing, patchFace, edgeSegEdge, patchBoxes, patchSector, edgeBoxes,           \
-    boxNodeBox, boxNodeInfo, boxItems, patchCount, mode }
+    boxNodeBox, boxNodeInfo, boxItems, patchCount, mode, 0 }
 
 // The solve: one work-item per chain (solve_chain; brt::ChainStarts), chain k the samples
 // [chainFirst[k], chainFirst[k + 1]); results in OUT_REALS and OUT_INTS per sample (arguments

@@ -27,7 +27,7 @@ Model KernelView(const KernelModel<double>& K, const KernelScalars& s, int patch
     K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack, s.Clearance, s.S1Spacing,
     K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(), K.PatchSector.data(),
     K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(), patchCount,
-    s.Mode(K.HasBoxes()) };
+    s.Mode(K.HasBoxes()), nullptr };
 }
 
 /// True where the native device runs the wide build: this CPU has AVX, AVX2, BMI, BMI2 and POPCNT
