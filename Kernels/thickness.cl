@@ -772,9 +772,17 @@ void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C,
   real3* Ctt)
 {
   const int first = m->edgeInfo[4 * edge], count = m->edgeInfo[4 * edge + 1];
-  int s = first;
-  while (s < first + count - 1 && T > m->edgeSegRange[2 * s + 1])
-    ++s;
+  // The first segment whose range ends at or after T (the last where none does): the segments
+  // follow each other along T, so their ends rise and a bisection finds it.
+  int s = first, last = first + count - 1;
+  while (s < last)
+  {
+    const int mid = (s + last) / 2;
+    if (T > m->edgeSegRange[2 * mid + 1])
+      s = mid + 1;
+    else
+      last = mid;
+  }
   const real T0 = m->edgeSegRange[2 * s], span = m->edgeSegRange[2 * s + 1] - T0;
   real B[4], D[4], DD[4];
   bernstein((T - T0) / span, B, D, DD);
@@ -1008,9 +1016,11 @@ int edge_point_into_face(const Model* m, int face, int edge, real T, real* u, re
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
     {
+      if (m->trimEdge[s] != edge)
+        continue; // (the edge first: the face's other segments skipped without their ranges)
       const real T0 = m->trimRange[2 * s], T1 = m->trimRange[2 * s + 1];
       const real lo = fmin(T0, T1), hi = fmax(T0, T1);
-      if (m->trimEdge[s] != edge || T < lo || T > hi || hi <= lo)
+      if (T < lo || T > hi || hi <= lo)
         continue;
       real2 d1, d2;
       const real2 p = seg_point(m->trim + TRIM_REALS * s, (T - T0) / (T1 - T0), &d1, &d2);
