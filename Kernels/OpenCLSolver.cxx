@@ -607,8 +607,7 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     // samples (SolverOptions::Chain), so with chains of 8 at least 524,288 samples and their
     // buffers (147 MiB in float with the finish); a CPU device (PoCL): sixteen of at least
     // 16,384 samples, for the progress bar of a slow device.
-    const size_t chainLength =
-      static_cast<size_t>(std::min(std::max(options.Chain, 1), KernelMaxChain));
+    const size_t chainLength = static_cast<size_t>(ChainLength(options, RT->IsGpu));
     const size_t parts = RT->IsGpu ? 4 : 16, least = RT->IsGpu ? 65536 * chainLength : 16384;
     chunk = std::max<size_t>(1024, (64u << 20) / perSample);
     if (RT->IsGpu)
@@ -631,8 +630,8 @@ std::vector<size_t> OpenCLSolver::Impl::SolveAs(const BRepModel& model, const So
     for (size_t j = 0; j < total; ++j)
       indices[j] = j;
   }
-  const std::vector<size_t> starts = ChainStarts(samples, which ? *which : indices,
-    std::min(std::max(options.Chain, 1), KernelMaxChain));
+  const std::vector<size_t> starts =
+    ChainStarts(samples, which ? *which : indices, ChainLength(options, RT->IsGpu));
   cl_context ctx = RT->Context;
   cl_command_queue q = RT->Queue;
   AllocateChunk<T>(chunk);

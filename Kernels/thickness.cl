@@ -3211,6 +3211,25 @@ int self_contact_foot(int kind, __global const real* e, real3 X0, real3 d, real 
   const real la = length(across);
   if (!(t > (real)0) || !(la > (real)0.5 * t))
     return 0;
+#ifndef BRT_DOUBLE
+  // In float, not within 60 degrees of O around the centre: a foot next to O (a start or a
+  // chain's hint next to O gives one) makes the radius through it, sphere_radius in
+  // write_result, lose the digits of |foot|^2 / 2 d.foot (the float kernel without the finish
+  // read the rod split in halves 1.2e-5 off with chains of 32). The point 60 degrees from O
+  // towards `near` instead, on the same circle (|foot| = t there). In double the rounding is
+  // harmless, and the foot next to the start stays (every other foot moves the chain's next
+  // starts, and with them 699 of 7 million spheres by 1e-6 to 2.5e-4 relative, for better and
+  // for worse: docs/Solver.md, item 20).
+  const real toO = -dot(across, d) / la;
+  if (toO > (real)0.5)
+  {
+    const real3 side = across + (toO * la) * d; // across without its part towards O
+    const real ls = length(side);
+    if (!(ls > (real)1e-3 * t))
+      return 0;
+    across = (real)0.8660254037844386 * la * (side / ls) - (real)0.5 * la * d;
+  }
+#endif
   *foot = t * d + across * (t / la);
   return 1;
 }

@@ -92,7 +92,8 @@ const char* const Usage =
   "gets its exact thickness.\n"
   "--delaunay: the display mesh (whose vertices are the samples) refined with Delaunay flips\n"
   "(the reader's DelaunayRefinement).\n"
-  "--chain N: SolverOptions::Chain (default 8; 1: every sample started from s1).\n"
+  "--chain N: SolverOptions::Chain (default 0: the device's, 32 on a CPU; 1: every sample started\n"
+  "  from s1).\n"
   "--solve-drawn: solve the drawn samples alone, not the whole mesh: each chain's samples lie far\n"
   "apart, and each starts from a distant one's contact (a test of the certification).\n";
 }

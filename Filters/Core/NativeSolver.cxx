@@ -93,7 +93,7 @@ bool NativeSolver::Solve(const SolverOptions& options, const std::vector<Sample>
   // The chains (solve_chain, ChainStarts) in SpatialOrder, in blocks of about 32 samples:
   // neighbours share the trees' nodes near them.
   const std::vector<size_t> order = SpatialOrder(samples, which);
-  const int chain = std::min(std::max(options.Chain, 1), KernelMaxChain);
+  const int chain = ChainLength(options, false);
   const std::vector<size_t> starts = ChainStarts(samples, order, chain);
   const size_t chains = starts.size() - 1;
   return ParallelForWithProgress(chains, threads, std::max(1, 32 / chain), [&](size_t c) {

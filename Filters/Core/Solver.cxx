@@ -939,6 +939,12 @@ std::vector<size_t> ChainStarts(const std::vector<Sample>& samples,
   return starts;
 }
 
+int ChainLength(const SolverOptions& options, bool gpu)
+{
+  const int chain = options.Chain > 0 ? options.Chain : (gpu ? KernelGpuChain : KernelCpuChain);
+  return std::min(chain, KernelMaxChain);
+}
+
 std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::vector<size_t>* which)
 {
   const size_t n = which ? which->size() : samples.size();

@@ -114,9 +114,10 @@ struct SolverOptions
   /// Samples solved in a row by one thread or work-item (1 to 64): each face's samples, in
   /// SpatialOrder, fall into chains of this many (ChainStarts), and each sample of a chain after
   /// its first starts from its predecessor's contact across instead of eq. 1's walk over s1
-  /// (docs/Solver.md, item 20, "Chains"). Every device and thread count solves a sample from the
-  /// same start. 1: every sample from s1.
-  int Chain = 8;
+  /// (docs/Solver.md, item 20, "Chains"). Every thread count, and every device of a kind, solves
+  /// a sample from the same start. 1: every sample from s1; 0: the device's (ChainLength: 32 on
+  /// a CPU, 8 on a GPU).
+  int Chain = 0;
 };
 
 /// s1 point: a point of a trimmed face with its patch and face parameters.
@@ -219,6 +220,10 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
 /// process's piece of the faces under MPI).
 std::vector<size_t> ChainStarts(const std::vector<Sample>& samples,
   const std::vector<size_t>& order, int chain);
+
+/// The chains' length a device solves `options` with: SolverOptions::Chain, or where that is 0
+/// KernelGpuChain on a GPU and KernelCpuChain elsewhere; within 1..KernelMaxChain.
+int ChainLength(const SolverOptions& options, bool gpu);
 
 /// The solver's reference: steps 3-8 (docs/Solver.md) for every sample, by the native device
 /// (NativeSolver: the kernel source compiled as C++ in double) on `threads` threads (0: one per

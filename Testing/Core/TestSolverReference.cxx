@@ -1397,6 +1397,43 @@ TEST(NativeDevice, ChainsSameOnEveryThreadCount)
   }
 }
 
+/// SolverOptions::Chain 0 is the device's own length (ChainLength): KernelCpuChain on a CPU,
+/// KernelGpuChain on a GPU, any other value as given up to KernelMaxChain; and the native device
+/// solves the default options with the CPU's chains (every field bit for bit as with
+/// Chain = KernelCpuChain, and not as with chains of 1, on a Data/ model's first 5,000 samples).
+TEST(NativeDevice, DefaultChainsAreTheDevices)
+{
+  SolverOptions o;
+  EXPECT_EQ(ChainLength(o, false), KernelCpuChain);
+  EXPECT_EQ(ChainLength(o, true), KernelGpuChain);
+  o.Chain = 5;
+  EXPECT_EQ(ChainLength(o, false), 5);
+  EXPECT_EQ(ChainLength(o, true), 5);
+  o.Chain = 1000;
+  EXPECT_EQ(ChainLength(o, true), KernelMaxChain);
+  const BRepModel m =
+    ConvertStepFile(test::DataFile(test::DataModels().front()), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  std::vector<Sample> samples = SamplesFromMesh(m, data);
+  samples.resize(std::min<size_t>(samples.size(), 5000));
+  const NativeSolver solver(m, data);
+  SolverOptions cpu, single;
+  cpu.Chain = KernelCpuChain;
+  single.Chain = 1;
+  std::vector<SampleResult> byDefault, asCpu, fromS1;
+  ASSERT_TRUE(solver.Solve(SolverOptions(), samples, byDefault, nullptr, 2));
+  ASSERT_TRUE(solver.Solve(cpu, samples, asCpu, nullptr, 2));
+  ASSERT_TRUE(solver.Solve(single, samples, fromS1, nullptr, 2));
+  size_t differ = 0, differS1 = 0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    differ += SameBits(byDefault[i], asCpu[i]) ? 0 : 1;
+    differS1 += SameBits(byDefault[i], fromS1[i]) ? 0 : 1;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(differS1, 0u) << "chains of 1 gave the same bits: the test cannot tell";
+}
+
 /// The native device runs the x86-64-v3 build of the kernel source where the CPU has AVX2 and
 /// BMI2 (NativeKernelWide.cxx): the same operations in the same order, no fused multiply-add, so
 /// every field of every result must be the baseline build's bit for bit: the thickness, the ray
