@@ -76,14 +76,17 @@ typedef float3 real3;
 // Per-face reals: u0, u1, v0, v1, periods in u and v (0: open), UV tolerance, then the exact
 // surface (FACE_EXACT on): its origin as hi (3) + lo (3) parts relative to the model's centre, its
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
-// brt::PackKernelModel).
-#define FACE_REALS 20
+// brt::PackKernelModel), then on a plane with a frame (FACE_INTS slot 11) the measured distance
+// between its edges and their trimming segments' images at the same edge parameter
+// (FACE_TRIM_EDGE_GAP; brt::PlaneTrimEdgeGap, memo_inside).
+#define FACE_REALS 21
 // Per trimming segment: its four (u, v) control points, then their box (u0, v0, u1, v1).
 #define TRIM_REALS 12
 // Segments per leaf of a face's trim tree at most (brt::PackTrimTrees).
 #define TRIM_LEAF 4
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
+#define FACE_TRIM_EDGE_GAP 20
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
 // (cylinder_patch_gap); of a toroidal face, its range of angles around the tube
 // (torus_patch_gap; brt::KernelPatchSectorReals).
@@ -130,6 +133,7 @@ typedef struct
 {
   int face[MEMO_DISKS]; // -1: empty
   real u[MEMO_DISKS], v[MEMO_DISKS], r[MEMO_DISKS];
+  real gap[MEMO_DISKS]; // the face's FACE_TRIM_EDGE_GAP
   int next; // the slot the next new face takes
 } ChainMemo;
 
@@ -838,22 +842,24 @@ inline int ss_on_face(const SurfaceSolve* s, __global const real* fd, real newto
 // The chain's memo answers the trim test at (u, v) on `face` (an isometric plane) where one of
 // its disks holds (u, v) with room to spare: inside, the distance from the trim at least the
 // room left (a lower bound of classify's exact distance), and no nearest segment kept (seg -1).
-// The room asked for is twice the second look's radius (second_look_near: max(1e-2 t, 10 slack)),
-// so that the second look, which takes the nearest segment's edge point where it lies within
-// that radius of the foot, would find none there either: on an isometric plane a distance in
-// (u, v) is one in space, and the edge lies within its deviation (below that radius) of its
-// trimming curve.
+// The room asked for is the second look's radius (second_look_near: rho = max(1e-2 t, 10 slack))
+// plus the larger of rho and the face's measured distance between its edges and their trimming
+// segments' images (FACE_TRIM_EDGE_GAP), so that the second look, which takes the nearest
+// segment's edge point where it lies within rho of the foot, would find none there either: on an
+// isometric plane a distance in (u, v) is one in space, and the edge point lies within that gap
+// of its segment's image.
 inline int memo_inside(const Model* m, int face, real u, real v, real t, SurfaceSolve* out)
 {
   ChainMemo* memo = m->memo;
   real3 X, Y;
   if (!memo || !plane_face_frame(m, face, &X, &Y))
     return 0;
-  const real room = (real)2 * fmax((real)1e-2 * t, (real)10 * m->slack);
+  const real rho = fmax((real)1e-2 * t, (real)10 * m->slack);
   for (int k = 0; k < MEMO_DISKS; ++k)
   {
     if (memo->face[k] != face)
       continue;
+    const real room = rho + fmax(rho, memo->gap[k]);
     const real du = u - memo->u[k], dv = v - memo->v[k];
     const real left = memo->r[k] - sqrt(du * du + dv * dv);
     if (!(left > room))
@@ -894,6 +900,7 @@ inline void memo_record(const Model* m, int face, real u, real v, int inside, in
   memo->u[k] = u;
   memo->v[k] = v;
   memo->r[k] = (real)0.999 * dist;
+  memo->gap[k] = m->faceDomain[FACE_REALS * face + FACE_TRIM_EDGE_GAP];
 }
 
 // Newton on (u, v, t) on `face`, with trust region and backtracking, then the trim test.
@@ -4782,7 +4789,7 @@ void solve_chain(Model mm, __global const real* s1Point, __global const int* s1F
   for (int k = 0; k < MEMO_DISKS; ++k)
   {
     memo.face[k] = -1;
-    memo.u[k] = memo.v[k] = memo.r[k] = (real)0;
+    memo.u[k] = memo.v[k] = memo.r[k] = memo.gap[k] = (real)0;
   }
   memo.next = 0;
   mm.memo = &memo;

@@ -1,5 +1,6 @@
 #include "KernelData.h"
 
+#include "Bezier.h"
 #include "NativeSolver.h"
 
 #include <algorithm>
@@ -489,6 +490,58 @@ int PlaneFrame(const BRepModel& m, int f, const double* a, double* X)
   }
   return sign;
 }
+
+/// On a plane face whose patches are its isometric parametrisation (PlaneFrame), the largest
+/// distance between an edge's point at T and the plane's point at its trimming segment's (u, v)
+/// for the same T (the segment's local parameter mapped linearly onto [T0, T1], as the kernel's
+/// second look maps it), over 17 points of every segment, 1.5 times that for what lies between
+/// (the margin BuildPatchBoxes gives the edges' deviation from their faces). The chain's memo
+/// asks for that much room beyond the second look's radius (memo_inside). 0 where no segment
+/// has an edge.
+double PlaneTrimEdgeGap(const BRepModel& m, int f)
+{
+  const Face& F = m.Faces[static_cast<size_t>(f)];
+  const BezierPatch& P0 = m.Patches[static_cast<size_t>(F.FirstPatch)];
+  const double du = P0.Domain[1] - P0.Domain[0], dv = P0.Domain[3] - P0.Domain[2];
+  const double* c = P0.ControlPoints.data();
+  double worst = 0.0;
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& L = m.Loops[static_cast<size_t>(l)];
+    for (int s = L.FirstSegment; s < L.FirstSegment + L.SegmentCount; ++s)
+    {
+      const TrimSegment& S = m.TrimSegments[static_cast<size_t>(s)];
+      if (S.Edge < 0 || S.Edge >= static_cast<int>(m.Edges.size()))
+        continue;
+      const Edge& E = m.Edges[static_cast<size_t>(S.Edge)];
+      if (E.SegmentCount <= 0)
+        continue;
+      for (int i = 0; i <= 16; ++i)
+      {
+        const double q = i / 16.0, T = S.T0 + q * (S.T1 - S.T0);
+        const auto uv = EvaluateCubic<2>(S.ControlPoints.data(), q);
+        // The edge segment the kernel's eval_edge takes: the first whose range ends at or
+        // after T, else the last.
+        int e = E.FirstSegment;
+        while (e < E.FirstSegment + E.SegmentCount - 1 &&
+          T > m.EdgeSegments[static_cast<size_t>(e)].T1)
+          ++e;
+        const EdgeSegment& G = m.EdgeSegments[static_cast<size_t>(e)];
+        const auto C = EvaluateCubic<3>(G.ControlPoints.data(), (T - G.T0) / (G.T1 - G.T0));
+        const double a = (uv.P[0] - P0.Domain[0]) / du, b = (uv.P[1] - P0.Domain[2]) / dv;
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k)
+        {
+          // The patch's bilinear corner map: exact on an isometric plane (PlaneFrame).
+          const double p = c[k] + a * (c[36 + k] - c[k]) + b * (c[9 + k] - c[k]);
+          d2 += (C.P[k] - p) * (C.P[k] - p);
+        }
+        worst = std::max(worst, std::sqrt(d2));
+      }
+    }
+  }
+  return 1.5 * worst;
+}
 } // namespace
 
 template <class T>
@@ -507,7 +560,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.PatchFace.reserve(np);
   k.PatchSector.assign(KernelPatchSectorReals * np, T(0));
   k.FaceInfo.reserve(KernelFaceInts * nf);
-  k.FaceDomain.reserve(20 * nf);
+  k.FaceDomain.reserve(KernelFaceReals * nf);
   k.Loops.reserve(2 * m.Loops.size());
   k.Trim.reserve(12 * nt);
   k.TrimEdge.reserve(nt);
@@ -569,6 +622,9 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 6; i < 12; ++i)
       k.FaceDomain.push_back(static_cast<T>(exact[i]));
     k.FaceDomain.push_back(static_cast<T>(F.MaxDeviation));
+    // The memo's room on a framed plane (KernelFaceTrimEdgeGap).
+    k.FaceDomain.push_back(
+      static_cast<T>(frame != 0 ? PlaneTrimEdgeGap(m, static_cast<int>(f)) : 0.0));
     // Per patch of a cylinder (EXACT_CYLINDER) its sector, of a torus (EXACT_TORUS) whose tube
     // is clear of the axis its arc of the tube (cylinder_patch_gap, torus_patch_gap): on a torus
     // written as one the arc its (u, v) domain spans (its parameters are the torus's angles), on

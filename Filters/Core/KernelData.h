@@ -26,6 +26,11 @@ constexpr size_t KernelOutInts = 7;
 constexpr size_t KernelFaceInts = 20;
 /// Faces across a face's thin walls, in its FaceInfo record (SolverData::WallPartners).
 constexpr size_t KernelWallPartners = 8;
+/// Reals per face (FACE_REALS): its (u, v) domain, periods and UV tolerance, its exact surface,
+/// the patches' measured deviation, and last (KernelFaceTrimEdgeGap) on a plane whose patches are
+/// its isometric parametrisation the measured distance between its edges and their trimming
+/// segments' images at the same edge parameter (PlaneTrimEdgeGap in KernelData.cxx; 0 elsewhere).
+constexpr size_t KernelFaceReals = 21, KernelFaceTrimEdgeGap = 20;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control

@@ -19,6 +19,7 @@ static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker diff
 // The packing (KernelData.h) and the kernel source agree on their records' sizes.
 static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &&
     OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts &&
+    FACE_REALS == KernelFaceReals && FACE_TRIM_EDGE_GAP == KernelFaceTrimEdgeGap &&
     WALL_PARTNERS == KernelWallPartners && TRIM_REALS == KernelTrimReals &&
     TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals,
   "the kernel's record sizes differ from KernelData.h");

@@ -707,6 +707,55 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
   CheckSectors(m, PackKernelModel<double>(m, data), "double");
 }
 
+/// The room the chain's memo asks for on a framed plane (memo_inside in Kernels/thickness.cl)
+/// grows with the face's measured distance between its edges and their trimming segments'
+/// images (KernelFaceTrimEdgeGap): about nothing on a part converted from exact geometry, and
+/// 1.5 times a known shift where one edge is moved off its trims in the plane, on the faces
+/// beside that edge only.
+TEST(KernelData, PlaneTrimEdgeGapMeasuresEdgesOffTheirTrims)
+{
+  BRepModel m = ConvertShape(analytic::HolePlate(40, 3, 8), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const KernelModel<double> before = PackKernelModel<double>(m, data);
+  const size_t nf = m.Faces.size();
+  ASSERT_EQ(before.FaceDomain.size(), KernelFaceReals * nf);
+  const auto gap = [](const KernelModel<double>& k, size_t f) {
+    return k.FaceDomain[KernelFaceReals * f + KernelFaceTrimEdgeGap];
+  };
+  int framed = -1;
+  for (size_t f = 0; f < nf; ++f)
+  {
+    const bool frame = before.FaceInfo[KernelFaceInts * f + 11] != 0;
+    EXPECT_LE(gap(before, f), frame ? 1e-9 * 40 : 0.0) << "face " << f;
+    if (frame && framed < 0)
+      framed = static_cast<int>(f);
+  }
+  ASSERT_GE(framed, 0) << "no framed plane";
+  // One edge of that face moved by 0.05 along the plane (its patch's u direction).
+  const Face& F = m.Faces[static_cast<size_t>(framed)];
+  const TrimSegment& S = m.TrimSegments[static_cast<size_t>(m.Loops[F.FirstLoop].FirstSegment)];
+  ASSERT_GE(S.Edge, 0);
+  const double* c = m.Patches[static_cast<size_t>(F.FirstPatch)].ControlPoints.data();
+  double X[3] = { c[36] - c[0], c[37] - c[1], c[38] - c[2] };
+  const double len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+  const double shift = 0.05;
+  const Edge& E = m.Edges[static_cast<size_t>(S.Edge)];
+  for (int e = E.FirstSegment; e < E.FirstSegment + E.SegmentCount; ++e)
+    for (int i = 0; i < 12; ++i)
+      m.EdgeSegments[static_cast<size_t>(e)].ControlPoints[i] += shift * X[i % 3] / len;
+  const KernelModel<double> after = PackKernelModel<double>(m, data);
+  for (size_t f = 0; f < nf; ++f)
+  {
+    const bool beside = static_cast<int>(f) == E.Faces[0] || static_cast<int>(f) == E.Faces[1];
+    if (before.FaceInfo[KernelFaceInts * f + 11] == 0)
+      EXPECT_EQ(gap(after, f), 0.0) << "face " << f;
+    else if (!beside)
+      EXPECT_EQ(gap(after, f), gap(before, f)) << "face " << f;
+    else
+      EXPECT_NEAR(gap(after, f), 1.5 * shift, 1e-6) << "face " << f;
+  }
+}
+
 /// The arcs of the tube that the certification skips the patches of a torus read from a
 /// B-spline by (TorusArcOfPatch, packed as PackTorusArc): every point of every such patch (a
 /// 17 x 17 grid of it) lies, around the tube's centre circle, within the stored half-span of the
