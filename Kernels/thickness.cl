@@ -567,7 +567,7 @@ inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, i
 int inside_by_crossings(const Model* m, int face, real u, real v);
 
 // Point-in-face test on the cubic trimming segments (the same steps as the host's
-// brt::ClassifyPoint, Readers/Core/TrimClassifier, but for the crossing parity at a cusp, below).
+// brt::ClassifyPoint, Readers/Core/TrimClassifier, the crossing parity at a cusp included).
 BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
 {
   __global const int* fi = m->faceInfo + FACE_INTS * face;

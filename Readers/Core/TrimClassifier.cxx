@@ -290,9 +290,16 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     return res;
   }
   // Corner rule: a left turn (convex corner) keeps the region near the vertex outside,
-  // a right turn (concave corner) inside.
+  // a right turn (concave corner) inside. Where the tangents lie within a thousandth of a radian
+  // of each other or of opposite (a loop that turns back on itself at a cusp, or a corner all
+  // but smooth), the turn's sign is rounding, and the crossing parity decides, as in the
+  // kernel's classify (docs/Solver.md, Open items, "The corner rule at a cusp").
   res.Corner = true;
-  res.Inside = Cross(ta[0], ta[1], tb[0], tb[1]) < 0.0;
+  const double turn = Cross(ta[0], ta[1], tb[0], tb[1]);
+  if (std::fabs(turn) < 1e-3 * std::hypot(ta[0], ta[1]) * std::hypot(tb[0], tb[1]))
+    res.Inside = InsideByCrossings(model, model.TrimSegments[res.Segment].Face, u, v);
+  else
+    res.Inside = turn < 0.0;
   return res;
 }
 } // namespace

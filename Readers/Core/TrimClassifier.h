@@ -29,7 +29,8 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
 /// Classifies (u,v) against all loops of `face`. Inside iff the cross product
 /// (c'(t_p) x (P - c(t_p)))_w > 0 with loops oriented material-on-the-left; when the nearest
 /// point is the junction of two segments that are not tangent-continuous, the corner rule
-/// applies (a left turn is convex: outside; a right turn is concave: inside).
+/// applies (a left turn is convex: outside; a right turn is concave: inside), but where the two
+/// tangents lie within 1e-3 rad of each other or of opposite (a cusp), InsideByCrossings decides.
 TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v);
 
 /// A trimming segment of a face with its control box (SegmentBox), for ClassifyPoint over a
