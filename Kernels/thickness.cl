@@ -1104,30 +1104,40 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
   const int bounded = bound < REAL_MAX;
     real minDist, noise;
     start_tolerances(scale, &minDist, &noise);
+    // Each entry keeps the radius its ball had when its parent pushed it (0: none yet, the
+    // start's walk before its first point): the parent pushed only children that ball reaches,
+    // so while t has not shrunk since, the test need not be made again.
     int stack[64];
+    real pushedAt[64];
     int top = 0;
     // Below a split root (brt::S1SplitRoot) the faces' points lie left, the edges' right: a start
     // (no bound) needs only the faces', the verification next to the certification only the
     // edges'.
     if (nodeInfo[0] == S1_SPLIT_ROOT && (!bounded || edgesOnly))
-      stack[top++] = bounded ? nodeInfo[2] : 1;
+      stack[top] = bounded ? nodeInfo[2] : 1;
     else
-      stack[top++] = 0;
+      stack[top] = 0;
+    pushedAt[top++] = (real)0;
     while (top > 0)
     {
-      const int n = stack[--top];
+      --top;
+      const int n = stack[top];
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = make_real3(bx[0], bx[1], bx[2]), hi = make_real3(bx[3], bx[4], bx[5]);
       // A node wholly behind O's tangent plane holds no candidate: each of its points would be
       // skipped below (no point stands more than delta + max(1e-6 |P - O|, noise) in front of O,
       // and |P - O| is at least the node's distance from O). Without this a sample that no wall
-      // faces (an exterior gap to infinity) visits every s1 point.
-      const real3 ahead = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
-      const real3 gapToBox = max(max(lo - O, splat_real3(0)), O - hi);
-      const real lead = dot(d, ahead - O) - delta; // against max(1e-6 |gap|, noise), squared
-      if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
-        continue;
-      if (best >= 0 || bounded)
+      // faces (an exterior gap to infinity) visits every s1 point. A bounded walk needs no such
+      // test: its ball lies in front of that plane, and the points are tested one by one anyway.
+      if (!bounded)
+      {
+        const real3 ahead = make_real3(d.x > 0 ? hi.x : lo.x, d.y > 0 ? hi.y : lo.y, d.z > 0 ? hi.z : lo.z);
+        const real3 gapToBox = max(max(lo - O, splat_real3(0)), O - hi);
+        const real lead = dot(d, ahead - O) - delta; // against max(1e-6 |gap|, noise), squared
+        if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
+          continue;
+      }
+      if ((best >= 0 || bounded) && pushedAt[top] != t)
       {
         const real3 M = O + t * d;
         const real3 e = max(max(lo - M, splat_real3(0)), M - hi);
@@ -1183,10 +1193,17 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       // A child the ball already misses is not pushed (the ball only shrinks, inside itself).
       const real reach2 = (best >= 0 || bounded) ? (t - delta) * (t - delta) : REAL_MAX;
       const real dFar = leftFirst ? dr : dl;
+      const real at = (best >= 0 || bounded) ? t : (real)0;
       if (dFar < reach2)
-        stack[top++] = leftFirst ? right : left;
+      {
+        stack[top] = leftFirst ? right : left;
+        pushedAt[top++] = at;
+      }
       if ((leftFirst ? dl : dr) < reach2)
-        stack[top++] = leftFirst ? left : right;
+      {
+        stack[top] = leftFirst ? left : right;
+        pushedAt[top++] = at;
+      }
     }
   *tOut = t;
   return best;
