@@ -2829,10 +2829,76 @@ inline void push_halves(real2 (*st)[4], int* depthOf, int* top, const real2* q, 
   *top = k + 2;
 }
 
+// A cubic piece q (four (u, v) control points, both ends at least r from P) against the disk of
+// radius r about P, by f(s) = |q(s) - P|^2, a polynomial of degree 6: 1 where f stays at least
+// r2 = r^2 on the piece, -1 where a point of the piece lies nearer than r, 0 undecided. f lies
+// above the least of its Bernstein coefficients (an arc about P: f all but constant). Where its
+// second differences are all positive f is convex, so it lies above its tangents: Newton on f'
+// (safeguarded by bisection) closes in on its minimum, and the two tangents at the ends of the
+// bracket [lo, hi] around it (f' < 0 at lo, > 0 at hi) meet below every value of f. A curve that
+// passes just outside the disk (a trim next to a fillet's edge, where the sphere meets the plane
+// almost tangent to the trim) is decided so without the halvings that would narrow its box to
+// the gap.
+inline int piece_clear_of(const real2* q, real2 P, real r2)
+{
+  const real2 w0 = q[0] - P, w1 = q[1] - P, w2 = q[2] - P, w3 = q[3] - P;
+  real b[7];
+  b[0] = dot(w0, w0);
+  b[1] = dot(w0, w1);
+  b[2] = (real)0.4 * dot(w0, w2) + (real)0.6 * dot(w1, w1);
+  b[3] = (real)0.1 * dot(w0, w3) + (real)0.9 * dot(w1, w2);
+  b[4] = (real)0.4 * dot(w1, w3) + (real)0.6 * dot(w2, w2);
+  b[5] = dot(w2, w3);
+  b[6] = dot(w3, w3);
+  if (fmin(fmin(b[1], b[2]), fmin(fmin(b[3], b[4]), b[5])) >= r2)
+    return 1;
+  for (int k = 0; k < 5; ++k)
+    if (!(b[k + 2] - (real)2 * b[k + 1] + b[k] > (real)0))
+      return 0;
+  // Power form of q(s) - P: a0 + a1 s + a2 s^2 + a3 s^3.
+  const real2 a0 = w0, a1 = (real)3 * (w1 - w0), a2 = (real)3 * (w2 - (real)2 * w1 + w0),
+              a3 = w3 - (real)3 * w2 + (real)3 * w1 - w0;
+  real lo = (real)0, flo = b[0], fplo = (real)2 * dot(a0, a1);
+  real hi = (real)1, fhi = b[6], fphi = (real)2 * dot(w3, a1 + (real)2 * a2 + (real)3 * a3);
+  // f' rises (convex f): where it does not change sign, the minimum is at an end.
+  if (!(fplo < (real)0) || !(fphi > (real)0))
+    return 1;
+  real s = fplo / (fplo - fphi);
+  for (int it = 0; it < 8; ++it)
+  {
+    const real2 W = a0 + s * (a1 + s * (a2 + s * a3));
+    const real2 Wp = a1 + s * ((real)2 * a2 + (real)3 * s * a3);
+    const real2 Wpp = (real)2 * a2 + (real)6 * s * a3;
+    const real f = dot(W, W), fp = (real)2 * dot(W, Wp), fpp = (real)2 * (dot(Wp, Wp) + dot(W, Wpp));
+    if (f < r2)
+      return -1;
+    if (fp < (real)0)
+    {
+      lo = s;
+      flo = f;
+      fplo = fp;
+    }
+    else
+    {
+      hi = s;
+      fhi = f;
+      fphi = fp;
+    }
+    // Where the tangents at lo and hi meet: below f on [lo, hi], and f rises away from it.
+    const real x = (fhi - flo + fplo * lo - fphi * hi) / (fplo - fphi);
+    const real low = flo + fplo * (fmin(fmax(x, lo), hi) - lo);
+    if (fmin(low, fmin(flo, fhi)) >= r2)
+      return 1;
+    const real next = fpp > (real)0 ? s - fp / fpp : (real)-1;
+    s = next > lo && next < hi ? next : (real)0.5 * (lo + hi);
+  }
+  return 0;
+}
+
 // 1 when the cubic trimming segment c (four (u, v) control points) lies at least r from P: each
-// piece lies in the hull of its control points, so in their box along its chord and across it;
-// pieces whose box comes nearer are halved (de Casteljau), up to 10 times. 0 where a piece's end
-// (a point of the curve) lies nearer, or the halvings run out.
+// piece lies in the hull of its control points, so in their box along its chord and across it,
+// or piece_clear_of decides it; pieces neither clears are halved (de Casteljau), up to 10
+// times. 0 where a point of the curve lies nearer, or the halvings run out.
 int segment_clear_of(__global const real* c, real2 P, real r)
 {
   real2 st[12][4];
@@ -2868,6 +2934,13 @@ int segment_clear_of(__global const real* c, real2 P, real r)
     const real gs = fmax(fmax(s0, -s1), (real)0), gn = fmax(fmax(n0, -n1), (real)0);
     if (gs * gs + gn * gn >= r2)
       continue;
+    const int k = piece_clear_of(q, P, r2);
+    if (k != 0)
+    {
+      if (k < 0)
+        return 0;
+      continue;
+    }
     if (level == 10 || top + 2 > 12)
       return 0;
     push_halves(st, depthOf, &top, q, level);

@@ -250,6 +250,11 @@ bool NativeSolver::InsideByCrossings(int face, double u, double v) const
   return kernel::inside_by_crossings(&view, face, u, v) != 0;
 }
 
+int NativeSolver::SegmentClearOf(const std::array<double, 8>& cp, double u, double v, double r)
+{
+  return kernel::segment_clear_of(cp.data(), kernel::real2{ u, v }, r);
+}
+
 void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, SampleResult& r) const
 {
   if (r.Type == ContactType::Failed || r.Type == ContactType::OtherSolid || P->Data.Nodes.empty())

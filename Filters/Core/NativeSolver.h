@@ -81,6 +81,11 @@ public:
   /// segment tree where the face has one); the same chords as brt::InsideByCrossings; for tests.
   bool InsideByCrossings(int face, double u, double v) const;
 
+  /// The kernel's test that the cubic trimming segment with (u, v) control points cp lies at
+  /// least r from (u, v) (segment_clear_of, the certification's trim proof on planes): 1 where
+  /// proven, 0 where a point of it lies nearer or the proof did not close; for tests.
+  static int SegmentClearOf(const std::array<double, 8>& cp, double u, double v, double r);
+
   /// Refines in double a contact found in lower precision (the float kernels), `options` being
   /// those it was found with (the clearance of its pass): the same contact's Newton from its foot
   /// (eq. 4 on its face from the foot's (u, v), or the minimum along its edge from T), then the
