@@ -3131,8 +3131,8 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
   stackGap[top++] = box_gap2(m->boxNodeBox, M);
   // exact_gap depends on the face alone (M and t do not change during the query): kept for the
   // last face asked, which a leaf's patches mostly share.
-  int gapFace = -1;
-  real gapOfFace = (real)0;
+  int gapFace = -1, nodeGapFace = -1;
+  real gapOfFace = (real)0, nodeGap = (real)0;
   while (top > 0)
   {
     --top;
@@ -3144,6 +3144,26 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
     // another solid's subtree holds nothing in scope.
     if (ni[1] < 0 && solid >= 0 && -ni[1] - 1 != solid)
       continue;
+    // An inner node whose items are all patches of one face has that face as First (else -1;
+    // BuildPatchBoxes). Where the face's exact surface lies farther from M than the need its
+    // patches would be asked (exact_gap), each of them would be passed over below (the leaves'
+    // bound is at least that: plane_trim_gap only raises it), so the subtree is skipped whole:
+    // a torus sample's own face had 23 of its 26 patches past their boxes on NIST_MBE_PMI_11.
+    // Its own one-face memory (exact_gap does not depend on the need), so that the leaves'
+    // (gapFace) holds what it held before.
+    if (ni[1] <= 0 && ni[0] >= 0)
+    {
+      const int face = ni[0];
+      const real need =
+        face == ownFace ? fmin(st->best, reach - own_face_margin(m, face)) : st->best;
+      if (face != nodeGapFace)
+      {
+        nodeGapFace = face;
+        nodeGap = exact_gap(m, face, Ohi, Olo, mr, t);
+      }
+      if (!(nodeGap < need))
+        continue;
+    }
     if (ni[1] > 0)
     {
       for (int i = ni[0]; i < ni[0] + ni[1]; ++i)

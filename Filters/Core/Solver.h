@@ -176,7 +176,8 @@ struct SolverData
   /// where the face has no exact surface or there is no face. Derived like PatchBoxes.
   std::vector<double> EdgeFaceDeviation;
   /// BVH over those boxes (same node layout as Nodes); BoxItems[First .. First + Count) of a
-  /// leaf are patch indices, or edge segment indices offset by the number of patches.
+  /// leaf are patch indices, or edge segment indices offset by the number of patches. An inner
+  /// node's First is the face whose patches are all its subtree's items (-1: none such).
   std::vector<BVHNode> BoxNodes;
   std::vector<int> BoxItems;
   /// Per face, KernelWallPartners (8) faces across its thin walls, the most found first (-1:

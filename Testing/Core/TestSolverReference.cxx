@@ -799,6 +799,48 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
   CheckSectors(m, PackKernelModel<double>(m, data), "double");
 }
 
+/// The certification's tree names, in each inner node, the face whose patches are all of its
+/// subtree's items (-1 where edge segments or several faces are among them): the walk skips such
+/// a subtree whole where that face's exact surface clears the sphere (find_point_inside).
+TEST(KernelData, BoxTreeNamesSingleFaceSubtrees)
+{
+  const BRepModel m =
+    ConvertStepFile(test::DataFile("NIST_MBE_PMI_11.stp"), ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  ASSERT_FALSE(data.BoxNodes.empty());
+  const int np = static_cast<int>(m.Patches.size());
+  // The face of every item under node n (-1: an edge segment, -2: several).
+  std::function<int(int)> faceUnder = [&](int n) {
+    const BVHNode& N = data.BoxNodes[static_cast<size_t>(n)];
+    if (N.Count > 0)
+    {
+      int face = -3;
+      for (int i = N.First; i < N.First + N.Count; ++i)
+      {
+        const int item = data.BoxItems[static_cast<size_t>(i)];
+        const int f = item < np ? m.Patches[static_cast<size_t>(item)].Face : -1;
+        face = face == -3 ? f : (face == f ? face : -2);
+      }
+      return face;
+    }
+    const int a = faceUnder(n + 1), b = faceUnder(N.Right);
+    return a == b ? a : -2;
+  };
+  size_t named = 0, inner = 0;
+  for (size_t n = 0; n < data.BoxNodes.size(); ++n)
+  {
+    const BVHNode& N = data.BoxNodes[n];
+    if (N.Count > 0)
+      continue;
+    ++inner;
+    const int f = faceUnder(static_cast<int>(n));
+    EXPECT_EQ(N.First, f >= 0 ? f : -1) << "node " << n;
+    named += N.First >= 0 ? 1 : 0;
+  }
+  std::printf("[box tree] %zu inner nodes, %zu over one face's patches\n", inner, named);
+  EXPECT_GT(named, 0u);
+}
+
 /// The room the chain's memo asks for on a framed plane (memo_inside in Kernels/thickness.cl)
 /// grows with the face's measured distance between its edges and their trimming segments'
 /// images (KernelFaceTrimEdgeGap): about nothing on a part converted from exact geometry, and
