@@ -1104,12 +1104,13 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
   const int bounded = bound < REAL_MAX;
     real minDist, noise;
     start_tolerances(scale, &minDist, &noise);
-    // Each entry keeps the radius its ball had when its parent pushed it (0: none yet, the
-    // start's walk before its first point): the parent pushed only children that ball reaches,
-    // so while t has not shrunk since, the test need not be made again.
+    // A parent pushes only children its ball reaches, so an entry pushed since t last shrank
+    // need not be tested against the ball again. The entries below staleBelow were pushed
+    // before (the stack's order: a change makes every entry on it stale, and a pop below the
+    // mark lowers it, since what is pushed next is pushed after the change); the root is
+    // tested.
     int stack[64];
-    real pushedAt[64];
-    int top = 0;
+    int top = 0, staleBelow = 1;
     // Below a split root (brt::S1SplitRoot) the faces' points lie left, the edges' right: a start
     // (no bound) needs only the faces', the verification next to the certification only the
     // edges'.
@@ -1117,11 +1118,14 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       stack[top] = bounded ? nodeInfo[2] : 1;
     else
       stack[top] = 0;
-    pushedAt[top++] = (real)0;
+    ++top;
     while (top > 0)
     {
       --top;
       const int n = stack[top];
+      const int fresh = top >= staleBelow;
+      if (top < staleBelow)
+        staleBelow = top;
       __global const real* bx = nodeBox + 6 * n;
       const real3 lo = make_real3(bx[0], bx[1], bx[2]), hi = make_real3(bx[3], bx[4], bx[5]);
       // A node wholly behind O's tangent plane holds no candidate: each of its points would be
@@ -1137,7 +1141,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
         if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
           continue;
       }
-      if ((best >= 0 || bounded) && pushedAt[top] != t)
+      if ((best >= 0 || bounded) && !fresh)
       {
         const real3 M = O + t * d;
         const real3 e = max(max(lo - M, splat_real3(0)), M - hi);
@@ -1176,6 +1180,7 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
           {
             t = num / e;
             best = i;
+            staleBelow = top;
           }
         }
         continue;
@@ -1193,17 +1198,10 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
       // A child the ball already misses is not pushed (the ball only shrinks, inside itself).
       const real reach2 = (best >= 0 || bounded) ? (t - delta) * (t - delta) : REAL_MAX;
       const real dFar = leftFirst ? dr : dl;
-      const real at = (best >= 0 || bounded) ? t : (real)0;
       if (dFar < reach2)
-      {
-        stack[top] = leftFirst ? right : left;
-        pushedAt[top++] = at;
-      }
+        stack[top++] = leftFirst ? right : left;
       if ((leftFirst ? dl : dr) < reach2)
-      {
-        stack[top] = leftFirst ? left : right;
-        pushedAt[top++] = at;
-      }
+        stack[top++] = leftFirst ? left : right;
     }
   *tOut = t;
   return best;
