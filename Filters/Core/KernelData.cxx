@@ -521,11 +521,16 @@ double PlaneTrimEdgeGap(const BRepModel& m, int f)
         const double q = i / 16.0, T = S.T0 + q * (S.T1 - S.T0);
         const auto uv = EvaluateCubic<2>(S.ControlPoints.data(), q);
         // The edge segment the kernel's eval_edge takes: the first whose range ends at or
-        // after T, else the last.
-        int e = E.FirstSegment;
-        while (e < E.FirstSegment + E.SegmentCount - 1 &&
-          T > m.EdgeSegments[static_cast<size_t>(e)].T1)
-          ++e;
+        // after T, else the last (by bisection, as there: the ends rise along the edge).
+        int e = E.FirstSegment, last = E.FirstSegment + E.SegmentCount - 1;
+        while (e < last)
+        {
+          const int mid = (e + last) / 2;
+          if (T > m.EdgeSegments[static_cast<size_t>(mid)].T1)
+            e = mid + 1;
+          else
+            last = mid;
+        }
         const EdgeSegment& G = m.EdgeSegments[static_cast<size_t>(e)];
         const auto C = EvaluateCubic<3>(G.ControlPoints.data(), (T - G.T0) / (G.T1 - G.T0));
         const double a = (uv.P[0] - P0.Domain[0]) / du, b = (uv.P[1] - P0.Domain[2]) / dv;
