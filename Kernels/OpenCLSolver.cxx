@@ -328,7 +328,7 @@ struct OpenCLSolver::Impl
   bool Double = false; ///< the precision asked for
   /// The model's buffers (kernel arguments 0..31), per precision: [0] float, [1] double; the
   /// launch's arguments follow them (LAUNCH_PARAMS in thickness.cl), then the outputs.
-  static constexpr int ModelBuffers = 32;
+  static constexpr int ModelBuffers = 33;
   static constexpr int LaunchArg = ModelBuffers, OutArg = ModelBuffers + 13;
   Buffer Model[2][ModelBuffers];
   int PatchCount = 0;
@@ -515,6 +515,7 @@ void OpenCLSolver::Impl::UploadAs(const BRepModel& m, const SolverData& data)
   b[29].Write(ctx, q, k.TrimNodeInfo);
   b[30].Write(ctx, q, k.TrimItems);
   b[31].Write(ctx, q, k.PatchSector);
+  b[32].Write(ctx, q, k.PatchHull);
   PatchCount = static_cast<int>(m.Patches.size());
   HasBoxes = k.HasBoxes();
   Check(clFinish(q), "clFinish");

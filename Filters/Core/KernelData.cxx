@@ -135,6 +135,48 @@ T Rounded(double x, bool up)
   return y;
 }
 
+/// A patch's control-net constants (KernelPatchHullReals) from its 16 control points c as packed
+/// (relative to its anchor): the operations patch_gap did on them in the kernel source, in T and
+/// in its order (no FMA: the host's build, as the kernel's, contracts nothing here).
+template <class T>
+void PackPatchHull(const T* c, T* out)
+{
+  T mean[3] = { T(0), T(0), T(0) };
+  for (int i = 0; i < 16; ++i)
+    for (int k = 0; k < 3; ++k)
+      mean[k] = mean[k] + c[3 * i + k];
+  for (int k = 0; k < 3; ++k)
+    out[k] = mean[k] / T(16);
+  // cross(c33 - c00, c03 - c30), then divided by its length (zeros where that is 0).
+  T x[3], y[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    x[k] = c[45 + k] - c[k];
+    y[k] = c[9 + k] - c[36 + k];
+  }
+  const T n[3] = { x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2],
+    x[0] * y[1] - x[1] * y[0] };
+  const T ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int k = 0; k < 3; ++k)
+    out[3 + k] = ln > T(0) ? n[k] / ln : T(0);
+  // The control points' offsets along that normal (as stored in T), in double: the least and the
+  // greatest rounded outwards, so that the hull lies between them in T too; the corners' mean's.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, corners = 0.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    double o = 0.0;
+    for (int k = 0; k < 3; ++k)
+      o += static_cast<double>(c[3 * i + k]) * static_cast<double>(out[3 + k]);
+    lo = std::min(lo, o);
+    hi = std::max(hi, o);
+    if (i == 0 || i == 3 || i == 12 || i == 15)
+      corners += 0.25 * o;
+  }
+  out[6] = Rounded<T>(lo, false);
+  out[7] = Rounded<T>(hi, true);
+  out[8] = static_cast<T>(corners);
+}
+
 /// The sector of a cylinder (origin o and unit axis a, absolute) that holds the control points
 /// cp of one of its face's patches, as KernelPatchSectorReals: the point of the axis at the
 /// middle of their heights, relative to the patch's anchor (the first control point) and stored
@@ -564,6 +606,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.PatchDomain.reserve(4 * np);
   k.PatchFace.reserve(np);
   k.PatchSector.assign(KernelPatchSectorReals * np, T(0));
+  k.PatchHull.resize(KernelPatchHullReals * np);
   k.FaceInfo.reserve(KernelFaceInts * nf);
   k.FaceDomain.reserve(KernelFaceReals * nf);
   k.Loops.reserve(2 * m.Loops.size());
@@ -588,6 +631,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 0; i < 48; ++i)
       k.Patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
     k.PatchDomain.insert(k.PatchDomain.end(), p.Domain.begin(), p.Domain.end());
+    PackPatchHull(&k.Patches[k.Patches.size() - 48], &k.PatchHull[KernelPatchHullReals * k.PatchFace.size()]);
     k.PatchFace.push_back(p.Face);
   }
   for (size_t f = 0; f < m.Faces.size(); ++f)

@@ -43,6 +43,13 @@ constexpr size_t KernelTrimReals = 12;
 /// written as one, the arc that holds its control hull on one read from a B-spline
 /// (TorusArcOfPatch). Rounded outwards to T; zeros on faces of other kinds.
 constexpr size_t KernelPatchSectorReals = 12;
+/// Reals per patch of its control net's constants (PATCH_HULL_REALS; the certification's
+/// patch_gap): the control points' mean relative to the patch's anchor (3) and the unit normal of
+/// the net's diagonals (3; zeros where they are parallel), both by the kernel source's own
+/// operations in T on the control points as packed (PackPatchHull); then the least and the
+/// greatest offset of the control points along that normal, rounded outwards to T, and the offset
+/// of the four corners' mean.
+constexpr size_t KernelPatchHullReals = 9;
 /// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
 /// those with more than KernelLinearTrims segments.
 constexpr int KernelTrimLeaf = 4, KernelLinearTrims = 8;
@@ -52,7 +59,7 @@ struct KernelModel
 {
   std::vector<T> Patches, PatchAnchor, PatchDomain, FaceDomain, Breaks, Trim, TrimRange, EdgeRange,
     EdgeSeg, EdgeAnchor, EdgeSegRange, S1Point, S1UV, NodeBox, PatchBoxes, EdgeBoxes, BoxNodeBox,
-    PatchSector;
+    PatchSector, PatchHull;
   std::vector<int> FaceInfo, Loops, TrimEdge, EdgeInfo, S1Face, NodeInfo, VertexInfo, PatchFace,
     EdgeSegEdge, BoxNodeInfo, BoxItems;
   /// The faces' trimming-segment trees (PackTrimTrees in KernelData.cxx): node boxes (4 per

@@ -26,7 +26,7 @@ Model KernelView(const KernelModel<double>& K, const KernelScalars& s, int patch
     K.EdgeInfo.data(), K.EdgeRange.data(), K.EdgeSeg.data(), K.EdgeAnchor.data(),
     K.EdgeSegRange.data(), K.VertexInfo.data(), s.Slack, s.Clearance, s.S1Spacing,
     K.PatchFace.data(), K.EdgeSegEdge.data(), K.PatchBoxes.data(), K.PatchSector.data(),
-    K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(), patchCount,
+    K.PatchHull.data(), K.EdgeBoxes.data(), K.BoxNodeBox.data(), K.BoxNodeInfo.data(), K.BoxItems.data(), patchCount,
     s.Mode(K.HasBoxes()), nullptr };
 }
 

@@ -21,7 +21,8 @@ static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &
     OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts &&
     FACE_REALS == KernelFaceReals && FACE_TRIM_EDGE_GAP == KernelFaceTrimEdgeGap &&
     WALL_PARTNERS == KernelWallPartners && TRIM_REALS == KernelTrimReals &&
-    TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals,
+    TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals &&
+    PATCH_HULL_REALS == KernelPatchHullReals,
   "the kernel's record sizes differ from KernelData.h");
 
 struct NativeSolver::Impl
