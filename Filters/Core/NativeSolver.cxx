@@ -215,7 +215,7 @@ double NativeSolver::ThinWallAcross(const Sample& sample) const
 }
 
 void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
-  double& patchBound) const
+  double& patchBound, double* hullBound, double* ahead) const
 {
   const kernel::Model view = P->View(GetKernelScalars<double>(P->Model, P->Data, SolverOptions()));
   const SampleFrame f = Frame(P->Data, sample);
@@ -227,6 +227,13 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
   patchBound = kind == EXACT_CYLINDER ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
     : kind == EXACT_TORUS           ? kernel::torus_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
                                     : -1.0;
+  double far = 0.0;
+  const double hull = kernel::patch_gap(&view, patch,
+    kernel::anchor_minus(view.patchAnchor + 6 * patch, Ohi, Olo) - mr, mr, d, &far);
+  if (hullBound)
+    *hullBound = hull;
+  if (ahead)
+    *ahead = far;
 }
 
 double NativeSolver::FaceBound(const Sample& sample, double t, int face, double need) const

@@ -59,9 +59,11 @@ public:
   /// tangent at the sample to `patch` (find_point_inside in Kernels/thickness.cl): faceBound from
   /// its face's exact surface (exact_gap), patchBound from the patch's piece of a cylinder
   /// (cylinder_patch_gap) or its arc of a torus's tube (torus_patch_gap); -1 where one does not
-  /// apply. For tests against OpenCASCADE's distance to the patch.
+  /// apply; *hullBound (where given) from the patch's control net (patch_gap), and *ahead its
+  /// control points' farthest offset along the sample's direction from the sample. For tests
+  /// against OpenCASCADE's distance to the patch.
   void PatchBounds(const Sample& sample, double t, int patch, double& faceBound,
-    double& patchBound) const;
+    double& patchBound, double* hullBound = nullptr, double* ahead = nullptr) const;
 
   /// The certification's lower bound of the distance from the centre of the sphere of radius t
   /// tangent at the sample to `face` (find_point_inside): its exact surface's (exact_gap), and on

@@ -452,9 +452,10 @@ double DistanceToPatch(const BezierPatch& patch, const gp_Pnt& M)
   return best;
 }
 
-/// The certification skips a patch on the strength of two lower bounds of its distance from the
-/// sphere's centre (find_point_inside): from its face's exact surface less the patches' measured
-/// deviation, and on a cylinder from the patch's piece of it. Both must stay at or below
+/// The certification skips a patch on the strength of three lower bounds of its distance from the
+/// sphere's centre (find_point_inside): from its control net (patch_gap, with the net's constants
+/// packed per patch), from its face's exact surface less the patches' measured deviation, and on
+/// a cylinder from the patch's piece of it. Each must stay at or below
 /// OpenCASCADE's distance to the patch itself, for centres of spheres near the solved ones (the
 /// solved radius, a clearance and a few more wider, half as wide); and the patch's bound must
 /// do its work: on a rod the solved sphere's centre lies near the axis, where the face's bound
@@ -485,7 +486,7 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     SCOPED_TRACE(c.Name);
     const test::Solved s = test::SolveShape(c.Shape, ConversionOptions().Tolerance);
     const NativeSolver solver(s.Model, s.Data);
-    size_t checked = 0, patchTighter = 0;
+    size_t checked = 0, patchTighter = 0, hullClaims = 0;
     double worst = -1e300;
     const size_t stride = std::max<size_t>(1, s.Samples.size() / 8);
     // The B-spline forms have 4-6 times the patches: each sample checks every k-th of them, from
@@ -502,9 +503,20 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
           smp.Point[2] + t * smp.Direction[2]);
         for (size_t p = (i / stride) % patchStride; p < s.Model.Patches.size(); p += patchStride)
         {
-          double faceBound, patchBound;
-          solver.PatchBounds(smp, t, static_cast<int>(p), faceBound, patchBound);
-          const double bound = std::max(faceBound, patchBound);
+          double faceBound, patchBound, hullBound, ahead;
+          solver.PatchBounds(smp, t, static_cast<int>(p), faceBound, patchBound, &hullBound,
+            &ahead);
+          // The net's farthest offset along d bounds the patch's: on a 9 x 9 grid of it.
+          for (int a = 0; a <= 8; ++a)
+            for (int b = 0; b <= 8; ++b)
+            {
+              const auto e = EvaluatePatchLocal(s.Model.Patches[p].ControlPoints, a / 8.0, b / 8.0);
+              double along = 0.0;
+              for (int k = 0; k < 3; ++k)
+                along += (e.P[k] - smp.Point[k]) * smp.Direction[k];
+              EXPECT_LE(along, ahead + 1e-9) << "sample " << i << ", patch " << p;
+            }
+          const double bound = std::max({ faceBound, patchBound, hullBound });
           // No claim, or one far beyond the sphere (the certification decides at about t): of
           // those, one in 32 is checked too (a bound far too large skips a patch the sphere
           // holds, as the generator's distance did on cones past their apexes).
@@ -514,9 +526,11 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
           ++checked;
           patchTighter += patchBound > faceBound + 1e-3;
           worst = std::max(worst, bound - truth);
+          hullClaims += hullBound > 0.0;
           EXPECT_LE(bound, truth + 1e-9) << "sample " << i << ", t " << t << ", patch " << p
                                          << ": face bound " << faceBound << ", patch bound "
-                                         << patchBound << ", distance " << truth;
+                                         << patchBound << ", net bound " << hullBound
+                                         << ", distance " << truth;
         }
       }
     }
@@ -524,6 +538,7 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
                 "%zu, max bound - distance %.3g\n",
       c.Name.c_str(), checked, patchTighter, worst);
     EXPECT_GT(checked, 100u);
+    EXPECT_GT(hullClaims, 0u);
     // Cones and spindle tori have no bound of their own patches.
     if (c.Name.find("conical") == std::string::npos && c.Name.find("lemon") == std::string::npos)
     {
