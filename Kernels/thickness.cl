@@ -1116,6 +1116,11 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
     // tested.
     int stack[64];
     int top = 0, staleBelow = 1;
+    // The ball's centre and squared reach, kept with t (recomputed where a point shrinks it, not
+    // per node).
+    int ball = best >= 0 || bounded;
+    real3 M = ball ? O + t * d : O;
+    real reach2 = ball ? (t - delta) * (t - delta) : REAL_MAX;
     // Below a split root (brt::S1SplitRoot) the faces' points lie left, the edges' right: a start
     // (no bound) needs only the faces', the verification next to the certification only the
     // edges'.
@@ -1146,11 +1151,10 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
         if (!(lead > noise) || lead * lead <= (real)1e-12 * dot(gapToBox, gapToBox))
           continue;
       }
-      if ((best >= 0 || bounded) && !fresh)
+      if (ball && !fresh)
       {
-        const real3 M = O + t * d;
         const real3 e = max(max(lo - M, splat_real3(0)), M - hi);
-        if (dot(e, e) >= (t - delta) * (t - delta))
+        if (dot(e, e) >= reach2)
           continue;
       }
       const int first = nodeInfo[3 * n], cnt = nodeInfo[3 * n + 1];
@@ -1186,22 +1190,23 @@ int initialise(__global const real* s1Point, __global const int* s1Face,
             t = num / e;
             best = i;
             staleBelow = top;
+            ball = 1;
+            M = O + t * d;
+            reach2 = (t - delta) * (t - delta);
           }
         }
         continue;
       }
       const int left = n + 1, right = nodeInfo[3 * n + 2];
-      const real3 ref = (best >= 0 || bounded) ? O + t * d : O;
       __global const real* lb = nodeBox + 6 * left;
       __global const real* rb = nodeBox + 6 * right;
-      const real3 el = max(max(make_real3(lb[0], lb[1], lb[2]) - ref, splat_real3(0)), ref - make_real3(lb[3], lb[4], lb[5]));
-      const real3 er = max(max(make_real3(rb[0], rb[1], rb[2]) - ref, splat_real3(0)), ref - make_real3(rb[3], rb[4], rb[5]));
+      const real3 el = max(max(make_real3(lb[0], lb[1], lb[2]) - M, splat_real3(0)), M - make_real3(lb[3], lb[4], lb[5]));
+      const real3 er = max(max(make_real3(rb[0], rb[1], rb[2]) - M, splat_real3(0)), M - make_real3(rb[3], rb[4], rb[5]));
       const real dl = dot(el, el), dr = dot(er, er);
       const int leftFirst = dl <= dr;
       if (top + 2 > 64)
         continue;
       // A child the ball already misses is not pushed (the ball only shrinks, inside itself).
-      const real reach2 = (best >= 0 || bounded) ? (t - delta) * (t - delta) : REAL_MAX;
       const real dFar = leftFirst ? dr : dl;
       if (dFar < reach2)
         stack[top++] = leftFirst ? right : left;
@@ -3132,11 +3137,16 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
   // last face asked, which a leaf's patches mostly share.
   int gapFace = -1, nodeGapFace = -1;
   real gapOfFace = (real)0, nodeGap = (real)0;
+  // The need's caps on O's own face and its edges (below), and the best distance squared, kept
+  // with st->best (only the searches change it).
+  const real ownCap = ownFace >= 0 ? reach - own_face_margin(m, ownFace) : reach;
+  const real ownEdgeCap = reach - m->slack;
+  real best2 = st->best * st->best;
   while (top > 0)
   {
     --top;
     const int node = stack[top];
-    if (stackGap[top] >= st->best * st->best)
+    if (stackGap[top] >= best2)
       continue;
     __global const int* ni = m->boxNodeInfo + 3 * node;
     // An inner node whose subtree lies on one solid has Count = -(solid + 1) (BuildPatchBoxes):
@@ -3153,8 +3163,7 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
     if (ni[1] <= 0 && ni[0] >= 0)
     {
       const int face = ni[0];
-      const real need =
-        face == ownFace ? fmin(st->best, reach - own_face_margin(m, face)) : st->best;
+      const real need = face == ownFace ? fmin(st->best, ownCap) : st->best;
       if (face != nodeGapFace)
       {
         nodeGapFace = face;
@@ -3175,8 +3184,7 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
         if (item < m->patchCount)
         {
           const int face = m->patchFace[item];
-          const real need =
-            face == ownFace ? fmin(st->best, reach - own_face_margin(m, face)) : st->best;
+          const real need = face == ownFace ? fmin(st->best, ownCap) : st->best;
           if (!in_scope(m->faceInfo, face, solid) ||
             !(box_gap2(m->patchBoxes + 6 * item, M) < need * need))
             continue;
@@ -3195,14 +3203,17 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
               cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
             (m->faceInfo[FACE_INTS * face + 8] != EXACT_TORUS ||
               torus_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
+          {
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+            best2 = st->best * st->best;
+          }
         }
         else
         {
           const int es = item - m->patchCount;
           const int edge = m->edgeSegEdge[es];
           const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
-          const real need = f0 == ownFace || f1 == ownFace ? fmin(st->best, reach - m->slack) : st->best;
+          const real need = f0 == ownFace || f1 == ownFace ? fmin(st->best, ownEdgeCap) : st->best;
           if (!(f0 >= 0 && in_scope(m->faceInfo, f0, solid) &&
                 box_gap2(m->edgeBoxes + 6 * es, M) < need * need))
             continue;
@@ -3229,7 +3240,10 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
           const real3 a = anchor_minus(m->edgeAnchor + 6 * es, Ohi, Olo);
           if (edgeGap < need && -hull_gap(c, 4, a, -d) > depth &&
             hull_gap(c, 4, a - mr, toward_hull(c, 4, a - mr)) < need)
+          {
             certify_edge(m, es, ownFace, Ohi, Olo, d, mr, depth, reach, st);
+            best2 = st->best * st->best;
+          }
         }
       }
       continue;
@@ -3239,10 +3253,18 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
     const int left = node + 1, right = ni[2];
     const real gl = box_gap2(m->boxNodeBox + 6 * left, M), gr = box_gap2(m->boxNodeBox + 6 * right, M);
     const int leftFirst = gl <= gr;
-    stack[top] = leftFirst ? right : left;
-    stackGap[top++] = leftFirst ? gr : gl;
-    stack[top] = leftFirst ? left : right;
-    stackGap[top++] = leftFirst ? gl : gr;
+    // A child already past the best is not pushed (the best only shrinks).
+    const real gFar = leftFirst ? gr : gl, gNear = leftFirst ? gl : gr;
+    if (gFar < best2)
+    {
+      stack[top] = leftFirst ? right : left;
+      stackGap[top++] = gFar;
+    }
+    if (gNear < best2)
+    {
+      stack[top] = leftFirst ? left : right;
+      stackGap[top++] = gNear;
+    }
   }
   return st->found;
 }
