@@ -3253,18 +3253,10 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
     const int left = node + 1, right = ni[2];
     const real gl = box_gap2(m->boxNodeBox + 6 * left, M), gr = box_gap2(m->boxNodeBox + 6 * right, M);
     const int leftFirst = gl <= gr;
-    // A child already past the best is not pushed (the best only shrinks).
-    const real gFar = leftFirst ? gr : gl, gNear = leftFirst ? gl : gr;
-    if (gFar < best2)
-    {
-      stack[top] = leftFirst ? right : left;
-      stackGap[top++] = gFar;
-    }
-    if (gNear < best2)
-    {
-      stack[top] = leftFirst ? left : right;
-      stackGap[top++] = gNear;
-    }
+    stack[top] = leftFirst ? right : left;
+    stackGap[top++] = leftFirst ? gr : gl;
+    stack[top] = leftFirst ? left : right;
+    stackGap[top++] = leftFirst ? gl : gr;
   }
   return st->found;
 }
