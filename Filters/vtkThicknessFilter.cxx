@@ -812,7 +812,10 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   const size_t step = std::max<size_t>(512, (m + 49) / 50);
   auto solveAll = [&](const brt::SolverOptions& o, const std::vector<brt::Sample>& in,
                     std::vector<brt::SampleResult>& out, double from, double to, const char* what) {
-    out.assign(n, brt::SampleResult());
+    // (The native device sizes and clears the results itself where it solves every sample: a
+    // clearing here first wrote the 1.4 MB of NIST_MBE_PMI_11's results once more.)
+    if (!native || !every || m == 0)
+      out.assign(n, brt::SampleResult());
     if (m == 0)
       return true;
     // Progress every `step` samples; CheckAbort (VTK 9.2 as bundled with ParaView 5.11) sees
@@ -841,7 +844,8 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     // underfilled with 16,384-sample launches).
     return I.CL->Solve(model, data, o, in, out, 0, every ? nullptr : &measured, progress);
   };
-  I.Results.assign(n, brt::SampleResult());
+  if (rayOnly || gapOnly)
+    I.Results.assign(n, brt::SampleResult()); // (solveAll sizes them where it runs on them)
   if (!rayOnly && !gapOnly &&
     !solveAll(options, samples, I.Results, 0.05, withGap ? 0.55 : 1.0, "Thickness"))
     return false;
