@@ -95,8 +95,6 @@ typedef float3 real3;
 // the unit normal of the net's diagonals, the least and greatest offset of the control points
 // along it and the corners' mean's (patch_gap; brt::KernelPatchHullReals).
 #define PATCH_HULL_REALS 9
-// Faces whose bounds the certification's walk keeps (find_point_inside).
-#define GAP_MEMORY 4
 // Exact surfaces of analytic faces (brt::BRepModel::FaceExact), for the exact finish. Sizes:
 // plane its frame's X where it has one (FACE_INTS); cylinder radius; cone the radius at the
 // origin, cos and sin of the semi-angle; sphere radius; torus major and minor radius.
@@ -3139,12 +3137,6 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
   // last face asked, which a leaf's patches mostly share.
   int gapFace = -1, nodeGapFace = -1;
   real gapOfFace = (real)0, nodeGap = (real)0;
-  // The last four faces' bounds besides (a leaf's patches alternate between the faces of a
-  // wall and its rounds): plane_trim_gap's bound was computed for a need at least the present
-  // one, and stays a bound of the face's distance however small the need has become.
-  int gapFaces[GAP_MEMORY] = { -1, -1, -1, -1 };
-  real gapOf[GAP_MEMORY] = { (real)0, (real)0, (real)0, (real)0 };
-  int gapNext = 0;
   // The need's caps on O's own face and its edges (below), and the best distance squared, kept
   // with st->best (only the searches change it).
   const real ownCap = ownFace >= 0 ? reach - own_face_margin(m, ownFace) : reach;
@@ -3198,20 +3190,9 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
             continue;
           if (face != gapFace)
           {
-            int k = 0;
-            while (k < GAP_MEMORY && gapFaces[k] != face)
-              ++k;
-            if (k < GAP_MEMORY)
-              gapOfFace = gapOf[k];
-            else
-            {
-              gapOfFace = plane_trim_gap(m, face, Ohi, Olo, mr, t,
-                exact_gap(m, face, Ohi, Olo, mr, t), need);
-              gapFaces[gapNext] = face;
-              gapOf[gapNext] = gapOfFace;
-              gapNext = (gapNext + 1) % GAP_MEMORY;
-            }
             gapFace = face;
+            gapOfFace = plane_trim_gap(m, face, Ohi, Olo, mr, t,
+              exact_gap(m, face, Ohi, Olo, mr, t), need);
           }
           real ahead;
           if (gapOfFace < need &&
