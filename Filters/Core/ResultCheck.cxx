@@ -75,7 +75,9 @@ ResultCheckSummary CheckResults(
 
 std::vector<std::size_t> MeasuredSamples(const BRepModel& model, const std::vector<Sample>& samples)
 {
-  const std::vector<SolidCheck> solids = CheckSolids(model);
+  // Which solids are closed (their edges), not their volumes: the display mesh's triangles took
+  // most of this list's 0.14 ms on NIST_MBE_PMI_11, inside the solve's time.
+  const std::vector<SolidCheck> solids = CheckSolids(model, false);
   std::vector<std::size_t> which;
   which.reserve(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i)

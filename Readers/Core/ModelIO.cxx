@@ -245,7 +245,7 @@ void ValidateModel(const BRepModel& m)
       Bad("display mesh: triangle face index");
 }
 
-std::vector<SolidCheck> CheckSolids(const BRepModel& m)
+std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
 {
   int solids = 0;
   for (const Face& f : m.Faces)
@@ -284,7 +284,7 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m)
     count(s0, e, e.FaceCount == 1 && !e.Seam, e.FaceCount > 2);
   }
   const DisplayMesh& mesh = m.Mesh;
-  for (size_t t = 0; t < mesh.TriangleFace.size(); ++t)
+  for (size_t t = 0; volumes && t < mesh.TriangleFace.size(); ++t)
   {
     const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
     if (s < 0)

@@ -50,7 +50,8 @@ struct SolidCheck
 };
 
 /// One entry per solid index 0 .. max(Face::Solid).
-std::vector<SolidCheck> CheckSolids(const BRepModel& model);
+/// (volumes false: Volume left 0, the display mesh not read; Closed() needs only the edges.)
+std::vector<SolidCheck> CheckSolids(const BRepModel& model, bool volumes = true);
 
 /// Splits each edge that bounds four or more faces of one solid where two bodies of it touch
 /// along the edge (a casting blank's ribs meeting along a line, two blocks touching at an edge):
