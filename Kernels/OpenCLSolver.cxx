@@ -326,7 +326,7 @@ struct OpenCLSolver::Impl
 {
   std::shared_ptr<Runtime> RT;
   bool Double = false; ///< the precision asked for
-  /// The model's buffers (kernel arguments 0..31), per precision: [0] float, [1] double; the
+  /// The model's buffers (kernel arguments 0..32), per precision: [0] float, [1] double; the
   /// launch's arguments follow them (LAUNCH_PARAMS in thickness.cl), then the outputs.
   static constexpr int ModelBuffers = 33;
   static constexpr int LaunchArg = ModelBuffers, OutArg = ModelBuffers + 13;

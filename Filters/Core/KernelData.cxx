@@ -136,8 +136,10 @@ T Rounded(double x, bool up)
 }
 
 /// A patch's control-net constants (KernelPatchHullReals) from its 16 control points c as packed
-/// (relative to its anchor): the operations patch_gap did on them in the kernel source, in T and
-/// in its order (no FMA: the host's build, as the kernel's, contracts nothing here).
+/// (relative to its anchor): the mean and the normal by the operations patch_gap did on them in
+/// the kernel source, in T and in its order (so that its bound kept its value where neither build
+/// contracts them into FMAs). The bound holds for any mean and unit normal: the offsets are taken
+/// along the normal as stored.
 template <class T>
 void PackPatchHull(const T* c, T* out)
 {
