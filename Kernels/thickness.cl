@@ -88,8 +88,9 @@ typedef float3 real3;
 #define FACE_DEVIATION 19
 #define FACE_TRIM_EDGE_GAP 20
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
-// (cylinder_patch_gap); of a toroidal face, its range of angles around the tube
-// (torus_patch_gap; brt::KernelPatchSectorReals).
+// (cylinder_patch_gap); of a toroidal face, its range of angles around the tube and its wedge
+// around the axis (torus_patch_gap); of a spherical face, its cone from the centre
+// (sphere_patch_gap; brt::KernelPatchSectorReals).
 #define PATCH_SECTOR_REALS 12
 // Reals per patch of its control net's constants: the control points' mean relative to the anchor,
 // the unit normal of the net's diagonals, the least and greatest offset of the control points
@@ -2773,44 +2774,107 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
   return gap - deviation_allowance(m, face, X, t);
 }
 
-// A lower bound of the distance from M to patch p of a toroidal face (a round), tighter than
-// exact_gap where the sphere sits inside the tube and the tube continues beyond the face (the
-// sphere of a wall next to a round touches it, and the whole tube circle is then about t from
-// M). The patch's points lie within the deviation of the torus at their own parameters (the
-// reader's measure), and no point of the torus is nearer to M than M's position in its own
-// meridian half-plane is to the tube circle; over the patch that is the arc of the angles around
-// the tube (v) its domain spans, or for a torus read from a B-spline, whose parameters are not
-// its angles, the arc that holds its control hull (TorusArcOfPatch: every point of such a patch
-// lies within the deviation of the torus, at its own angle around the tube) (PATCH_SECTOR_REALS,
-// packed on the host: the arc's ends as unit vectors, its middle and the cosine of its half-span
-// around that, rounded down; s[7] 0 where not packed: a torus whose tube reaches the axis, an
-// arc of half the tube or more). The bound is M's distance from that arc,
-// less the deviation and the rounding of M's meridian position (and, where the arc's end is
-// nearest, of M's direction from the tube's centre, which grows as M nears that centre).
-// Negative: no bound.
-inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
-  real t)
+// M's distance in a meridian half-plane of a torus from the tube circle of radius r, (qx, qz) its
+// position relative to the tube's centre there: from the patch's arc of the tube where it is
+// packed (s[7], PATCH_SECTOR_REALS) and M's direction lies outside it, the arc's nearer end; less
+// the rounding of that position (and, at the arc's end, of M's direction from the tube's centre,
+// which grows as M nears that centre).
+inline real tube_arc_gap(__global const real* s, real qx, real qz, real r, real rounding)
 {
-  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
-  if (!(s[7] > (real)0))
-    return (real)-1;
-  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
-  const real3 ax = make_real3(e[6], e[7], e[8]);
-  const real R = e[9], r = e[10];
-  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the torus's centre
-  const real z = dot(X, ax);
-  const real qx = length(X - z * ax) - R, qz = z; // M relative to the tube circle's centre
   const real lq = sqrt(qx * qx + qz * qz);
-  const real rounding = (real)8 * REAL_EPS * (length(X) + R + r + t);
   real gap = fabs(lq - r) - rounding;
-  if (lq > (real)0 && !((qx * s[4] + qz * s[5]) >= s[6] * lq))
+  if (s[7] > (real)0 && lq > (real)0 && !((qx * s[4] + qz * s[5]) >= s[6] * lq))
   {
     // M's direction outside the arc: its nearer end.
     const real d0 = sqrt((qx - r * s[0]) * (qx - r * s[0]) + (qz - r * s[1]) * (qz - r * s[1]));
     const real d1 = sqrt((qx - r * s[2]) * (qx - r * s[2]) + (qz - r * s[3]) * (qz - r * s[3]));
     gap = fmax(gap, fmin(d0, d1) - rounding * ((real)1 + r / lq));
   }
+  return gap;
+}
+
+// A lower bound of the distance from M to patch p of a toroidal face (a round), tighter than
+// exact_gap where the sphere sits inside the tube and the tube continues beyond the face (the
+// sphere of a wall next to a round touches it, and the whole tube circle is then about t from
+// M), or the round continues around the axis beyond the patch (a ring's round of a large radius,
+// split into patches along it: the sphere of a wall next to it touches one or two of them). The
+// patch's points lie within the deviation of the torus at their own parameters (the reader's
+// measure), and no point of the torus is nearer to M than M's position in its own meridian
+// half-plane is to the tube circle; over the patch that is the arc of the angles around the tube
+// (v) its domain spans, or for a torus read from a B-spline, whose parameters are not its angles,
+// the arc that holds its control hull (TorusArcOfPatch: every point of such a patch lies within
+// the deviation of the torus, at its own angle around the tube) (PATCH_SECTOR_REALS, packed on
+// the host: the arc's ends as unit vectors, its middle and the cosine of its half-span around
+// that, rounded down; s[7] 0 where not packed: a torus whose tube reaches the axis, an arc of
+// half the tube or more). Around the axis, those points lie in the wedge that holds the patch's
+// control points, widened by the angle the deviation spans (s[8..11]: its middle direction and
+// the cosine of its half-angle, rounded down; 0 where not packed, PackDirectionCone): where M's
+// direction across the axis lies outside it, the nearest of them lies in the meridian half-plane
+// of the wedge's nearer side, and the bound is M's distance from the arc there, with M's offset
+// from that half-plane. Less the deviation and the rounding. Negative: no bound.
+inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
+  real t)
+{
+  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
+  if (!(s[7] > (real)0) && !(s[11] > (real)0))
+    return (real)-1;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real3 ax = make_real3(e[6], e[7], e[8]);
+  const real R = e[9], r = e[10];
+  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the torus's centre
+  const real z = dot(X, ax);
+  const real3 rM = X - z * ax; // M across the axis
+  const real rho = length(rM);
+  const real rounding = (real)8 * REAL_EPS * (length(X) + R + r + t);
+  real gap = tube_arc_gap(s, rho - R, z, r, rounding);
+  if (s[11] > (real)0 && rho > (real)0)
+  {
+    const real3 mid = make_real3(s[8], s[9], s[10]);
+    if (!(dot(rM, mid) >= s[11] * rho))
+    {
+      // The wedge's nearer side (as cylinder_patch_gap's), M's position in its half-plane and
+      // M's offset from that.
+      const real3 perp = cross(ax, mid);
+      const real sinA = sqrt(fmax((real)1 - s[11] * s[11], (real)0));
+      const real3 w = s[11] * mid + (dot(rM, perp) < (real)0 ? -sinA : sinA) * perp;
+      const real along = dot(rM, w);
+      const real3 off = rM - along * w;
+      const real g = fmax(tube_arc_gap(s, along - R, z, r, rounding), (real)0);
+      gap = fmax(gap, sqrt(g * g + dot(off, off)) - rounding * ((real)1 + R / rho));
+    }
+  }
   return gap - deviation_allowance(m, face, X, t);
+}
+
+// A lower bound of the distance from M to patch p of a spherical face, tighter than exact_gap
+// where the sphere's centre lies near the ball's (a ball end, a dimple: the whole ball is then
+// about its radius from M) or the ball continues beyond the patch (a corner's round). The
+// patch's points lie in the cone from the ball's centre that holds its control points
+// (s[8..11]: its middle direction and the cosine of its half-angle, rounded down, under a
+// quarter-turn; 0 where not packed, PackDirectionCone), and each within the deviation of its foot
+// on the ball, on the same ray from the centre. Where M's direction from the centre lies outside
+// that cone, the nearest point of the ball's cap inside it lies on the cap's rim, in the plane of
+// the cone's middle and M. Less the deviation and the rounding of M's position and direction.
+// Negative: no bound.
+inline real sphere_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
+  real t)
+{
+  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
+  if (!(s[11] > (real)0))
+    return (real)-1;
+  __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
+  const real rs = e[9];
+  const real3 X = mr - anchor_minus(e, Ohi, Olo); // M - the ball's centre
+  const real3 mid = make_real3(s[8], s[9], s[10]);
+  const real along = dot(X, mid);
+  const real3 across = X - along * mid;
+  const real la = length(across), lx = length(X);
+  if (!(la > (real)0) || along >= s[11] * lx)
+    return (real)-1;
+  const real sinA = sqrt(fmax((real)1 - s[11] * s[11], (real)0));
+  const real3 g = X - rs * (s[11] * mid + (sinA / la) * across);
+  const real rounding = (real)8 * REAL_EPS * (lx + rs + t);
+  return length(g) - rounding * ((real)1 + rs / lx) - deviation_allowance(m, face, X, t);
 }
 
 // --- a plane's trimmed face against a sphere -------------------------------------------------
@@ -3196,14 +3260,14 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
               exact_gap(m, face, Ohi, Olo, mr, t), need);
           }
           real ahead;
+          const int kind = m->faceInfo[FACE_INTS * face + 8];
           if (gapOfFace < need &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
             ahead > depth &&
-            (m->faceInfo[FACE_INTS * face + 8] != EXACT_CYLINDER ||
-              cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
-            (m->faceInfo[FACE_INTS * face + 8] != EXACT_TORUS ||
-              torus_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
+            (kind != EXACT_CYLINDER || cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
+            (kind != EXACT_TORUS || torus_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
+            (kind != EXACT_SPHERE || sphere_patch_gap(m, item, face, Ohi, Olo, mr, t) < need))
           {
             certify_patch(m, item, ownFace, Ohi, Olo, d, mr, depth, reach, st);
             best2 = st->best * st->best;

@@ -286,6 +286,61 @@ void PackTorusArc(double v0, double v1, T* out)
   out[7] = T(1);
 }
 
+/// The cone of directions from a point o that holds the control points cp of a sphere's patch
+/// (a null axis a), or the wedge of directions around the axis (o, a) that holds those of a
+/// torus's, as the last four of KernelPatchSectorReals: the middle direction (the mean of the
+/// points' directions, across the axis on a torus) stored as T, and the cosine of the half-angle
+/// about that stored direction that holds every point, widened by `widen` (radians) and rounded
+/// down; zeros where that half-angle is a quarter-turn or more (the cone or wedge would not be
+/// convex, and the patch's hull would not lie in it) or a point lies on o or the axis.
+template <class T>
+void PackDirectionCone(const double* cp, const double* o, const double* a, double widen, T* out)
+{
+  std::fill(out, out + 4, T(0));
+  double r[16][3], mean[3] = { 0.0, 0.0, 0.0 };
+  for (int i = 0; i < 16; ++i)
+  {
+    double q[3] = { cp[3 * i] - o[0], cp[3 * i + 1] - o[1], cp[3 * i + 2] - o[2] };
+    if (a)
+    {
+      const double z = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
+      for (int j = 0; j < 3; ++j)
+        q[j] -= z * a[j];
+    }
+    const double l = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    if (!(l > 0.0))
+      return;
+    for (int j = 0; j < 3; ++j)
+    {
+      r[i][j] = q[j] / l;
+      mean[j] += r[i][j];
+    }
+  }
+  const double lm = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+  if (!(lm > 0.0))
+    return;
+  double mid[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    const volatile T stored = static_cast<T>(mean[j] / lm); // as in PackCylinderSector
+    mid[j] = static_cast<double>(stored);
+  }
+  const double lmid = std::sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
+  double cosA = 1.0;
+  for (const auto& ri : r)
+    cosA = std::min(cosA, (ri[0] * mid[0] + ri[1] * mid[1] + ri[2] * mid[2]) / lmid);
+  // With the rounding of the sums above, well beyond it.
+  const double half = std::acos(std::clamp(cosA, -1.0, 1.0)) + widen + 1e-12;
+  if (!(half < 0.5 * M_PI - 1e-6))
+    return;
+  const T c = Rounded<T>(std::cos(half), false);
+  if (!(c > T(0)))
+    return;
+  for (int j = 0; j < 3; ++j)
+    out[j] = static_cast<T>(mid[j]);
+  out[3] = c;
+}
+
 /// The angles around the tube (as a native torus's v: from the torus's plane towards its axis)
 /// that hold a patch lying near a torus of centre o, unit axis a and radius R (absolute), for a
 /// torus read from a B-spline, whose patch parameters are not its angles. The patch lies in the
@@ -372,6 +427,7 @@ bool TorusArcOfPatch(const double* cp, const double* o, const double* a, double 
   v1 = ref + last + 1e-9;
   return true;
 }
+
 
 } // namespace
 
@@ -681,9 +737,14 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     // written as one the arc its (u, v) domain spans (its parameters are the torus's angles), on
     // one read from a B-spline the arc that holds its control hull.
     const double o[3] = { exact[0] + c[0], exact[1] + c[1], exact[2] + c[2] };
+    // Per patch of a sphere or a torus, also the cone of directions from the centre, resp. the
+    // wedge around the axis, that holds its control points (sphere_patch_gap, torus_patch_gap).
+    // On a torus written as one the arc is its parameters', whose points lie within the
+    // deviation of the patch's: the wedge is widened by the angle that deviation spans from
+    // the axis (twice the measure; none where the face has no measure).
     const bool torus = kind == 5 && exact[9] > exact[10];
     const bool native = F.DegreeU == 0 && F.DegreeV == 0;
-    if (kind == 2 || torus)
+    if (kind == 2 || torus || kind == 4)
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
       {
         T* sector = &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)];
@@ -691,8 +752,16 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
         double v0 = m.Patches[p].Domain[2], v1 = m.Patches[p].Domain[3];
         if (kind == 2)
           PackCylinderSector<T>(cp, o, &exact[6], sector);
-        else if (native || TorusArcOfPatch(cp, o, &exact[6], exact[9], v0, v1))
-          PackTorusArc<T>(v0, v1, sector);
+        else if (kind == 4)
+          PackDirectionCone<T>(cp, o, nullptr, 0.0, sector + 8);
+        else
+        {
+          if (native || TorusArcOfPatch(cp, o, &exact[6], exact[9], v0, v1))
+            PackTorusArc<T>(v0, v1, sector);
+          const double spread = 2.0 * F.MaxDeviation / (exact[9] - exact[10]);
+          if (F.MaxDeviation >= 0.0 && spread < 0.5)
+            PackDirectionCone<T>(cp, o, &exact[6], std::asin(spread), sector + 8);
+        }
       }
   }
   for (const auto& l : m.Loops)

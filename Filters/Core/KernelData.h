@@ -41,7 +41,10 @@ constexpr size_t KernelTrimReals = 12;
 /// On a torus: the patch's arc of the tube (PackTorusArc: its ends' unit vectors, its middle,
 /// the cosine of its half-span) and 1 in the same flag; the arc its domain spans on a torus
 /// written as one, the arc that holds its control hull on one read from a B-spline
-/// (TorusArcOfPatch). Rounded outwards to T; zeros on faces of other kinds.
+/// (TorusArcOfPatch); then the wedge around the axis that holds its
+/// control points (PackDirectionCone: its middle direction (3) and the cosine of its half-angle,
+/// 0 where none). On a sphere: zeros but for the last four, the cone from the centre that holds
+/// its control points, the same way. Rounded outwards to T; zeros on faces of other kinds.
 constexpr size_t KernelPatchSectorReals = 12;
 /// Reals per patch of its control net's constants (PATCH_HULL_REALS; the certification's
 /// patch_gap): the control points' mean relative to the patch's anchor (3) and the unit normal of

@@ -226,6 +226,7 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
   const int kind = view.faceInfo[FACE_INTS * face + 8];
   patchBound = kind == EXACT_CYLINDER ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
     : kind == EXACT_TORUS           ? kernel::torus_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
+    : kind == EXACT_SPHERE          ? kernel::sphere_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
                                     : -1.0;
   double far = 0.0;
   const double hull = kernel::patch_gap(&view, patch,

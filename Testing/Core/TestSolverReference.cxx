@@ -455,7 +455,8 @@ double DistanceToPatch(const BezierPatch& patch, const gp_Pnt& M)
 /// The certification skips a patch on the strength of three lower bounds of its distance from the
 /// sphere's centre (find_point_inside): from its control net (patch_gap, with the net's constants
 /// packed per patch), from its face's exact surface less the patches' measured deviation, and on
-/// a cylinder from the patch's piece of it. Each must stay at or below
+/// a cylinder, torus or sphere from the patch's piece of it (its sector, its arc of the tube and
+/// wedge around the axis, its cap). Each must stay at or below
 /// OpenCASCADE's distance to the patch itself, for centres of spheres near the solved ones (the
 /// solved radius, a clearance and a few more wider, half as wide); and the patch's bound must
 /// do its work: on a rod the solved sphere's centre lies near the axis, where the face's bound
@@ -480,6 +481,12 @@ TEST(SolverBounds, BelowTheDistanceToThePatch)
     { "conical shell past the apex", analytic::ConicalShellPastApex(M_PI / 6, 4, -10, -30), 2.0 },
     // Lemons of spindle tori: the bound must be the lemon's tube circle's, across the axis.
     { "lemon shell", analytic::LemonShell(5, 20, 22, 8), 2.0 },
+    // Spheres: the cap of the ball in the cone that holds a patch's control points. (Not a ball,
+    // whose spheres' centres lie at its centre, from where every point of its patches is an
+    // extremum of the distance: OpenCASCADE's projection onto them ran for minutes. Nor the
+    // shell read from B-splines, which ran as long; the cones' packing on those is
+    // KernelData.DirectionConesHoldTheirPatches'.)
+    { "spherical shell R25 r20", analytic::SphericalShell(25, 20), 5.0 },
   };
   for (const ClosedForm& c : shapes)
   {
@@ -1071,6 +1078,77 @@ TEST(KernelData, TorusArcsHoldTheirPatches)
   const SolverData data = PrepareSolver(m, SolverOptions());
   CheckTorusArcs(m, PackKernelModel<float>(m, data), "float");
   CheckTorusArcs(m, PackKernelModel<double>(m, data), "double");
+}
+
+/// The wedges around the axis and the cones from the centre that the certification skips the
+/// patches of tori and spheres by (PackDirectionCone; torus_patch_gap, sphere_patch_gap): every
+/// point of every patch (a 17 x 17 grid of it) lies, seen from the axis (the centre), within the
+/// stored half-angle of the stored middle direction, as the kernels read them. Tori and balls
+/// written as such and read from B-splines, at the origin and tilted 3 m away.
+template <class T>
+void CheckDirectionCones(const BRepModel& m, const KernelModel<T>& k, const char* precision)
+{
+  SCOPED_TRACE(precision);
+  size_t patches[2] = { 0, 0 }, packed[2] = { 0, 0 };
+  double closest = 1.0;
+  ForEachPatchSector(m, k,
+    [](const Face& F) {
+      return F.Kind == SurfaceKind::Sphere || F.Kind == SurfaceKind::Torus;
+    },
+    [&](int p, const std::array<double, 8>& e, const double* a, const T* s) {
+      const bool torus = m.Faces[static_cast<size_t>(m.Patches[p].Face)].Kind == SurfaceKind::Torus;
+      ++patches[torus];
+      if (!(s[11] > T(0)))
+        return;
+      ++packed[torus];
+      const double mid[3] = { static_cast<double>(s[8]), static_cast<double>(s[9]),
+        static_cast<double>(s[10]) };
+      const double lm = std::sqrt(mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2]);
+      for (int gu = 0; gu <= 16; ++gu)
+        for (int gv = 0; gv <= 16; ++gv)
+        {
+          const auto ev = EvaluatePatchLocal(m.Patches[p].ControlPoints, gu / 16.0, gv / 16.0);
+          double w[3] = { ev.P[0] - e[0], ev.P[1] - e[1], ev.P[2] - e[2] };
+          if (torus)
+          {
+            const double z = w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+            for (int c = 0; c < 3; ++c)
+              w[c] -= z * a[c];
+          }
+          const double lw = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+          const double inside =
+            (w[0] * mid[0] + w[1] * mid[1] + w[2] * mid[2]) / (lw * lm) - static_cast<double>(s[11]);
+          closest = std::min(closest, inside);
+          EXPECT_GE(inside, -1e-12) << "patch " << p << " at " << gu << ", " << gv;
+        }
+    });
+  std::printf("[direction cones, %s] %zu sphere patches (%zu with a cone), %zu torus patches (%zu "
+              "with a wedge), nearest to the side %.3g\n",
+    precision, patches[0], packed[0], patches[1], packed[1], closest);
+  EXPECT_GT(packed[0], 20u);
+  EXPECT_GT(packed[1], 100u);
+  // Every patch of these but the balls' poles' has one (their cones are at most a quarter-turn).
+  EXPECT_GE(packed[0] + packed[1], 9 * (patches[0] + patches[1]) / 10);
+}
+
+TEST(KernelData, DirectionConesHoldTheirPatches)
+{
+  BRep_Builder b;
+  TopoDS_Compound all;
+  b.MakeCompound(all);
+  gp_Trsf turn, move;
+  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0.3, -0.8, 0.5)), 0.7);
+  move.SetTranslation(gp_Vec(2100, -1500, 1200));
+  for (const TopoDS_Shape& s : { analytic::Ring(30, 4), analytic::SphericalShell(25, 20) })
+    for (const TopoDS_Shape& n : { s, BRepBuilderAPI_NurbsConvert(s).Shape() })
+    {
+      b.Add(all, n);
+      b.Add(all, BRepBuilderAPI_Transform(n, move * turn, true).Shape());
+    }
+  const BRepModel m = ConvertShape(all, ConversionOptions());
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  CheckDirectionCones(m, PackKernelModel<float>(m, data), "float");
+  CheckDirectionCones(m, PackKernelModel<double>(m, data), "double");
 }
 } // namespace
 
