@@ -2740,9 +2740,10 @@ inline real exact_gap(const Model* m, int face, real3 Ohi, real3 Olo, real3 mr, 
 // taken from the patch's own point of the axis, which is packed relative to the patch's anchor:
 // in float the patch's and the sphere's lengths, not the model's; the sector's side also the
 // rounding of M's direction around the axis, which grows as M nears the axis, where M's distance
-// from the whole cylinder, with the heights, bounds instead).
+// from the whole cylinder, with the heights, bounds instead). Where the heights alone give `need`
+// or more, that (the sector is not asked: the caller only compares the bound with need).
 inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
-  real t)
+  real t, real need)
 {
   __global const real* e = m->faceDomain + FACE_REALS * face + FACE_EXACT;
   __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
@@ -2755,7 +2756,10 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
   const real rho = length(rM);
   const real dz = zM - clamp(zM, s[0], s[1]);
   const real rounding = (real)8 * REAL_EPS * (length(X) + length(A) + R + t);
+  const real allow = deviation_allowance(m, face, X, t);
   real gap = sqrt((rho - R) * (rho - R) + dz * dz) - rounding;
+  if (!(gap - allow < need))
+    return gap - allow;
   if (s[7] > (real)0 && rho > (real)0)
   {
     // M's direction around the axis outside the sector: the nearest point lies on the sector's
@@ -2771,7 +2775,7 @@ inline real cylinder_patch_gap(const Model* m, int p, int face, real3 Ohi, real3
       gap = fmax(gap, sqrt(dot(g, g) + dz * dz) - rounding * ((real)1 + R / rho));
     }
   }
-  return gap - deviation_allowance(m, face, X, t);
+  return gap - allow;
 }
 
 // M's distance in a meridian half-plane of a torus from the tube circle of radius r, (qx, qz) its
@@ -2811,9 +2815,11 @@ inline real tube_arc_gap(__global const real* s, real qx, real qz, real r, real 
 // the cosine of its half-angle, rounded down; 0 where not packed, PackDirectionCone): where M's
 // direction across the axis lies outside it, the nearest of them lies in the meridian half-plane
 // of the wedge's nearer side, and the bound is M's distance from the arc there, with M's offset
-// from that half-plane. Less the deviation and the rounding. Negative: no bound.
+// from that half-plane. Less the deviation and the rounding. Negative: no bound. Where the arc
+// alone gives `need` or more, that (the wedge is not asked: the caller only compares the bound
+// with need).
 inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Olo, real3 mr,
-  real t)
+  real t, real need)
 {
   __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
   if (!(s[7] > (real)0) && !(s[11] > (real)0))
@@ -2826,7 +2832,10 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
   const real3 rM = X - z * ax; // M across the axis
   const real rho = length(rM);
   const real rounding = (real)8 * REAL_EPS * (length(X) + R + r + t);
+  const real allow = deviation_allowance(m, face, X, t);
   real gap = tube_arc_gap(s, rho - R, z, r, rounding);
+  if (!(gap - allow < need))
+    return gap - allow;
   if (s[11] > (real)0 && rho > (real)0)
   {
     const real3 mid = make_real3(s[8], s[9], s[10]);
@@ -2843,7 +2852,7 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
       gap = fmax(gap, sqrt(g * g + dot(off, off)) - rounding * ((real)1 + R / rho));
     }
   }
-  return gap - deviation_allowance(m, face, X, t);
+  return gap - allow;
 }
 
 // A lower bound of the distance from M to patch p of a spherical face, tighter than exact_gap
@@ -3265,8 +3274,8 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
           real ahead;
           const int kind = m->faceInfo[FACE_INTS * face + 8];
           if (gapOfFace < need &&
-            (kind != EXACT_CYLINDER || cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
-            (kind != EXACT_TORUS || torus_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
+            (kind != EXACT_CYLINDER || cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
+            (kind != EXACT_TORUS || torus_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
             (kind != EXACT_SPHERE || sphere_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&

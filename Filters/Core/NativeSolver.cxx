@@ -224,8 +224,8 @@ void NativeSolver::PatchBounds(const Sample& sample, double t, int patch, double
   const int face = view.patchFace[patch];
   faceBound = kernel::exact_gap(&view, face, Ohi, Olo, mr, t);
   const int kind = view.faceInfo[FACE_INTS * face + 8];
-  patchBound = kind == EXACT_CYLINDER ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
-    : kind == EXACT_TORUS           ? kernel::torus_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
+  patchBound = kind == EXACT_CYLINDER ? kernel::cylinder_patch_gap(&view, patch, face, Ohi, Olo, mr, t, DBL_MAX)
+    : kind == EXACT_TORUS           ? kernel::torus_patch_gap(&view, patch, face, Ohi, Olo, mr, t, DBL_MAX)
     : kind == EXACT_SPHERE          ? kernel::sphere_patch_gap(&view, patch, face, Ohi, Olo, mr, t)
                                     : -1.0;
   double far = 0.0;
