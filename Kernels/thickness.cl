@@ -789,21 +789,10 @@ inline real residual3(const PatchEval* e, const real R[3])
 
 // Point, first and second derivative of an edge at edge parameter T.
 // C is returned relative to the sample O (C - O).
-void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C, real3* Ct,
-  real3* Ctt)
+// Point, first and second derivative of segment s of an edge at the edge's parameter T.
+inline void eval_edge_segment(const Model* m, int s, real T, real3 Ohi, real3 Olo, real3* C,
+  real3* Ct, real3* Ctt)
 {
-  const int first = m->edgeInfo[4 * edge], count = m->edgeInfo[4 * edge + 1];
-  // The first segment whose range ends at or after T (the last where none does): the segments
-  // follow each other along T, so their ends rise and a bisection finds it.
-  int s = first, last = first + count - 1;
-  while (s < last)
-  {
-    const int mid = (s + last) / 2;
-    if (T > m->edgeSegRange[2 * mid + 1])
-      s = mid + 1;
-    else
-      last = mid;
-  }
   const real T0 = m->edgeSegRange[2 * s], span = m->edgeSegRange[2 * s + 1] - T0;
   real B[4], D[4], DD[4];
   bernstein((T - T0) / span, B, D, DD);
@@ -819,6 +808,38 @@ void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C,
   *C = anchor_minus(m->edgeAnchor + 6 * s, Ohi, Olo) + p;
   *Ct = a / span;
   *Ctt = b / (span * span);
+}
+
+void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C, real3* Ct,
+  real3* Ctt)
+{
+  const int first = m->edgeInfo[4 * edge], count = m->edgeInfo[4 * edge + 1];
+  // The first segment whose range ends at or after T (the last where none does): the segments
+  // follow each other along T, so their ends rise and a bisection finds it.
+  int s = first, last = first + count - 1;
+  while (s < last)
+  {
+    const int mid = (s + last) / 2;
+    if (T > m->edgeSegRange[2 * mid + 1])
+      s = mid + 1;
+    else
+      last = mid;
+  }
+  eval_edge_segment(m, s, T, Ohi, Olo, C, Ct, Ctt);
+}
+
+// eval_edge at a T in or next to segment es's range: the segment eval_edge's bisection would
+// find, stepped to from es (the first whose range ends at or after T; the ends rise).
+inline void eval_edge_near(const Model* m, int edge, int es, real T, real3 Ohi, real3 Olo,
+  real3* C, real3* Ct, real3* Ctt)
+{
+  const int first = m->edgeInfo[4 * edge], last = first + m->edgeInfo[4 * edge + 1] - 1;
+  int s = es;
+  while (s < last && T > m->edgeSegRange[2 * s + 1])
+    ++s;
+  while (s > first && !(T > m->edgeSegRange[2 * s - 1]))
+    --s;
+  eval_edge_segment(m, s, T, Ohi, Olo, C, Ct, Ctt);
 }
 
 // --- surface/surface Newton (eq. 4) ------------------------------------------------------
@@ -2492,7 +2513,7 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
   for (int i = 0; i <= 8; ++i)
   {
     const real Ti = T0 + (T1 - T0) * (real)i / (real)8;
-    eval_edge(m, edge, Ti, Ohi, Olo, &C, &Ct, &Ctt);
+    eval_edge_near(m, edge, es, Ti, Ohi, Olo, &C, &Ct, &Ctt);
     if (dot(C - mr, C - mr) < bd)
     {
       bd = dot(C - mr, C - mr);
@@ -2501,7 +2522,7 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
   }
   for (int it = 0; it < 8; ++it)
   {
-    eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+    eval_edge_near(m, edge, es, T, Ohi, Olo, &C, &Ct, &Ctt);
     const real3 w = C - mr;
     const real g = dot(Ct, w), h = dot(Ct, Ct) + dot(Ctt, w);
     const real h2 = h > (real)0 ? h : dot(Ct, Ct);
@@ -2513,7 +2534,7 @@ void certify_edge(const Model* m, int es, int ownFace, real3 Ohi, real3 Olo, rea
     if (done)
       break;
   }
-  eval_edge(m, edge, T, Ohi, Olo, &C, &Ct, &Ctt);
+  eval_edge_near(m, edge, es, T, Ohi, Olo, &C, &Ct, &Ctt);
   const real dist = length(C - mr);
   const real dn = dot(d, C);
   const int f0 = m->edgeInfo[4 * edge + 2], f1 = m->edgeInfo[4 * edge + 3];
