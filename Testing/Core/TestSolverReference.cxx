@@ -1067,7 +1067,8 @@ TEST(KernelData, SamplesStayOffMisreadExactSurfaces)
   EXPECT_LT(worst, 0.5 * off);
 }
 
-TEST(KernelData, TorusArcsHoldTheirPatches)
+/// The shapes at the origin and again tilted and moved 3 m away, as one compound.
+TopoDS_Compound AtOriginAndFarTilted(const std::vector<TopoDS_Shape>& shapes)
 {
   BRep_Builder b;
   TopoDS_Compound all;
@@ -1075,13 +1076,20 @@ TEST(KernelData, TorusArcsHoldTheirPatches)
   gp_Trsf turn, move;
   turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0.3, -0.8, 0.5)), 0.7);
   move.SetTranslation(gp_Vec(2100, -1500, 1200));
-  for (const TopoDS_Shape& s : { analytic::ToroidalShell(40, 10, 6), analytic::Ring(30, 4) })
+  for (const TopoDS_Shape& n : shapes)
   {
-    const TopoDS_Shape n = BRepBuilderAPI_NurbsConvert(s).Shape();
     b.Add(all, n);
     b.Add(all, BRepBuilderAPI_Transform(n, move * turn, true).Shape());
   }
-  const BRepModel m = ConvertShape(all, ConversionOptions());
+  return all;
+}
+
+TEST(KernelData, TorusArcsHoldTheirPatches)
+{
+  const BRepModel m = ConvertShape(
+    AtOriginAndFarTilted({ BRepBuilderAPI_NurbsConvert(analytic::ToroidalShell(40, 10, 6)).Shape(),
+      BRepBuilderAPI_NurbsConvert(analytic::Ring(30, 4)).Shape() }),
+    ConversionOptions());
   const SolverData data = PrepareSolver(m, SolverOptions());
   CheckTorusArcs(m, PackKernelModel<float>(m, data), "float");
   CheckTorusArcs(m, PackKernelModel<double>(m, data), "double");
@@ -1140,19 +1148,13 @@ void CheckDirectionCones(const BRepModel& m, const KernelModel<T>& k, const char
 
 TEST(KernelData, DirectionConesHoldTheirPatches)
 {
-  BRep_Builder b;
-  TopoDS_Compound all;
-  b.MakeCompound(all);
-  gp_Trsf turn, move;
-  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0.3, -0.8, 0.5)), 0.7);
-  move.SetTranslation(gp_Vec(2100, -1500, 1200));
+  std::vector<TopoDS_Shape> shapes;
   for (const TopoDS_Shape& s : { analytic::Ring(30, 4), analytic::SphericalShell(25, 20) })
-    for (const TopoDS_Shape& n : { s, BRepBuilderAPI_NurbsConvert(s).Shape() })
-    {
-      b.Add(all, n);
-      b.Add(all, BRepBuilderAPI_Transform(n, move * turn, true).Shape());
-    }
-  const BRepModel m = ConvertShape(all, ConversionOptions());
+  {
+    shapes.push_back(s);
+    shapes.push_back(BRepBuilderAPI_NurbsConvert(s).Shape());
+  }
+  const BRepModel m = ConvertShape(AtOriginAndFarTilted(shapes), ConversionOptions());
   const SolverData data = PrepareSolver(m, SolverOptions());
   CheckDirectionCones(m, PackKernelModel<float>(m, data), "float");
   CheckDirectionCones(m, PackKernelModel<double>(m, data), "double");
