@@ -787,9 +787,8 @@ inline real residual3(const PatchEval* e, const real R[3])
   return sqrt(a * a + b * b + R[2] * R[2]);
 }
 
-// Point, first and second derivative of an edge at edge parameter T.
-// C is returned relative to the sample O (C - O).
-// Point, first and second derivative of segment s of an edge at the edge's parameter T.
+// Point, first and second derivative of segment s of an edge at the edge's parameter T, the
+// point relative to the sample O (C - O).
 inline void eval_edge_segment(const Model* m, int s, real T, real3 Ohi, real3 Olo, real3* C,
   real3* Ct, real3* Ctt)
 {
@@ -810,6 +809,8 @@ inline void eval_edge_segment(const Model* m, int s, real T, real3 Ohi, real3 Ol
   *Ctt = b / (span * span);
 }
 
+// Point, first and second derivative of an edge at edge parameter T.
+// C is returned relative to the sample O (C - O).
 void eval_edge(const Model* m, int edge, real T, real3 Ohi, real3 Olo, real3* C, real3* Ct,
   real3* Ctt)
 {
@@ -3296,8 +3297,9 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
               exact_gap(m, face, Ohi, Olo, mr, t), need);
           }
           // The piece's bound of a cylinder, torus or sphere before the control net's: of the
-          // curved patches whose face's bound let them through, it clears 90-98% on the four
-          // Data/ parts, and every one the net's clears (counted in a throwaway build).
+          // curved patches whose face's bound let them through, it clears 89-98% on the four
+          // Data/ parts (18-67% on NIST_MBE_PMI_1 and _3), and on all six every one the net's
+          // clears (counted in a throwaway build; docs/Solver.md).
           real ahead;
           const int kind = m->faceInfo[FACE_INTS * face + 8];
           if (gapOfFace < need &&

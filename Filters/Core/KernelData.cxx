@@ -428,7 +428,6 @@ bool TorusArcOfPatch(const double* cp, const double* o, const double* a, double 
   return true;
 }
 
-
 } // namespace
 
 int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
