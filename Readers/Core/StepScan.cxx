@@ -144,9 +144,21 @@ const Positive Positives[] = {
   { "VECTOR", 2, "magnitude" },
 };
 
-/// Geometric and topological entities, by the words in their (partial) type names.
+/// Geometric and topological entities, by the words in their (partial) type names. Presentation
+/// entities are not, whatever words their names hold (SURFACE_SIDE_STYLE, CURVE_STYLE,
+/// ANNOTATION_PLANE, DRAUGHTING_PRE_DEFINED_CURVE_FONT): the shape's transfer
+/// (STEPControl_Reader) never reads them, so a style OpenCASCADE cannot read loses a colour,
+/// not geometry. Inventor's exports through ST-Developer write each colour's
+/// SURFACE_STYLE_RENDERING_WITH_PROPERTIES with its rendering method unset ($), which
+/// OpenCASCADE flags as damaged: 16 of the 22 STEP files of Prusa's Original Prusa i3 parts
+/// were refused for it (docs/Robustness.md).
 bool IsGeometric(const std::string& type)
 {
+  static const char* const presentation[] = { "STYLE", "COLOUR", "PRESENTATION", "DRAUGHTING",
+    "ANNOTATION" };
+  for (const char* w : presentation)
+    if (type.find(w) != std::string::npos)
+      return false;
   static const char* const words[] = { "POINT", "DIRECTION", "VECTOR", "PLACEMENT", "LINE",
     "CIRCLE", "ELLIPSE", "HYPERBOLA", "PARABOLA", "CURVE", "SURFACE", "PLANE", "EDGE", "VERTEX",
     "LOOP", "FACE", "SHELL", "BREP", "SOLID", "BOUND", "SHAPE_REPRESENTATION", "MAPPED_ITEM",

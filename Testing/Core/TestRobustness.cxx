@@ -670,6 +670,42 @@ TEST(Robustness, UnsetNamesRead)
   EXPECT_EQ(u.Mesh.Points, a.Mesh.Points);
 }
 
+/// A colour OpenCASCADE cannot read: Inventor's exports through ST-Developer write
+/// SURFACE_STYLE_RENDERING_WITH_PROPERTIES with its rendering method unset ($), which
+/// OpenCASCADE flags as damaged, and SURFACE_SIDE_STYLE (a "SURFACE" in its name) refers to
+/// it. The reader refused such files as damaged geometry (16 of the 22 STEP files of Prusa's
+/// Original Prusa i3 parts); the shape's transfer never reads a style, and the model is the
+/// plate's.
+TEST(Robustness, StyleOpenCascadeCannotReadIsNotGeometry)
+{
+  const std::string p = Mutated("plate.step", "unset-rendering-method.step",
+    R"((#15 = MANIFOLD_SOLID_BREP\('',#16\);))",
+    "$1\n#900001 = STYLED_ITEM('',(#900002),#15);\n"
+    "#900002 = PRESENTATION_STYLE_ASSIGNMENT((#900003));\n"
+    "#900003 = SURFACE_STYLE_USAGE(.BOTH.,#900004);\n"
+    "#900004 = SURFACE_SIDE_STYLE('',(#900005,#900009));\n"
+    "#900005 = SURFACE_STYLE_FILL_AREA(#900006);\n"
+    "#900006 = FILL_AREA_STYLE('',(#900007));\n"
+    "#900007 = FILL_AREA_STYLE_COLOUR('',#900008);\n"
+    "#900008 = COLOUR_RGB('',0.75,0.75,0.75);\n"
+    "#900009 = SURFACE_STYLE_RENDERING_WITH_PROPERTIES($,#900008,(#900010));\n"
+    "#900010 = SURFACE_STYLE_TRANSPARENT(0.);");
+  const BRepModel plate = ConvertStepFileIsolated(test::DataFile("plate.step"), ConversionOptions());
+  BRepModel styled;
+  try
+  {
+    styled = ConvertStepFileIsolated(p, ConversionOptions());
+  }
+  catch (const InputError& e)
+  {
+    FAIL() << e.what();
+  }
+  EXPECT_EQ(styled.Stats.Solids, 1);
+  EXPECT_EQ(styled.Stats.Faces, plate.Stats.Faces);
+  EXPECT_EQ(styled.Patches.size(), plate.Patches.size());
+  EXPECT_EQ(styled.Mesh.Points, plate.Mesh.Points);
+}
+
 TEST(Robustness, SolidWithACavity)
 {
   // BREP_WITH_VOIDS: a 20 mm cube with a 10 mm cavity, walls 5 mm.
