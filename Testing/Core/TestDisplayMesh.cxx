@@ -7,7 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <TopoDS_Face.hxx>
 
 #include <array>
 #include <cmath>
@@ -254,4 +262,42 @@ TEST(DisplayMesh, SliverRatioTakesTheFlippedMeshOnlyWhereBisectionExplodes)
   EXPECT_GT(kept, 0);
   EXPECT_GT(keptOverFloor, 0);
   EXPECT_GT(flippedFaces, 0);
+}
+
+// A face narrower than the coarse mesh's deflection: a crescent 20 mm across between two arcs
+// whose sagittas differ by 0.01 mm, extruded 1 mm. OpenCASCADE joins its two arcs by chords
+// whose midpoints lie outside it, the farther the longer the chord; bisection put vertices
+// there, and their samples' spheres started in the air (the Original Prusa i3's extruder motor
+// plate: 0.035 mm off its face, a sphere of 2t = 0.07 centred outside the part). Every vertex
+// lies on its face, within the tolerance, as bisection and as the flips make the mesh.
+TEST(DisplayMesh, VerticesStayOnAFaceNarrowerThanTheDeflection)
+{
+  const gp_Pnt p1(-10, 0, 0), p2(10, 0, 0);
+  const TopoDS_Edge outer = BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(p1, gp_Pnt(0, -5, 0), p2).Value());
+  const TopoDS_Edge inner = BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(p2, gp_Pnt(0, -4.99, 0), p1).Value());
+  const TopoDS_Face crescent = BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakeWire(outer, inner).Wire());
+  const TopoDS_Shape solid = BRepPrimAPI_MakePrism(crescent, gp_Vec(0, 0, 1)).Shape();
+  for (const bool delaunay : { false, true })
+  {
+    brt::ConversionOptions o;
+    o.DelaunayRefinement = delaunay;
+    o.MaxEdgeLength = 0.5;
+    std::vector<TopoDS_Face> faces;
+    const BRepModel m = brt::ConvertShape(solid, o, &faces);
+    ASSERT_EQ(faces.size(), m.Faces.size());
+    double worst = 0.0;
+    size_t far = 0;
+    for (size_t v = 0; v < m.Mesh.NumberOfPoints(); ++v)
+    {
+      const V3 p = Vertex(m, static_cast<int>(v));
+      BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(),
+        faces[static_cast<size_t>(m.Mesh.FaceIds[v])]);
+      ASSERT_TRUE(d.IsDone());
+      worst = std::max(worst, d.Value());
+      far += d.Value() > m.Tolerance;
+    }
+    std::printf("crescent (%s): %zu vertices, the farthest %.3g from its face\n",
+      delaunay ? "flips" : "bisection", m.Mesh.NumberOfPoints(), worst);
+    EXPECT_EQ(far, 0u);
+  }
 }
