@@ -1192,8 +1192,19 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
       cu += M.UV[2 * M.Triangles[3 * t + k]] / 3.0;
       cv += M.UV[2 * M.Triangles[3 * t + k] + 1] / 3.0;
     }
-    s.U += 1e-2 * (cu - s.U);
-    s.V += 1e-2 * (cv - s.V);
+    // The centroid lies inside the mesh's polygon, which leaves a face where its boundary curves
+    // away from a long chord: the Original Prusa i3's extruder body had a nudged sample 1.3e-3 mm
+    // off its face, its sphere (2t = 0.0016) centred outside the part. A point outside the
+    // face's trim (ClassifyPoint, about 1 us) is nudged half as far, up to six times.
+    const double u0 = s.U, v0 = s.V;
+    double step = 1e-2;
+    for (int tries = 0; tries < 7; ++tries, step *= 0.5)
+    {
+      s.U = u0 + step * (cu - u0);
+      s.V = v0 + step * (cv - v0);
+      if (ClassifyPoint(model, s.Face, s.U, s.V).Inside)
+        break;
+    }
     const PatchEval e =
       EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
     Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],
