@@ -40,6 +40,10 @@
 
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <gp_Pnt2d.hxx>
+#include <IntCurvesFace_ShapeIntersector.hxx>
+#include <gp_Lin.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <BRepBndLib.hxx>
@@ -82,7 +86,9 @@ const char* const Usage =
   "and non-manifold solids fail) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list),\n"
   "and the solved samples whose sphere's centre lies outside their solid (OpenCASCADE's\n"
-  "classifier): a sphere in the air touches the boundary from outside, which no distance sees.\n"
+  "classifier, confirmed by most of seven rays from it): a sphere in the air touches the\n"
+  "boundary from outside, which no distance sees; and the samples whose O lies off its own face\n"
+  "by more than the tolerance (OpenCASCADE's face classifier and distance).\n"
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
   "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
   "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
@@ -305,7 +311,10 @@ int main(int argc, char** argv)
     std::vector<TopoDS_Solid> ownSolid(static_cast<size_t>(solids));
     std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> ownClassifier(
       static_cast<size_t>(solids)); // loaded once per solid
+    std::vector<std::unique_ptr<IntCurvesFace_ShapeIntersector>> ownRays(
+      static_cast<size_t>(solids));
     std::vector<size_t> outside;
+    size_t classifierAlone = 0; // centres the classifier alone calls outside (the rays: inside)
     auto centreOutside = [&](const brt::Sample& s, const brt::SampleResult& r) {
       const int solid = m.Faces[static_cast<size_t>(s.Face)].Solid;
       // A sphere no larger than twice the allowance lies within it of the boundary: its centre
@@ -318,9 +327,44 @@ int main(int argc, char** argv)
         ownSolid[static_cast<size_t>(solid)] = solidOf(solid);
         cl = std::make_unique<BRepClass3d_SolidClassifier>(ownSolid[static_cast<size_t>(solid)]);
       }
-      cl->Perform(gp_Pnt(r.Center[0], r.Center[1], r.Center[2]), m.Tolerance);
+      const gp_Pnt C(r.Center[0], r.Center[1], r.Center[2]);
+      cl->Perform(C, m.Tolerance);
       // (ON: within the tolerance of the boundary, where the distance above decides.)
-      return cl->State() == TopAbs_OUT;
+      if (cl->State() != TopAbs_OUT)
+        return false;
+      // A second opinion: the classifier's ray can graze an edge and call a region OUT amid
+      // points it calls IN (on the Original Prusa i3's fan shroud and adapter, three centres
+      // whose diameters it called IN from 1e-3 r to 1.99 r from O, a ball of 0.03-0.1 r around
+      // them OUT, and no boundary within the sphere). Seven rays from the centre in fixed
+      // directions, their crossings of the solid's faces counted: the centre is outside where
+      // most cross an even number of times.
+      std::unique_ptr<IntCurvesFace_ShapeIntersector>& rays = ownRays[static_cast<size_t>(solid)];
+      if (!rays)
+      {
+        rays = std::make_unique<IntCurvesFace_ShapeIntersector>();
+        rays->Load(ownSolid[static_cast<size_t>(solid)], m.Tolerance);
+      }
+      static const double directions[7][3] = { { 0.5377, 0.6143, 0.5773 },
+        { -0.7071, 0.2013, 0.6778 }, { 0.1093, -0.9641, 0.2421 }, { -0.3312, -0.4119, -0.8488 },
+        { 0.8867, -0.1732, -0.4287 }, { -0.2488, 0.9134, -0.3221 }, { 0.6519, 0.3047, -0.6944 } };
+      int evenVotes = 0;
+      for (const auto& u : directions)
+      {
+        rays->Perform(gp_Lin(C, gp_Dir(u[0], u[1], u[2])), 0.0, RealLast());
+        std::vector<double> at;
+        for (int i = 1; rays->IsDone() && i <= rays->NbPnt(); ++i)
+          at.push_back(rays->WParameter(i));
+        std::sort(at.begin(), at.end());
+        // A crossing at an edge is found on both of its faces: once.
+        const size_t crossings = static_cast<size_t>(std::distance(at.begin(),
+          std::unique(at.begin(), at.end(),
+            [&](double x, double y) { return y - x <= m.Tolerance; })));
+        evenVotes += crossings % 2 == 0 ? 1 : 0;
+      }
+      if (evenVotes >= 4)
+        return true;
+      ++classifierAlone;
+      return false;
     };
     double largest = 0.0;
     std::map<std::string, size_t> reasons;
@@ -439,7 +483,8 @@ int main(int argc, char** argv)
     std::fputs(otherSolidLine, stdout);
     if (!gap)
     {
-      std::printf("    centre outside its solid (OpenCASCADE's classifier): %zu of %zu solved samples",
+      std::printf("    centre outside its solid (OpenCASCADE's classifier, and most of seven rays "
+        "from it): %zu of %zu solved samples",
         outside.size(), solved);
       for (size_t j = 0; j < outside.size() && j < static_cast<size_t>(std::max(list, 1)); ++j)
       {
@@ -447,7 +492,7 @@ int main(int argc, char** argv)
         std::printf("%s sample %zu (2t %.6g, face %d, opposite face %d)", j ? "," : ":",
           pick[outside[j]], r.Thickness, samples[outside[j]].Face, r.OppositeFace);
       }
-      std::printf("\n");
+      std::printf("; the classifier alone (the rays: inside): %zu\n", classifierAlone);
     }
     std::printf("    second distance (every extremum on the faces and edges near the centre%s): "
                 "nearer than BRepExtrema's on %zu solved samples; overlaps it alone finds: %zu "
@@ -481,6 +526,40 @@ int main(int argc, char** argv)
         }
       return tol;
     };
+    {
+      // The drawn samples' O on their own face: a display-mesh vertex off its face (or a
+      // boundary vertex nudged off it, SamplesFromMesh) starts its sphere where no wall is.
+      // OpenCASCADE's face classifier at (U, V), then its distance from O to the face; those
+      // farther than the file's own tolerance at O (a face's gap between its edges' pcurves,
+      // which the reader bridges, holds O within it) are counted apart.
+      size_t off = 0, offBeyondFile = 0, farthestAt = 0;
+      double farthest = 0.0;
+      for (size_t k = 0; k < samples.size(); ++k)
+      {
+        const TopoDS_Face& F = faces[static_cast<size_t>(samples[k].Face)];
+        BRepClass_FaceClassifier inFace(F, gp_Pnt2d(samples[k].U, samples[k].V), 1e-9);
+        if (inFace.State() != TopAbs_OUT)
+          continue;
+        const auto& o = samples[k].Point;
+        const gp_Pnt O(o[0], o[1], o[2]);
+        BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(O).Vertex(), F);
+        if (!d.IsDone() || !(d.Value() > m.Tolerance))
+          continue;
+        ++off;
+        offBeyondFile += d.Value() > fileTolerance(bounding(samples[k]), O) ? 1 : 0;
+        if (d.Value() > farthest)
+        {
+          farthest = d.Value();
+          farthestAt = pick[k];
+        }
+      }
+      std::printf("    O off its own face by more than the tolerance (OpenCASCADE's face classifier "
+        "and distance): %zu of %zu samples", off, samples.size());
+      if (off > 0)
+        std::printf(", %zu beyond the file's own tolerance there; the farthest %.3g (sample %zu)",
+          offBeyondFile, farthest, farthestAt);
+      std::printf("\n");
+    }
     std::sort(worst.rbegin(), worst.rend());
     size_t beyondFile = 0;
     std::vector<double> tolThere(samples.size(), 0.0);
