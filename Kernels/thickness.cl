@@ -3594,12 +3594,14 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
 // surface: Newton on g(t) = |dist(O + t d)| - t from the patches' radius, the foot the nearest
 // point of the exact surface to the centre. Kept only where the sphere is more than twice the
 // patches' accuracy, its centre clearly on its own side of the face, Newton converges, the
-// sphere grows by at most the tolerance, the foot moves by at most twice the patches' accuracy
-// (5% of t along a seam) and stays inside the face's trim (in its tolerance band only at a tangent
-// edge, tangent_across); else r is left as it is. A
+// sphere grows by at most what the patches' accuracy moves it (certified again past half the
+// slack), the foot moves by at most twice the patches' accuracy (5% of t along a seam) and stays
+// inside the face's trim (in its tolerance band only at a tangent edge, tangent_across); else r
+// is left as it is. A
 // sphere touching O's own cylinder, sphere or torus across takes self_contact_radius's closed
 // form instead of the Newton.
-BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real stepTol, Result* r)
+BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real stepTol,
+  Result* r)
 {
   int face = r->face;
   if (r->type == CONTACT_SURFACE_EDGE && r->edge >= 0)
@@ -3688,10 +3690,22 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
   // longer the patches' contact made exact: next to a convex edge, where the face across meets
   // the sphere at a grazing angle, the clearance's sphere (which may hold that face up to the
   // clearance deep, step 0) is much larger than the strict one, and the clearance's stays.
+  // The sphere may grow by what the patches' error moves it: the surface moved by e along its
+  // normal n at the foot moves the tangent sphere by e / (1 - d.n), n towards the centre (half
+  // of e for a wall straight across, more as the foot comes round towards O's tangent plane; a
+  // cone's wall at 46 degrees on a Voron part read 2t 2.7e-4 short with half the slack alone).
+  // Up to four times, and a sphere grown past half the slack is certified again, strictly
+  // (below). Not a sphere touching O's own surface across (the closed form): there the growth
+  // is the trim's, the sphere next to the face's edge (the mold's torus, 2t = 1 against the
+  // exact 0.99964, a face across its edge 3e-5 inside the sphere).
   const real reach =
     fmax(fmax((real)2 * m->slack, (real)0.05 * t), (real)2 * sqrt(m->slack * t));
   const real tPatches = sphere_radius(d, r->foot, (real)0);
-  if (!(length(moved) <= reach) || !(t <= tPatches + (real)0.5 * m->slack) ||
+  const real across = (real)1 - dot(d, t * d - foot) / t;
+  const real grow = selfContact ? (real)0
+                                : (real)0.5 * m->slack *
+      ((real)4 * across >= (real)1 ? (real)1 / across : (real)4);
+  if (!(length(moved) <= reach) || !(t <= tPatches + fmax(grow, (real)0.5 * m->slack)) ||
     !(t >= tPatches - m->slack))
     return;
   // The new foot's (u, v): projected onto the face's patches from the old foot's (Gauss-Newton on
@@ -3728,6 +3742,25 @@ BRT_SPLIT void exact_finish(const Model* m, real3 Ohi, real3 Olo, real3 d, real 
     if (!project_on_face_near(m, face, Ohi, Olo, foot,
           r->type == CONTACT_SURFACE_EDGE || selfContact ? 1 : 2, t * d, make_real2(u, v),
           known ? (real)0.999 * r->trimDist : (real)0, &u, &v, &patch))
+      return;
+  }
+  if (t > tPatches + (real)0.5 * m->slack)
+  {
+    // Grown past half the slack: the foot at least 4 slack inside the face's trim (in UV times
+    // the metric's smallest stretch), since a face across an edge next to the foot reaches into
+    // the larger sphere within the patches' error, where no certification can see it (the
+    // FRAMEWORK tile's cylinder, a foot 6e-5 from its edge, read 2t 2.6e-4 above the exact on
+    // 12 samples); and no point of the trimmed faces inside, strictly.
+    int seg;
+    real param, trimDist;
+    const PatchEval pe = eval_patch(m, patch, u, v);
+    const real E = dot(pe.Du, pe.Du), F = dot(pe.Du, pe.Dv), G = dot(pe.Dv, pe.Dv);
+    const real stretch =
+      sqrt(fmax((real)0.5 * (E + G) - sqrt((real)0.25 * (E - G) * (E - G) + F * F), (real)0));
+    PointInside inside;
+    if (!classify(m, face, make_real2(u, v), &seg, &param, &trimDist) ||
+      !(trimDist * stretch >= (real)4 * m->slack) ||
+      find_point_inside(m, ownFace, Ohi, Olo, d, t, (real)0, &inside))
       return;
   }
   if (r->type == CONTACT_SURFACE_EDGE)
@@ -4978,7 +5011,7 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
         r = c;
     }
   }
-  exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
+  exact_finish(&mm, ownFace, Ohi, Olo, d, stepTol, &r);
   reject_contact_from_outside(&mm, ownFace, Ohi, Olo, d, scale, &r);
   flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
   write_result(&r, d, iterations, exactPass, oR, oI);
@@ -5131,7 +5164,7 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
     PointInside inside;
     again = find_point_inside(&mm, ownFace, Ohi, Olo, d, sphere_radius(d, r.foot, (real)0),
       fmax(mm.delta, mm.slack), &inside);
-    exact_finish(&mm, Ohi, Olo, d, stepTol, &r);
+    exact_finish(&mm, ownFace, Ohi, Olo, d, stepTol, &r);
     reject_contact_from_outside(&mm, ownFace, Ohi, Olo, d, scale, &r);
     again = again || r.type == CONTACT_FAILED;
   }

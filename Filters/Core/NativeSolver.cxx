@@ -276,7 +276,7 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
   int iterations = 0;
   kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
     s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
-  kernel::exact_finish(&view, Ohi, Olo, d, s.StepTol, &k);
+  kernel::exact_finish(&view, sample.Face, Ohi, Olo, d, s.StepTol, &k);
   kernel::reject_contact_from_outside(&view, sample.Face, Ohi, Olo, d, s.Scale, &k);
   // Back through the kernel's own output layout, so that one function reads results; a contact
   // the polish kept gets its radius from its foot in double, as brt_finish gives it.
