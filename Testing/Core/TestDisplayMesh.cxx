@@ -308,8 +308,8 @@ TEST(DisplayMesh, VerticesStayOnAFaceNarrowerThanTheDeflection)
 // adjacent triangle's centroid (SamplesFromMesh). That centroid lies inside the mesh's polygon,
 // which leaves the face where its boundary curves away from a long chord: 52 of the
 // ExpansionCard's nudged samples and 11 of the hinge's lay more than 1e-5 outside their face's
-// trim in UV (one 8.1e-4), and on the Original Prusa i3's extruder body a sphere started so was centred
-// outside the part. On every Data/ model, every sample lies inside its face's trim by the
+// trim in UV (one 8.1e-4), and on the Original Prusa i3's extruder body a sphere started so was
+// centred outside the part. On every Data/ model, every sample lies inside its face's trim by the
 // solver's own classifier, or outside by less than the conversion tolerance (in UV): a boundary
 // vertex itself may lie that far outside the trim, which bridges its pcurves' gaps (64 of the
 // ExpansionCard's, 7.3e-5 at most, after the change).
