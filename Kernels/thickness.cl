@@ -2643,7 +2643,12 @@ inline real patch_gap(const Model* m, int p, real3 a, real3 mr, real3 d, real* a
 // Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
 // described at e (FACE_EXACT on), and its unit gradient *g. *ok = 0 where the gradient is not
 // defined (X on the axis of a surface of revolution).
-inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, int* ok)
+// As exact_distance, and where X lies on the axis (the centre of a sphere), the meridian half-plane
+// and the gradient taken towards `hint` (X's offset to a point near the foot; zero: none): every
+// meridian alike, the foot is the one there (a sample at the centre of a round pocket's floor, its
+// sphere touching the pocket's wall all round).
+inline real exact_distance_towards(
+  int kind, __global const real* e, real3 X, real3 hint, real3* g, int* ok)
 {
   const real3 a = make_real3(e[6], e[7], e[8]);
   *ok = 1;
@@ -2655,18 +2660,27 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   if (kind == EXACT_SPHERE)
   {
     const real r = length(X);
-    *ok = r > (real)0;
-    *g = *ok ? X / r : a;
+    const real lh = length(hint);
+    *ok = r > (real)0 || lh > (real)0;
+    *g = r > (real)0 ? X / r : (lh > (real)0 ? hint / lh : a);
     return r - e[9];
   }
   const real z = dot(X, a);
   const real3 radial = X - z * a;
   const real rho = length(radial);
-  // On the axis the direction away from it is undefined: no gradient (ok = 0), but the distance
-  // is still the surface's (every meridian half-plane alike), which the certification's bounds
-  // read without the gradient: a sphere inscribed in a rod has its centre there.
-  *ok = rho > (real)1e-6 * (fabs(z) + e[9]);
-  const real3 er = *ok ? radial / rho : a;
+  // On the axis the direction away from it is undefined: no gradient (ok = 0) but towards the
+  // hint, while the distance is still the surface's (every meridian half-plane alike), which the
+  // certification's bounds read without the gradient: a sphere inscribed in a rod has its centre
+  // there.
+  // With a hint, the direction away from the axis is X's own down to the rounding of its
+  // offset (a thousandth of a micrometre on a part 100 mm across), the hint's only below that.
+  const real3 hr = hint - dot(hint, a) * a;
+  const real lhr = length(hr);
+  const int onAxis = !(rho > (real)1e-6 * (fabs(z) + e[9]));
+  *ok = !onAxis || lhr > (real)0;
+  const real3 er = !onAxis || (lhr > (real)0 && rho > (real)1e-12 * (fabs(z) + e[9]))
+    ? radial / rho
+    : (lhr > (real)0 ? hr / lhr : a);
   if (kind == EXACT_CYLINDER)
   {
     *g = er;
@@ -2687,6 +2701,11 @@ inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, 
   *ok = *ok && l > (real)0;
   *g = *ok ? (q * er + z * a) / l : a;
   return l - e[10];
+}
+
+inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, int* ok)
+{
+  return exact_distance_towards(kind, e, X, make_real3((real)0, (real)0, (real)0), g, ok);
 }
 
 // A lower bound of the distance from X to the whole exact surface: |exact_distance|, and for a
@@ -3657,7 +3676,8 @@ BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
   }
   else
   {
-    f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+    // Towards the patches' foot where the centre lies on the axis.
+    f = exact_distance_towards(kind, e, X0 + t * d, r->foot - t * d, &g, &ok);
     const real sigma = f < (real)0 ? (real)-1 : (real)1;
     int converged = 0;
     for (int it = 0; it < 8 && ok; ++it)
@@ -3667,7 +3687,7 @@ BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
         return; // the foot next to O's direction: ill-conditioned
       const real step = (sigma * f - t) / slope;
       t -= step;
-      f = exact_distance(kind, e, X0 + t * d, &g, &ok);
+      f = exact_distance_towards(kind, e, X0 + t * d, r->foot - t * d, &g, &ok);
       if (fabs(step) <= stepTol)
       {
         converged = 1;
