@@ -1,6 +1,7 @@
 #include "BRepConverter.h"
 
 #include "Bezier.h"
+#include "TouchingBodies.h"
 #include "ModelIO.h"
 #include "StepFile.h"
 
@@ -1393,8 +1394,21 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   // --- heal -------------------------------------------------------------------------------
   auto t0 = Clock::now();
   TopoDS_Shape shape = input;
+  // Bodies touching face to face in one solid, joined as the file's solid says they are one
+  // (TouchingBodies.h): before the healing, which would make each body a solid of its own.
+  try
+  {
+    shape = JoinBodiesTouchingFaceToFace(shape, options.Tolerance, stats.Warnings).Shape;
+  }
+  catch (const Standard_Failure& e)
+  {
+    warn(std::string("looking for bodies touching face to face failed: ") +
+      e.GetMessageString());
+    shape = input;
+  }
   if (options.Heal)
   {
+    const TopoDS_Shape unhealed = shape;
     try
     {
       ShapeFix_Shape fixer(shape);
@@ -1404,7 +1418,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     catch (const Standard_Failure& e)
     {
       warn(std::string("healing failed, converting the shape as read: ") + e.GetMessageString());
-      shape = input;
+      shape = unhealed;
     }
   }
   BRepLib::BuildCurves3d(shape);

@@ -21,6 +21,7 @@
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <BRep_Builder.hxx>
@@ -31,6 +32,7 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Trsf.hxx>
 #include <TopLoc_Location.hxx>
@@ -500,6 +502,130 @@ TEST(Robustness, EdgeWhereTwoBodiesTouchIsSplit)
   EXPECT_EQ(failed, 0u);
   EXPECT_GT(checked, 1000u);
   EXPECT_LE(worst, 1e-6);
+}
+
+/// Faces of two solids put into one shell: the two bodies as one solid, as some exporters write
+/// bodies that touch face to face.
+TopoDS_Shape OneShell(const TopoDS_Shape& a, const TopoDS_Shape& b)
+{
+  BRep_Builder builder;
+  TopoDS_Shell shell;
+  builder.MakeShell(shell);
+  for (const TopoDS_Shape* s : { &a, &b })
+    for (TopExp_Explorer fx(*s, TopAbs_FACE); fx.More(); fx.Next())
+      builder.Add(shell, fx.Current());
+  shell.Closed(true);
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  return solid;
+}
+
+bool Warned(const BRepModel& m, const std::string& what)
+{
+  for (const std::string& w : m.Stats.Warnings)
+    if (w.find(what) != std::string::npos)
+      return true;
+  return false;
+}
+
+TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
+{
+  // A pin of radius 3 standing on a 2 mm plate, its end face lying on the plate's top face, the
+  // two bodies' faces in one shell (a Voron part's pins are written so; OpenCASCADE calls such a
+  // solid valid). The reader joins them: the plate's face loses the disc, the end face goes, and
+  // the spheres reach from the plate into the pin. Closed forms, the pin's axis the z axis and
+  // rho a sample's distance from it: on the plate's underside (z = 0, d = +z) the sphere meets
+  // the pin's wall, t = 3 - rho, while the centre lies in the pin (rho <= 1), else the circle
+  // where the pin meets the plate, t = ((3 - rho)^2 + 4) / 4 (1 < rho < 3); on the pin's top
+  // (z = 7, d = -z), t = 3 - rho. Unjoined, both read the body alone: 2t = 2 under the pin, and
+  // min(6 - 2 rho, 5) on its top.
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(-10, -10, 0), 20, 20, 2).Shape();
+  const TopoDS_Shape pin =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 2), gp::DZ()), 3, 5).Shape();
+  // Converted in memory: OpenCASCADE's STEP transfer heals the shell into one solid per body
+  // where the bodies share no edge (docs/Robustness.md), as a file's pins that touch the plate's
+  // edges too are not.
+  const BRepModel m = ConvertShape(OneShell(plate, pin), ConversionOptions());
+  EXPECT_TRUE(Warned(m, "joined into one body")) << "no warning of the join";
+  for (const SolidCheck& c : CheckSolids(m))
+    EXPECT_TRUE(c.Closed());
+  // The pin's end face is gone: no face lies on z = 2 inside the pin's circle.
+  for (size_t v = 0; v < m.Mesh.FaceIds.size(); ++v)
+  {
+    const double* q = &m.Mesh.Points[3 * v];
+    EXPECT_FALSE(std::fabs(q[2] - 2.0) < 1e-9 && std::hypot(q[0], q[1]) < 2.9)
+      << "a vertex on the shared disc at " << q[0] << ", " << q[1];
+  }
+  Solved solved = SolveAll(m);
+  size_t under = 0, top = 0, failed = 0;
+  double worstFace = 0.0, worstEdge = 0.0;
+  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  {
+    const Sample& q = solved.Samples[i];
+    const SampleResult& r = solved.Results[i];
+    const double rho = std::hypot(q.Point[0], q.Point[1]);
+    double t = -1.0;
+    if (std::fabs(q.Point[2]) < 1e-9 && q.Direction[2] > 0.99 && rho < 2.5)
+    {
+      t = rho <= 1.0 ? 3.0 - rho : ((3.0 - rho) * (3.0 - rho) + 4.0) / 4.0;
+      ++under;
+    }
+    else if (std::fabs(q.Point[2] - 7.0) < 1e-9 && q.Direction[2] < -0.99 && rho < 2.5)
+    {
+      t = 3.0 - rho;
+      ++top;
+    }
+    if (t < 0.0)
+      continue;
+    if (r.Type == ContactType::Failed)
+    {
+      ++failed;
+      continue;
+    }
+    const double e = std::fabs(r.Thickness - 2.0 * t) / (2.0 * t);
+    // Spheres touching the circle where the pin meets the plate: eq. 7 on the edge's cubic
+    // segments (docs/Solver.md, "Accuracy").
+    (r.Type == ContactType::SurfaceSurface ? worstFace : worstEdge) =
+      std::max(r.Type == ContactType::SurfaceSurface ? worstFace : worstEdge, e);
+  }
+  std::printf("[touching bodies] pin on a plate in one shell, joined: %zu samples under the pin, "
+              "%zu on its top, %zu failed, max |2t - h| / h %.2e (face contacts), %.2e (the "
+              "circle)\n",
+    under, top, failed, worstFace, worstEdge);
+  EXPECT_GT(under, 20u);
+  EXPECT_GT(top, 20u);
+  EXPECT_EQ(failed, 0u);
+  EXPECT_LE(worstFace, 1e-6);
+  EXPECT_LE(worstEdge, 1e-5);
+
+  // The same outline, a cut of no width (a sheet-metal relief): two walls, left as they are,
+  // without a warning. Two plates, one on the other: each sample reads its own plate, 2t = 2.
+  const BRepModel ms = ConvertShape(OneShell(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 2).Shape(),
+                                      BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 2), 10, 10, 2).Shape()),
+    ConversionOptions());
+  EXPECT_FALSE(Warned(ms, "face to face"));
+  Solved s2 = SolveAll(ms);
+  double worstSlit = 0.0;
+  size_t slitChecked = 0;
+  for (size_t i = 0; i < s2.Samples.size(); ++i)
+  {
+    const Sample& q = s2.Samples[i];
+    if (std::fabs(q.Direction[2]) < 0.99 || q.Point[0] < 2 || q.Point[0] > 8 || q.Point[1] < 2 ||
+      q.Point[1] > 8)
+      continue;
+    ++slitChecked;
+    worstSlit = std::max(worstSlit, std::fabs(s2.Results[i].Thickness - 2.0) / 2.0);
+  }
+  EXPECT_GT(slitChecked, 50u);
+  EXPECT_LE(worstSlit, 1e-9);
+
+  // A pin over the plate's edge: its end face only partly on the plate. Not joined, warned.
+  const BRepModel mo = ConvertShape(
+    OneShell(plate, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(9, 0, 2), gp::DZ()), 3, 5).Shape()),
+    ConversionOptions());
+  EXPECT_TRUE(Warned(mo, "over part of their area"));
+  EXPECT_FALSE(Warned(mo, "joined into one body"));
 }
 
 TEST(Robustness, FinStaysNonManifold)
