@@ -11,6 +11,14 @@
 #include <Standard_Failure.hxx>
 #include <StepData_StepModel.hxx>
 #include <StepShape_ManifoldSolidBrep.hxx>
+#include <BRep_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <Transfer_TransientProcess.hxx>
+#include <TransferBRep.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopExp_Explorer.hxx>
@@ -22,6 +30,7 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sys/stat.h>
 #include <vector>
 
@@ -67,6 +76,95 @@ public:
 private:
   std::vector<Handle(Message_Printer)> Saved;
 };
+/// The solids one declared solid (a MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS) became. OpenCASCADE's
+/// transfer heals a shell that holds bodies sharing no edge into one solid per body; the file
+/// said they are one. Each such group, per placement, is put back into one solid whose shell
+/// holds all their faces, so that bodies touching face to face are joined as one
+/// (JoinBodiesTouchingFaceToFace, run before the healing, which splits the ones that do not touch
+/// again). The shape is returned as it was where no declared solid was split, else as a flat
+/// compound of its solids, shells and faces.
+TopoDS_Shape RegroupSplitSolids(const TopoDS_Shape& shape, STEPControl_Reader& reader,
+  const Handle(StepData_StepModel)& model, int& regrouped)
+{
+  regrouped = 0;
+  if (model.IsNull() || reader.WS().IsNull() || reader.WS()->TransferReader().IsNull())
+    return shape;
+  const Handle(Transfer_TransientProcess) tp = reader.WS()->TransferReader()->TransientProcess();
+  if (tp.IsNull())
+    return shape;
+  std::map<const TopoDS_TShape*, int> groupOf;
+  int groups = 0;
+  for (int i = 1; i <= model->NbEntities(); ++i)
+  {
+    if (!model->Value(i)->IsKind(STANDARD_TYPE(StepShape_ManifoldSolidBrep)))
+      continue;
+    const TopoDS_Shape made = TransferBRep::ShapeResult(tp, model->Value(i));
+    if (made.IsNull())
+      continue;
+    std::vector<const TopoDS_TShape*> solids;
+    for (TopExp_Explorer x(made, TopAbs_SOLID); x.More(); x.Next())
+      solids.push_back(x.Current().TShape().get());
+    if (solids.size() < 2)
+      continue;
+    for (const TopoDS_TShape* t : solids)
+      groupOf[t] = groups;
+    ++groups;
+  }
+  if (groups == 0)
+    return shape;
+  // Per group and placement, the solids (their orientation and location composed).
+  struct Bucket
+  {
+    int Group;
+    TopLoc_Location Placement;
+    std::vector<TopoDS_Shape> Members;
+  };
+  std::vector<Bucket> buckets;
+  BRep_Builder builder;
+  TopoDS_Compound out;
+  builder.MakeCompound(out);
+  for (TopExp_Explorer x(shape, TopAbs_SOLID); x.More(); x.Next())
+  {
+    const auto g = groupOf.find(x.Current().TShape().get());
+    if (g == groupOf.end())
+    {
+      builder.Add(out, x.Current());
+      continue;
+    }
+    auto b = std::find_if(buckets.begin(), buckets.end(), [&](const Bucket& k) {
+      return k.Group == g->second && k.Placement.IsEqual(x.Current().Location());
+    });
+    if (b == buckets.end())
+    {
+      buckets.push_back(Bucket{ g->second, x.Current().Location(), {} });
+      b = buckets.end() - 1;
+    }
+    b->Members.push_back(x.Current());
+  }
+  for (const Bucket& b : buckets)
+  {
+    if (b.Members.size() < 2)
+    {
+      builder.Add(out, b.Members[0]);
+      continue;
+    }
+    TopoDS_Shell shell;
+    builder.MakeShell(shell);
+    for (const TopoDS_Shape& m : b.Members)
+      for (TopExp_Explorer f(m, TopAbs_FACE); f.More(); f.Next())
+        builder.Add(shell, f.Current());
+    TopoDS_Solid solid;
+    builder.MakeSolid(solid);
+    builder.Add(solid, shell);
+    builder.Add(out, solid);
+    ++regrouped;
+  }
+  for (TopExp_Explorer x(shape, TopAbs_SHELL, TopAbs_SOLID); x.More(); x.Next())
+    builder.Add(out, x.Current());
+  for (TopExp_Explorer x(shape, TopAbs_FACE, TopAbs_SHELL); x.More(); x.Next())
+    builder.Add(out, x.Current());
+  return regrouped > 0 ? TopoDS_Shape(out) : shape;
+}
 } // namespace
 
 void CheckStepFile(const std::string& path)
@@ -237,6 +335,9 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
       Fail(path, "holds no geometry that OpenCASCADE could transfer");
     }
     shape = reader.OneShape();
+    int regrouped = 0;
+    shape = RegroupSplitSolids(shape, reader, model, regrouped);
+    result.RegroupedSolids = regrouped;
   }
   catch (const InputError&)
   {

@@ -25,6 +25,10 @@ struct StepReadResult
   /// Solid entities transferred one by one because the roots gave no solid (an AP242 file
   /// whose product structure leads nowhere OpenCASCADE 7.6 follows); 0 if the roots gave one.
   int SolidsTransferredDirectly = 0;
+  /// Declared solids (per placement) that OpenCASCADE's transfer split into one solid per body
+  /// and that were put back into one solid each (their bodies touch face to face or not: the
+  /// conversion joins the ones that touch, docs/Robustness.md item 6)
+  int RegroupedSolids = 0;
   int Faces = 0;                 ///< faces in the returned shape
   StepScanResult Scan;           ///< what the text check found (StepScan.h)
   std::vector<std::string> Warnings; ///< faces lost in the transfer, surface models, ...

@@ -146,12 +146,13 @@ void Count(const PlaneClassifier& f, const std::vector<gp_Pnt>& points, int& in,
   }
 }
 
-/// Edges of the shape bounding one face only (a seam, which bounds its face twice, is not free).
-int FreeEdges(const TopoDS_Shape& s)
+/// Edges of the shape bounding one face only (a seam, which bounds its face twice, is not free),
+/// and edges bounding more than two faces (bodies touching along a line).
+void CountEdges(const TopoDS_Shape& s, int& free, int& nonManifold)
 {
   TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
   TopExp::MapShapesAndUniqueAncestors(s, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
-  int free = 0;
+  free = nonManifold = 0;
   for (int i = 1; i <= edgeFaces.Extent(); ++i)
   {
     const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
@@ -160,8 +161,9 @@ int FreeEdges(const TopoDS_Shape& s)
     const TopTools_ListOfShape& faces = edgeFaces(i);
     if (faces.Extent() == 1 && !BRep_Tool::IsClosed(e, TopoDS::Face(faces.First())))
       ++free;
+    if (faces.Extent() > 2)
+      ++nonManifold;
   }
-  return free;
 }
 
 std::string Where(const gp_Pnt& p)
@@ -477,9 +479,15 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
       if (!joined.IsNull())
       {
         const double before = Volume(solid), after = Volume(joined);
+        int free = 0, nonManifold = 0, free0 = 0, nonManifold0 = 0;
+        CountEdges(joined, free, nonManifold);
+        CountEdges(solid, free0, nonManifold0);
         if (!(std::fabs(after - before) <= 1e-6 * std::fabs(before)))
           failure = "the joined solid's volume differs from the solid's: the bodies overlap";
-        else if (FreeEdges(joined) > 0 || !BRepCheck_Analyzer(joined).IsValid())
+        else if (nonManifold > nonManifold0)
+          failure = "the bodies touch along a line too, where the joined solid would be "
+                    "non-manifold";
+        else if (free > 0 || !BRepCheck_Analyzer(joined).IsValid())
           failure = "the joined solid is not valid";
       }
     }

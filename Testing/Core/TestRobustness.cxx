@@ -532,8 +532,8 @@ bool Warned(const BRepModel& m, const std::string& what)
 TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
 {
   // A pin of radius 3 standing on a 2 mm plate, its end face lying on the plate's top face, the
-  // two bodies' faces in one shell (a Voron part's pins are written so; OpenCASCADE calls such a
-  // solid valid). The reader joins them: the plate's face loses the disc, the end face goes, and
+  // two bodies' faces in one shell (a Voron part's pins are written so, and zoo.dev's KCL writes
+  // unions so; OpenCASCADE calls such a solid valid). The reader joins them: the plate's face loses the disc, the end face goes, and
   // the spheres reach from the plate into the pin. Closed forms, the pin's axis the z axis and
   // rho a sample's distance from it: on the plate's underside (z = 0, d = +z) the sphere meets
   // the pin's wall, t = 3 - rho, while the centre lies in the pin (rho <= 1), else the circle
@@ -543,10 +543,10 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
   const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(-10, -10, 0), 20, 20, 2).Shape();
   const TopoDS_Shape pin =
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 2), gp::DZ()), 3, 5).Shape();
-  // Converted in memory: OpenCASCADE's STEP transfer heals the shell into one solid per body
-  // where the bodies share no edge (docs/Robustness.md), as a file's pins that touch the plate's
-  // edges too are not.
-  const BRepModel m = ConvertShape(OneShell(plate, pin), ConversionOptions());
+  // Through a STEP file: OpenCASCADE's transfer heals the shell into one solid per body (the two
+  // share no edge), and the reader puts them back into one (RegroupSplitSolids).
+  const BRepModel m = ConvertStepFileIsolated(
+    WriteShape(OneShell(plate, pin), "pin-on-plate.step"), ConversionOptions());
   EXPECT_TRUE(Warned(m, "joined into one body")) << "no warning of the join";
   for (const SolidCheck& c : CheckSolids(m))
     EXPECT_TRUE(c.Closed());
@@ -601,8 +601,10 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
 
   // The same outline, a cut of no width (a sheet-metal relief): two walls, left as they are,
   // without a warning. Two plates, one on the other: each sample reads its own plate, 2t = 2.
-  const BRepModel ms = ConvertShape(OneShell(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 2).Shape(),
-                                      BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 2), 10, 10, 2).Shape()),
+  const BRepModel ms = ConvertStepFileIsolated(
+    WriteShape(OneShell(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 2).Shape(),
+                 BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 2), 10, 10, 2).Shape()),
+      "slit.step"),
     ConversionOptions());
   EXPECT_FALSE(Warned(ms, "face to face"));
   Solved s2 = SolveAll(ms);
@@ -621,8 +623,10 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
   EXPECT_LE(worstSlit, 1e-9);
 
   // A pin over the plate's edge: its end face only partly on the plate. Not joined, warned.
-  const BRepModel mo = ConvertShape(
-    OneShell(plate, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(9, 0, 2), gp::DZ()), 3, 5).Shape()),
+  const BRepModel mo = ConvertStepFileIsolated(
+    WriteShape(
+      OneShell(plate, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(9, 0, 2), gp::DZ()), 3, 5).Shape()),
+      "pin-over-the-edge.step"),
     ConversionOptions());
   EXPECT_TRUE(Warned(mo, "over part of their area"));
   EXPECT_FALSE(Warned(mo, "joined into one body"));
