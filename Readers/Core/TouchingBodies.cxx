@@ -12,6 +12,7 @@
 #include <BRepGProp.hxx>
 #include <BRepTools_ReShape.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
+#include <BRepTools.hxx>
 #include <ElSLib.hxx>
 #include <Geom2d_Curve.hxx>
 #include <GProp_GProps.hxx>
@@ -41,17 +42,23 @@ namespace
 /// faces: 1.4 s for a resistor model's 97 faces, 16 of them B-splines).
 constexpr int MaxFacesToRemake = 400;
 
-struct PlaneFace
+/// A plane, cylinder or sphere face of a solid, described so that faces on one surface meet in
+/// a sorted list: the key is a plane's offset along its canonical normal, or the radius.
+struct SurfaceFace
 {
-  int Index = 0;      ///< in the solid's face map (1-based)
-  gp_Dir Outward;     ///< the outward normal, the face's orientation applied
-  gp_Dir Canonical;   ///< +-Outward, its first clearly non-zero component positive
-  double Offset = 0;  ///< Canonical . (a point of the plane)
+  int Index = 0;     ///< in the solid's face map (1-based)
+  GeomAbs_SurfaceType Type = GeomAbs_Plane;
+  double Key = 0.0;  ///< plane: Canonical . (a point of it); cylinder, sphere: the radius
+  gp_Dir Canonical;  ///< plane: +-its normal, the first clearly non-zero component positive;
+                     ///< cylinder: +-its axis, likewise
+  gp_Pnt Point;      ///< cylinder: a point of its axis; sphere: the centre
+  int Outward = 1;   ///< plane: +1 where the outward normal is Canonical, else -1; cylinder,
+                     ///< sphere: +1 where it points away from the axis or centre, else -1
   mutable Bnd_Box Box; ///< made when first needed (BoxOf)
   mutable bool HasBox = false;
 };
 
-const Bnd_Box& BoxOf(const PlaneFace& p, const TopoDS_Face& f, double tol)
+const Bnd_Box& BoxOf(const SurfaceFace& p, const TopoDS_Face& f, double tol)
 {
   if (!p.HasBox)
   {
@@ -112,30 +119,49 @@ std::vector<gp_Pnt> WirePoints(const TopoDS_Wire& w)
   return points;
 }
 
-/// A plane face's point classification: a 3D point on (or near) its plane, by its plane's
-/// parameters in the face's trim (BRepTopAdaptor_FClass2d, made once per face).
-class PlaneClassifier
+/// A face's point classification: a 3D point on (or near) its plane, cylinder or sphere, by the
+/// surface's parameters (the periodic one moved into the face's range) in the face's trim
+/// (BRepTopAdaptor_FClass2d, made once per face).
+class SurfaceClassifier
 {
 public:
-  PlaneClassifier(const TopoDS_Face& f, double tol)
-    : Plane(BRepAdaptor_Surface(f, false).Plane())
+  SurfaceClassifier(const TopoDS_Face& f, double tol)
+    : Surface(f, false)
     , Trim(f, tol)
   {
+    double v0 = 0.0, v1 = 0.0;
+    BRepTools::UVBounds(f, U0, U1, v0, v1);
   }
   TopAbs_State State(const gp_Pnt& p) const
   {
     double u = 0.0, v = 0.0;
-    ElSLib::Parameters(Plane, p, u, v);
+    switch (Surface.GetType())
+    {
+      case GeomAbs_Plane: ElSLib::Parameters(Surface.Plane(), p, u, v); break;
+      case GeomAbs_Cylinder: ElSLib::Parameters(Surface.Cylinder(), p, u, v); break;
+      case GeomAbs_Sphere: ElSLib::Parameters(Surface.Sphere(), p, u, v); break;
+      default: return TopAbs_UNKNOWN;
+    }
+    if (Surface.GetType() != GeomAbs_Plane)
+    {
+      // ElSLib's u lies in [0, 2 pi): moved by whole turns to the face's range.
+      const double turn = 2.0 * M_PI;
+      while (u < U0 - 1e-9)
+        u += turn;
+      while (u > U0 + turn + 1e-9)
+        u -= turn;
+    }
     return Trim.Perform(gp_Pnt2d(u, v));
   }
 
 private:
-  gp_Pln Plane;
+  BRepAdaptor_Surface Surface;
   BRepTopAdaptor_FClass2d Trim;
+  double U0 = 0.0, U1 = 0.0;
 };
 
 /// How many of the points lie strictly inside the face, and how many outside.
-void Count(const PlaneClassifier& f, const std::vector<gp_Pnt>& points, int& in, int& out)
+void Count(const SurfaceClassifier& f, const std::vector<gp_Pnt>& points, int& in, int& out)
 {
   in = out = 0;
   for (const gp_Pnt& p : points)
@@ -173,36 +199,73 @@ std::string Where(const gp_Pnt& p)
   return w.str();
 }
 
-/// The plane faces of a solid, each with its outward normal and its plane's canonical offset.
-std::vector<PlaneFace> PlaneFaces(const TopTools_IndexedMapOfShape& faces)
+gp_Dir CanonicalOf(const gp_Dir& n)
 {
-  std::vector<PlaneFace> planes;
+  const double c[3] = { n.X(), n.Y(), n.Z() };
+  int k = 0;
+  while (k < 2 && std::fabs(c[k]) < 1e-9)
+    ++k;
+  return c[k] < 0.0 ? n.Reversed() : n;
+}
+
+/// The plane, cylinder and sphere faces of a solid, sorted by type and key.
+std::vector<SurfaceFace> SurfaceFaces(const TopTools_IndexedMapOfShape& faces)
+{
+  std::vector<SurfaceFace> out;
   for (int i = 1; i <= faces.Extent(); ++i)
   {
     const TopoDS_Face& f = TopoDS::Face(faces(i));
     BRepAdaptor_Surface s(f, false);
-    if (s.GetType() != GeomAbs_Plane)
-      continue;
-    const gp_Pln pl = s.Plane();
-    // The surface's normal is XDir ^ YDir (the axis's direction for a right-handed frame).
-    gp_Dir n = pl.Position().XDirection().Crossed(pl.Position().YDirection());
-    if (f.Orientation() == TopAbs_REVERSED)
-      n.Reverse();
-    PlaneFace p;
+    const int reversed = f.Orientation() == TopAbs_REVERSED ? -1 : 1;
+    SurfaceFace p;
     p.Index = i;
-    p.Outward = n;
-    const double c[3] = { n.X(), n.Y(), n.Z() };
-    int k = 0;
-    while (k < 2 && std::fabs(c[k]) < 1e-9)
-      ++k;
-    p.Canonical = c[k] < 0.0 ? n.Reversed() : n;
-    p.Offset = gp_Vec(p.Canonical).Dot(gp_Vec(pl.Location().XYZ()));
-    planes.push_back(p);
+    p.Type = s.GetType();
+    if (p.Type == GeomAbs_Plane)
+    {
+      const gp_Pln pl = s.Plane();
+      // The surface's normal is XDir ^ YDir (the axis's direction for a right-handed frame).
+      gp_Dir n = pl.Position().XDirection().Crossed(pl.Position().YDirection());
+      if (reversed < 0)
+        n.Reverse();
+      p.Canonical = CanonicalOf(n);
+      p.Outward = p.Canonical.Dot(n) > 0.0 ? 1 : -1;
+      p.Key = gp_Vec(p.Canonical).Dot(gp_Vec(pl.Location().XYZ()));
+    }
+    else if (p.Type == GeomAbs_Cylinder || p.Type == GeomAbs_Sphere)
+    {
+      // The surface's normal points away from the axis (centre) for a right-handed frame.
+      const gp_Ax3 frame =
+        p.Type == GeomAbs_Cylinder ? s.Cylinder().Position() : s.Sphere().Position();
+      p.Outward = (frame.Direct() ? 1 : -1) * reversed;
+      p.Canonical = CanonicalOf(frame.Direction());
+      p.Point = frame.Location();
+      p.Key = p.Type == GeomAbs_Cylinder ? s.Cylinder().Radius() : s.Sphere().Radius();
+    }
+    else
+      continue;
+    out.push_back(p);
   }
-  std::sort(planes.begin(), planes.end(),
-    [](const PlaneFace& a, const PlaneFace& b) { return a.Offset < b.Offset; });
-  return planes;
+  std::sort(out.begin(), out.end(), [](const SurfaceFace& a, const SurfaceFace& b) {
+    return a.Type != b.Type ? a.Type < b.Type : a.Key < b.Key;
+  });
+  return out;
 }
+
+/// The two faces lie on one surface (their keys already within tol) and face opposite ways.
+bool SameSurfaceOpposite(const SurfaceFace& a, const SurfaceFace& b, double tol)
+{
+  if (a.Type != b.Type || a.Outward == b.Outward)
+    return false;
+  if (a.Type == GeomAbs_Plane)
+    return a.Canonical.Angle(b.Canonical) <= 1e-7;
+  if (a.Type == GeomAbs_Sphere)
+    return a.Point.Distance(b.Point) <= tol;
+  // Cylinders: parallel axes, b's axis point on a's axis.
+  const gp_Vec ab(a.Point, b.Point);
+  return a.Canonical.Angle(b.Canonical) <= 1e-7 &&
+    ab.Crossed(gp_Vec(a.Canonical)).Magnitude() <= tol;
+}
+
 /// What the pairs of one solid are: inside (the first face lies inside the second) or a partial
 /// overlap.
 struct SolidPairs
@@ -215,21 +278,23 @@ struct SolidPairs
 SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
 {
   SolidPairs found;
-  const std::vector<PlaneFace> planes = PlaneFaces(faces);
-  std::map<int, std::unique_ptr<PlaneClassifier>> classifiers;
-  auto classifier = [&](int index) -> const PlaneClassifier& {
-    std::unique_ptr<PlaneClassifier>& c = classifiers[index];
+  const std::vector<SurfaceFace> planes = SurfaceFaces(faces);
+  std::map<int, std::unique_ptr<SurfaceClassifier>> classifiers;
+  auto classifier = [&](int index) -> const SurfaceClassifier& {
+    std::unique_ptr<SurfaceClassifier>& c = classifiers[index];
     if (!c)
-      c.reset(new PlaneClassifier(TopoDS::Face(faces(index)), tol));
+      c.reset(new SurfaceClassifier(TopoDS::Face(faces(index)), tol));
     return *c;
   };
   std::vector<bool> inner(static_cast<size_t>(faces.Extent()) + 1, false);
   for (size_t a = 0; a < planes.size(); ++a)
-    for (size_t b = a + 1; b < planes.size() && planes[b].Offset - planes[a].Offset <= tol; ++b)
+    for (size_t b = a + 1; b < planes.size() && planes[b].Type == planes[a].Type &&
+         planes[b].Key - planes[a].Key <= tol;
+         ++b)
     {
-      const PlaneFace& pa = planes[a];
-      const PlaneFace& pb = planes[b];
-      if (pa.Canonical.Angle(pb.Canonical) > 1e-7 || pa.Outward.Dot(pb.Outward) > 0.0)
+      const SurfaceFace& pa = planes[a];
+      const SurfaceFace& pb = planes[b];
+      if (!SameSurfaceOpposite(pa, pb, tol))
         continue;
       const TopoDS_Face& fa = TopoDS::Face(faces(pa.Index));
       const TopoDS_Face& fb = TopoDS::Face(faces(pb.Index));
@@ -237,8 +302,8 @@ SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
         continue;
       try
       {
-        const PlaneClassifier& ca = classifier(pa.Index);
-        const PlaneClassifier& cb = classifier(pb.Index);
+        const SurfaceClassifier& ca = classifier(pa.Index);
+        const SurfaceClassifier& cb = classifier(pb.Index);
         // Each face's wires' points against the other face: strictly inside, outside, or on its
         // boundary.
         int in[2] = { 0, 0 }, out[2] = { 0, 0 };
@@ -286,7 +351,7 @@ SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
   return found;
 }
 
-/// Cuts each inner face's wire out of its outer face and removes the inner face, hole by hole,
+/// Cuts each inner plane face's wire out of its outer face and removes the inner face, hole by hole,
 /// each kept only where the cut face stays valid and loses the inner face's area. Returns the
 /// pairs it did not join.
 std::vector<std::pair<int, int>> CutOut(const TopTools_IndexedMapOfShape& faces,
@@ -300,6 +365,13 @@ std::vector<std::pair<int, int>> CutOut(const TopTools_IndexedMapOfShape& faces,
   for (const auto& entry : holesOf)
   {
     const TopoDS_Face& outerFace = TopoDS::Face(faces(entry.first));
+    if (BRepAdaptor_Surface(outerFace, false).GetType() != GeomAbs_Plane)
+    {
+      // A hole's curves on a cylinder or sphere are not projected here: the volume maker's.
+      for (const int inner : entry.second)
+        left.emplace_back(inner, entry.first);
+      continue;
+    }
     std::vector<TopoDS_Wire> kept;
     TopoDS_Face cut;
     double removed = 0.0;
@@ -437,7 +509,7 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
     {
       result.LeftAlone += pairs.Partial;
       warnings.push_back(name + ": " + std::to_string(pairs.Partial) +
-        " pair(s) of plane faces overlap with opposite normals over part of their area, " +
+        " pair(s) of faces on one surface overlap with opposite normals over part of their area, " +
         (pairs.Partial == 1 ? "" : "the first ") + "near " + Where(pairs.PartialAt) +
         " (a cut of no width, or two bodies touching face to face in one shell): left as two "
         "walls, each sphere ending at them");
@@ -448,8 +520,8 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
     for (const auto& p : pairs.Inside)
       shared += Area(TopoDS::Face(faces(p.first)));
     std::ostringstream w;
-    w << name << ": " << pairs.Inside.size() << " plane face(s) lie inside another face of the "
-      << "solid with the opposite normal, " << (pairs.Inside.size() == 1 ? "" : "the first ")
+    w << name << ": " << pairs.Inside.size() << " face(s) lie inside another face of the "
+      << "solid on the same surface with the opposite normal, " << (pairs.Inside.size() == 1 ? "" : "the first ")
       << "near " << Where(CentreOfArea(TopoDS::Face(faces(pairs.Inside[0].first))))
       << " (two bodies touching face to face in one shell, " << shared << " mm^2 in all)";
     // The inner faces cut out of the outer ones; where one will not cut, the solid made again

@@ -13,19 +13,20 @@ namespace brt
 {
 struct TouchingFacesResult
 {
-  TopoDS_Shape Shape; ///< the shape with each joined pair repaired (the input where none is)
-  int Joined = 0;     ///< faces removed, each cut out of the face it lay on
-  int LeftAlone = 0;  ///< pairs found but not repaired (the warnings say where and why)
+  TopoDS_Shape Shape; ///< the shape with each joined solid replaced (the input where none is)
+  int Joined = 0;     ///< faces found inside another and joined
+  int LeftAlone = 0;  ///< pairs found but not joined (the warnings say where and why)
 };
 
-/// Finds, in each solid of `shape`, the plane faces that lie on each other (within `tolerance`)
-/// with opposite outward normals and overlap over an area. Where one of the two (with a single
-/// wire) lies strictly inside the other, and no hole of the other lies inside it, it is removed and
-/// its wire is added to the other as a hole: its edges then join the touching body's side faces to
-/// the other body's face, and the shell bounds the two bodies as one, as they are meant to be. The
-/// repaired face's area must be the two faces' difference and the solid must stay closed, or the
-/// pair is left as it was. Each repair and each pair left as it is gets a warning in `warnings`,
-/// naming where it lies.
+/// Finds, in each solid of `shape`, the plane, cylinder and sphere faces that lie on one surface
+/// (within `tolerance`) with opposite outward normals and overlap over an area. Where one of the
+/// two (with a single wire) lies inside the other, the bodies are joined: a plane face is removed
+/// and its wire added to the other as a hole (its edges then join the touching body's side faces
+/// to the other body's face), else the solid is made again from its faces by OpenCASCADE's
+/// volume maker. The joined solid must be valid, closed, of the same volume and no more
+/// non-manifold, or the solid stays as it was. Faces with the same outline (a cut of no width)
+/// are left alone; other overlaps are left with a warning. Each join and each pair left gets a
+/// warning in `warnings`, naming where it lies (docs/Robustness.md, item 6).
 TouchingFacesResult JoinBodiesTouchingFaceToFace(
   const TopoDS_Shape& shape, double tolerance, std::vector<std::string>& warnings);
 } // namespace brt
