@@ -40,6 +40,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <regex>
@@ -529,6 +530,22 @@ bool Warned(const BRepModel& m, const std::string& what)
   return false;
 }
 
+/// How many samples `keep` selects, and the largest relative difference of their 2t from
+/// `expected`.
+std::pair<size_t, double> WorstThickness(
+  const Solved& s, double expected, const std::function<bool(const Sample&)>& keep)
+{
+  size_t count = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < s.Samples.size(); ++i)
+    if (keep(s.Samples[i]))
+    {
+      ++count;
+      worst = std::max(worst, std::fabs(s.Results[i].Thickness - expected) / expected);
+    }
+  return { count, worst };
+}
+
 TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
 {
   // A pin of radius 3 standing on a 2 mm plate, its end face lying on the plate's top face, the
@@ -607,18 +624,12 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
       "slit.step"),
     ConversionOptions());
   EXPECT_FALSE(Warned(ms, "face to face"));
-  Solved s2 = SolveAll(ms);
-  double worstSlit = 0.0;
-  size_t slitChecked = 0;
-  for (size_t i = 0; i < s2.Samples.size(); ++i)
-  {
-    const Sample& q = s2.Samples[i];
-    if (std::fabs(q.Direction[2]) < 0.99 || q.Point[0] < 2 || q.Point[0] > 8 || q.Point[1] < 2 ||
-      q.Point[1] > 8)
-      continue;
-    ++slitChecked;
-    worstSlit = std::max(worstSlit, std::fabs(s2.Results[i].Thickness - 2.0) / 2.0);
-  }
+  const auto slit = WorstThickness(SolveAll(ms), 2.0, [](const Sample& q) {
+    return std::fabs(q.Direction[2]) > 0.99 && q.Point[0] > 2 && q.Point[0] < 8 &&
+      q.Point[1] > 2 && q.Point[1] < 8;
+  });
+  const size_t slitChecked = slit.first;
+  const double worstSlit = slit.second;
   EXPECT_GT(slitChecked, 50u);
   EXPECT_LE(worstSlit, 1e-9);
 
@@ -636,17 +647,11 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
     "rod-in-sleeve.step");
   const BRepModel mp = ConvertStepFileIsolated(plugged, ConversionOptions());
   EXPECT_TRUE(Warned(mp, "joined into one body"));
-  Solved s3 = SolveAll(mp);
-  double worstRod = 0.0;
-  size_t rodChecked = 0;
-  for (size_t i = 0; i < s3.Samples.size(); ++i)
-  {
-    const Sample& q = s3.Samples[i];
-    if (std::hypot(q.Point[0], q.Point[1]) < 9.99 || q.Point[2] < 21 || q.Point[2] > 39)
-      continue;
-    ++rodChecked;
-    worstRod = std::max(worstRod, std::fabs(s3.Results[i].Thickness - 20.0) / 20.0);
-  }
+  const auto rod = WorstThickness(SolveAll(mp), 20.0, [](const Sample& q) {
+    return std::hypot(q.Point[0], q.Point[1]) > 9.99 && q.Point[2] > 21 && q.Point[2] < 39;
+  });
+  const size_t rodChecked = rod.first;
+  const double worstRod = rod.second;
   std::printf("[touching bodies] rod in a sleeve, joined: %zu samples on the sleeve's outer wall, "
               "max |2t - 20| / 20 %.2e\n",
     rodChecked, worstRod);
