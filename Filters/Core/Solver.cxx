@@ -1195,15 +1195,23 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     // The centroid lies inside the mesh's polygon, which leaves a face where its boundary curves
     // away from a long chord: the Original Prusa i3's extruder body had a nudged sample 1.3e-3 mm
     // off its face, its sphere (2t = 0.0016) centred outside the part. A point outside the
-    // face's trim (ClassifyPoint, 0.7-3.2 us) is nudged half as far, up to six times.
+    // face's trim (ClassifyPoint, 0.7-3.2 us) is nudged half as far, up to six times; where
+    // none lies inside, the vertex itself, on the face's boundary, is the sample (a nudged
+    // sample of the Original Prusa i3's IR sensor holder stayed 1.6e-6 outside in UV, 7e-4 mm
+    // off its B-spline face).
     const double u0 = s.U, v0 = s.V;
     double step = 1e-2;
-    for (int tries = 0; tries < 7; ++tries, step *= 0.5)
+    bool inside = false;
+    for (int tries = 0; tries < 7 && !inside; ++tries, step *= 0.5)
     {
       s.U = u0 + step * (cu - u0);
       s.V = v0 + step * (cv - v0);
-      if (ClassifyPoint(model, s.Face, s.U, s.V).Inside)
-        break;
+      inside = ClassifyPoint(model, s.Face, s.U, s.V).Inside;
+    }
+    if (!inside)
+    {
+      s.U = u0;
+      s.V = v0;
     }
     const PatchEval e =
       EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
