@@ -278,7 +278,7 @@ struct SolidPairs
 SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
 {
   SolidPairs found;
-  const std::vector<SurfaceFace> planes = SurfaceFaces(faces);
+  const std::vector<SurfaceFace> surfaces = SurfaceFaces(faces);
   std::map<int, std::unique_ptr<SurfaceClassifier>> classifiers;
   auto classifier = [&](int index) -> const SurfaceClassifier& {
     std::unique_ptr<SurfaceClassifier>& c = classifiers[index];
@@ -287,13 +287,13 @@ SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
     return *c;
   };
   std::vector<bool> inner(static_cast<size_t>(faces.Extent()) + 1, false);
-  for (size_t a = 0; a < planes.size(); ++a)
-    for (size_t b = a + 1; b < planes.size() && planes[b].Type == planes[a].Type &&
-         planes[b].Key - planes[a].Key <= tol;
+  for (size_t a = 0; a < surfaces.size(); ++a)
+    for (size_t b = a + 1; b < surfaces.size() && surfaces[b].Type == surfaces[a].Type &&
+         surfaces[b].Key - surfaces[a].Key <= tol;
          ++b)
     {
-      const SurfaceFace& pa = planes[a];
-      const SurfaceFace& pb = planes[b];
+      const SurfaceFace& pa = surfaces[a];
+      const SurfaceFace& pb = surfaces[b];
       if (!SameSurfaceOpposite(pa, pb, tol))
         continue;
       const TopoDS_Face& fa = TopoDS::Face(faces(pa.Index));
@@ -351,9 +351,9 @@ SolidPairs FindPairs(const TopTools_IndexedMapOfShape& faces, double tol)
   return found;
 }
 
-/// Cuts each inner plane face's wire out of its outer face and removes the inner face, hole by hole,
-/// each kept only where the cut face stays valid and loses the inner face's area. Returns the
-/// pairs it did not join.
+/// Cuts each inner plane face's wire out of its outer face and removes the inner face, hole by
+/// hole, each kept only where the cut face stays valid and loses the inner face's area. Returns
+/// the pairs it did not join (and those on cylinders and spheres).
 std::vector<std::pair<int, int>> CutOut(const TopTools_IndexedMapOfShape& faces,
   const std::vector<std::pair<int, int>>& inside, double tol, BRepTools_ReShape& reshape)
 {
