@@ -483,19 +483,6 @@ int main(int argc, char** argv)
       solved, failed, overlapping, 100.0 * overlapping / std::max<size_t>(solved, 1), largest,
       why.c_str());
     std::fputs(otherSolidLine, stdout);
-    if (!gap)
-    {
-      std::printf("    centre outside its solid (OpenCASCADE's classifier, and most of seven rays "
-        "from it): %zu of %zu solved samples",
-        outside.size(), solved);
-      for (size_t j = 0; j < outside.size() && j < static_cast<size_t>(std::max(list, 1)); ++j)
-      {
-        const brt::SampleResult& r = res[outside[j]];
-        std::printf("%s sample %zu (2t %.6g, face %d, opposite face %d)", j ? "," : ":",
-          pick[outside[j]], r.Thickness, samples[outside[j]].Face, r.OppositeFace);
-      }
-      std::printf("; the classifier alone (the rays: inside): %zu\n", classifierAlone);
-    }
     std::printf("    second distance (every extremum on the faces and edges near the centre%s): "
                 "nearer than BRepExtrema's on %zu solved samples; overlaps it alone finds: %zu "
                 "(counted above)\n", grid > 0 ? ", and a grid over each face" : "", secondNearer,
@@ -528,6 +515,32 @@ int main(int argc, char** argv)
         }
       return tol;
     };
+    if (!gap)
+    {
+      // A centre outside whose sphere lies within the file's own tolerance at the centre (the
+      // largest tolerance of a face, edge or vertex whose zone holds it, at least t): the file
+      // places its boundary there no more precisely than the sphere, and the classifier and the
+      // rays read that zone as they may. Counted apart, as the overlaps are. (The Prusa MINI's
+      // filament spur's two, t = 3.2e-3 and 2.1e-3, lie beyond it: the nearest edge, of
+      // tolerance 2.1e-3, is 3.3e-3 from the first's centre.)
+      size_t outsideBeyondFile = 0;
+      for (const size_t k : outside)
+      {
+        const brt::SampleResult& r = res[k];
+        const gp_Pnt C(r.Center[0], r.Center[1], r.Center[2]);
+        outsideBeyondFile += fileTolerance(bounding(samples[k]), C) < r.Radius ? 1 : 0;
+      }
+      std::printf("    centre outside its solid (OpenCASCADE's classifier, and most of seven rays "
+        "from it): %zu of %zu solved samples, %zu beyond the file's own tolerance there",
+        outside.size(), solved, outsideBeyondFile);
+      for (size_t j = 0; j < outside.size() && j < static_cast<size_t>(std::max(list, 1)); ++j)
+      {
+        const brt::SampleResult& r = res[outside[j]];
+        std::printf("%s sample %zu (2t %.6g, face %d, opposite face %d)", j ? "," : ":",
+          pick[outside[j]], r.Thickness, samples[outside[j]].Face, r.OppositeFace);
+      }
+      std::printf("; the classifier alone (the rays: inside): %zu\n", classifierAlone);
+    }
     {
       // The drawn samples' O on their own face: a display-mesh vertex off its face (or a
       // boundary vertex nudged off it, SamplesFromMesh) starts its sphere where no wall is.
