@@ -490,7 +490,10 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
   TouchingFacesResult result;
   result.Shape = shape;
   const double tol = std::max(tolerance, 1e-7);
+  // Replacements recorded in a solid's own frame (location stripped from the key), so that each
+  // placement of a solid placed several times takes its joined solid in its place.
   BRepTools_ReShape solids;
+  solids.ModeConsiderLocation() = true;
   bool anyJoined = false;
   int solidIndex = -1;
   std::set<const TopoDS_TShape*> seen; // a solid placed several times is looked at once

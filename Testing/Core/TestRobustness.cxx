@@ -658,6 +658,45 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
   EXPECT_GT(rodChecked, 20u);
   EXPECT_LE(worstRod, 1e-6);
 
+  // The pin on its plate placed twice (an assembly's instances of one part): each placement is
+  // joined, its spheres under the pin reaching into it (2t = 2 (3 - rho), more than 4 for
+  // rho < 1 about either axis; unjoined 2). (Before, the join was recorded in the part's own
+  // frame only and neither placement took it.)
+  {
+    gp_Trsf t1, t2;
+    t1.SetTranslation(gp_Vec(100, 0, 0));
+    t2.SetTranslation(gp_Vec(0, 200, 0));
+    const TopoDS_Shape part = OneShell(plate, pin);
+    BRep_Builder builder;
+    TopoDS_Compound twice;
+    builder.MakeCompound(twice);
+    builder.Add(twice, part.Moved(TopLoc_Location(t1)));
+    builder.Add(twice, part.Moved(TopLoc_Location(t2)));
+    const BRepModel mi = ConvertShape(twice, ConversionOptions());
+    EXPECT_EQ(mi.Faces.size(), 16u) << "each placement: the plate's 6 faces and the pin's 2";
+    const Solved si = SolveAll(mi);
+    size_t nearAxis[2] = { 0, 0 };
+    double least[2] = { 1e300, 1e300 };
+    for (size_t i = 0; i < si.Samples.size(); ++i)
+    {
+      const Sample& q = si.Samples[i];
+      if (std::fabs(q.Point[2]) > 1e-9 || q.Direction[2] < 0.99)
+        continue;
+      for (int k = 0; k < 2; ++k)
+        if (std::hypot(q.Point[0] - (k == 0 ? 100 : 0), q.Point[1] - (k == 0 ? 0 : 200)) < 1.0)
+        {
+          ++nearAxis[k];
+          least[k] = std::min(least[k], si.Results[i].Thickness);
+        }
+    }
+    for (int k = 0; k < 2; ++k)
+    {
+      EXPECT_GE(nearAxis[k], 1u) << "placement " << k;
+      EXPECT_GT(least[k], 4.0 * (1.0 - 1e-6))
+        << "placement " << k << ": the spheres end at the pin's end face";
+    }
+  }
+
   // A pin over the plate's edge: its end face only partly on the plate. Not joined, warned.
   const BRepModel mo = ConvertStepFileIsolated(
     WriteShape(
