@@ -2641,12 +2641,11 @@ inline real patch_gap(const Model* m, int p, real3 a, real3 mr, real3 d, real* a
 }
 
 // Signed distance from X (relative to the surface's origin) to the exact surface of kind `kind`
-// described at e (FACE_EXACT on), and its unit gradient *g. *ok = 0 where the gradient is not
-// defined (X on the axis of a surface of revolution).
-// As exact_distance, and where X lies on the axis (the centre of a sphere), the meridian half-plane
-// and the gradient taken towards `hint` (X's offset to a point near the foot; zero: none): every
-// meridian alike, the foot is the one there (a sample at the centre of a round pocket's floor, its
-// sphere touching the pocket's wall all round).
+// described at e (FACE_EXACT on), and its unit gradient *g. Where X lies on the axis of a surface
+// of revolution (at a sphere's centre) the gradient is taken in the meridian half-plane towards
+// `hint` (X's offset to a point near the foot): every meridian alike, the foot is the one there
+// (a sample at the middle of a round pocket's floor, its sphere touching the wall all round).
+// *ok = 0 where the gradient is not defined: on the axis with a zero hint.
 inline real exact_distance_towards(
   int kind, __global const real* e, real3 X, real3 hint, real3* g, int* ok)
 {
@@ -2668,12 +2667,11 @@ inline real exact_distance_towards(
   const real z = dot(X, a);
   const real3 radial = X - z * a;
   const real rho = length(radial);
-  // On the axis the direction away from it is undefined: no gradient (ok = 0) but towards the
-  // hint, while the distance is still the surface's (every meridian half-plane alike), which the
-  // certification's bounds read without the gradient: a sphere inscribed in a rod has its centre
-  // there.
-  // With a hint, the direction away from the axis is X's own down to the rounding of its
-  // offset (a thousandth of a micrometre on a part 100 mm across), the hint's only below that.
+  // On the axis the direction away from it is undefined, while the distance is still the
+  // surface's (every meridian half-plane alike), which the certification's bounds read without
+  // the gradient: a sphere inscribed in a rod has its centre there. With a hint, the direction
+  // is X's own down to the rounding of its offset (1e-12 of the size: a thousandth of a
+  // micrometre on a part 100 mm across), the hint's only below that.
   const real3 hr = hint - dot(hint, a) * a;
   const real lhr = length(hr);
   const int onAxis = !(rho > (real)1e-6 * (fabs(z) + e[9]));
@@ -2703,6 +2701,7 @@ inline real exact_distance_towards(
   return l - e[10];
 }
 
+// exact_distance_towards without a hint: *ok = 0 on the axis.
 inline real exact_distance(int kind, __global const real* e, real3 X, real3* g, int* ok)
 {
   return exact_distance_towards(kind, e, X, make_real3((real)0, (real)0, (real)0), g, ok);
