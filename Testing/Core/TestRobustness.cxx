@@ -562,8 +562,11 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 2), gp::DZ()), 3, 5).Shape();
   // Through a STEP file: OpenCASCADE's transfer heals the shell into one solid per body (the two
   // share no edge), and the reader puts them back into one (RegroupSplitSolids).
-  const BRepModel m = ConvertStepFileIsolated(
-    WriteShape(OneShell(plate, pin), "pin-on-plate.step"), ConversionOptions());
+  const std::string pinFile = WriteShape(OneShell(plate, pin), "pin-on-plate.step");
+  StepReadResult info;
+  (void)ReadStepFile(pinFile, &info);
+  EXPECT_EQ(info.RegroupedSolids, 1) << "the transfer's two solids put back into one";
+  const BRepModel m = ConvertStepFileIsolated(pinFile, ConversionOptions());
   EXPECT_TRUE(Warned(m, "joined into one body")) << "no warning of the join";
   for (const SolidCheck& c : CheckSolids(m))
     EXPECT_TRUE(c.Closed());
