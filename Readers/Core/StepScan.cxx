@@ -351,14 +351,21 @@ void Scanner::EndEntity(size_t begin, size_t end)
     if (type != q.Type || static_cast<size_t>(q.Param) >= p.size() || p[q.Param].Kind != 'n')
       continue;
     const double v = p[q.Param].Value;
-    if (!(v > 0.0))
+    // A spindle torus's lemon (major radius below the minor) as Parasolid-based systems write
+    // it: with a negative major radius (SolidWorks 2020, Ploopy's headbands; ISO 10303-42 asks
+    // for a DEGENERATE_TOROIDAL_SURFACE). OpenCASCADE reads the torus of radius |R|, the same
+    // points; its faces' sides come from their loops and the healing, and the checks after
+    // the transfer (closed, oriented, valid) hold as for any face (docs/Robustness.md, item 3).
+    const bool lemon = type == "TOROIDAL_SURFACE" && q.Param == 2 && v < 0.0 &&
+      p.size() > 3 && p[3].Kind == 'n' && -v < p[3].Value;
+    if (!(v > 0.0) && !lemon)
     {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%g", v);
       this->Fail(type + " has " + (v < 0.0 ? "a negative " : "a zero ") + q.What + " (" + buf +
         "): no solid has such a face or curve");
     }
-    this->Geometry(v, q.What);
+    this->Geometry(std::fabs(v), q.What);
   }
   if (type == "CONICAL_SURFACE" && p.size() > 2 && p[2].Kind == 'n')
   {

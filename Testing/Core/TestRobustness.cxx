@@ -9,6 +9,7 @@
 #include "OpenCLSolver.h"
 #include "ResultCheck.h"
 #include "Solver.h"
+#include "SolverTestHelpers.h"
 #include "StepFile.h"
 #include "StepIsolation.h"
 
@@ -27,6 +28,7 @@
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -294,6 +296,103 @@ TEST(Robustness, NegativeRadius)
   ExpectIsolatedError(Mutated("spherical_shell.step", "negative-radius.step",
                         R"(SPHERICAL_SURFACE\('',#35,20\.\))", "SPHERICAL_SURFACE('',#35,-20.)"),
     "SPHERICAL_SURFACE has a negative radius (-20)");
+}
+
+TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
+{
+  // SolidWorks 2020 (Parasolid) writes the lemon of a spindle torus (major radius below the
+  // minor) as a TOROIDAL_SURFACE with a negative major radius: Ploopy's headbands, refused by the
+  // text check as a negative radius until the fortieth session. OpenCASCADE writes such a torus
+  // as a SURFACE_OF_REVOLUTION; here the shell between two lemons (major 5, minor 20 and 22,
+  // 2 mm wall) is written without pcurves, as SolidWorks writes its files, and each surface of
+  // revolution is replaced by what SolidWorks writes: the torus with major radius -5, whose
+  // parametric normal points out of the lemon, so the outer lemon's face has same_sense .T. and
+  // the inner one's .F. (the material lies between them).
+  const TopoDS_Shape shape = analytic::LemonShell(5, 20, 22, 8);
+  STEPControl_Controller::Init(); // before the setting, which its first call would reset
+  Interface_Static::SetIVal("write.surfacecurve.mode", 0);
+  const std::string plain = WriteShape(shape, "lemon-shell.step");
+  Interface_Static::SetIVal("write.surfacecurve.mode", 1);
+  std::string text = ReadAll(plain);
+  EXPECT_EQ(text.find("PCURVE"), std::string::npos) << "pcurves written";
+  const std::regex revolution(R"(#(\d+) = SURFACE_OF_REVOLUTION\('',#(\d+),#\d+\);)");
+  std::vector<std::pair<std::string, double>> lemons; // surface id, minor radius
+  for (std::sregex_iterator it(text.begin(), text.end(), revolution), end; it != end; ++it)
+  {
+    // The swept arc (a B-spline): its first point's distance from the tube circle's centre
+    // across the axis, (5, 0, 0) in the arc's meridian half-plane (x < 0), is the minor radius.
+    std::smatch c, q;
+    const std::string curve = (*it)[2].str();
+    ASSERT_TRUE(std::regex_search(text, c,
+      std::regex("#" + curve + R"( = B_SPLINE_CURVE_WITH_KNOTS\('',\d+,\(#(\d+),)")))
+      << "the swept curve #" << curve << " is a B-spline";
+    ASSERT_TRUE(std::regex_search(text, q,
+      std::regex("#" + c[1].str() + R"( = CARTESIAN_POINT\('',\(([^,]+),([^,]+),([^)]+)\)\);)")));
+    const double x = std::stod(q[1].str()), z = std::stod(q[3].str());
+    const double minor = std::hypot(5.0 - x, z);
+    ASSERT_TRUE(x < 0.0 && (std::fabs(minor - 20.0) < 1e-6 || std::fabs(minor - 22.0) < 1e-6))
+      << x << ", " << z << ": " << minor;
+    lemons.emplace_back((*it)[1].str(), std::round(minor));
+  }
+  ASSERT_EQ(lemons.size(), 2u) << "the two lemons, each a surface of revolution";
+  size_t faces = 0;
+  std::string extra;
+  int next = 900000;
+  for (const auto& [id, minor] : lemons)
+  {
+    const int place = next;
+    next += 3;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "#%d = TOROIDAL_SURFACE('',#%d,-5.,%.1f);", std::stoi(id),
+      place, minor);
+    text = std::regex_replace(text,
+      std::regex("#" + id + R"( = SURFACE_OF_REVOLUTION\([^;]*;)"), std::string(buf));
+    std::snprintf(buf, sizeof buf,
+      "#%d = AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n#%d = CARTESIAN_POINT('',(0.,0.,0.));\n"
+      "#%d = DIRECTION('',(0.,0.,1.));\n#%d = DIRECTION('',(1.,0.,0.));\n",
+      place, place + 1, place + 2, place + 3, place + 1, place + 2, place + 3);
+    extra += buf;
+    next += 1;
+    const std::regex face("(ADVANCED_FACE\\('',\\([^)]*\\),#" + id + ",)\\.[TF]\\.");
+    const std::string sense = minor > 21.0 ? ".T." : ".F.";
+    faces += static_cast<size_t>(
+      std::distance(std::sregex_iterator(text.begin(), text.end(), face), std::sregex_iterator()));
+    text = std::regex_replace(text, face, "$1" + sense);
+  }
+  text.insert(text.rfind("ENDSEC;", text.find("END-ISO")), extra);
+  EXPECT_EQ(faces, 2u) << "one face on each lemon";
+  const fs::path negative = TempDir() / "lemon-shell-negative-major.step";
+  std::ofstream(negative, std::ios::binary) << text;
+
+  // It reads as the plainly written file does, and the wall is 2 mm.
+  const BRepModel a = ConvertStepFileIsolated(plain, ConversionOptions());
+  const BRepModel b = ConvertStepFileIsolated(negative.string(), ConversionOptions());
+  EXPECT_EQ(a.Faces.size(), b.Faces.size());
+  for (const SolidCheck& c : CheckSolids(b))
+    EXPECT_TRUE(c.Closed());
+  const Solved solved = SolveAll(b);
+  const std::vector<double> rim = test::RimDistances(b, solved.Samples);
+  size_t interior = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  {
+    const SampleResult& r = solved.Results[i];
+    EXPECT_NE(r.Type, ContactType::Failed) << "sample " << i;
+    if (rim[i] < 2.0)
+      continue;
+    ++interior;
+    worst = std::max(worst, std::fabs(r.Thickness - 2.0) / 2.0);
+  }
+  std::printf("[lemon, negative major radius] %zu samples, %zu farther than 2 from a rim, "
+              "max |2t - 2| / 2 = %.2e\n",
+    solved.Samples.size(), interior, worst);
+  EXPECT_GT(interior, 100u);
+  EXPECT_LE(worst, 1e-6);
+
+  // A negative major radius that is not a lemon's (|R| not below the minor radius) is refused.
+  ExpectIsolatedError(Mutated("toroidal_shell.step", "negative-ring-torus.step",
+                        R"(TOROIDAL_SURFACE\('',(#\d+),40\.)", "TOROIDAL_SURFACE('',$1,-40."),
+    "TOROIDAL_SURFACE has a negative major radius (-40)");
 }
 
 TEST(Robustness, TinyPartAgainstTheTolerance)
