@@ -110,6 +110,10 @@ int main(int argc, char** argv)
         std::printf("  display mesh: %d faces flipped (their bisection beyond %g times and %d "
                     "vertices)\n",
           s.FlippedFaces, options.SliverRatio, options.SliverVertices);
+      if (s.RemeshedFaces > 0)
+        std::printf("  display mesh: %d faces meshed again alone (BRepMesh left them without "
+                    "one)\n",
+          s.RemeshedFaces);
       std::printf("  surfaces:");
       for (const auto& k : kinds)
         std::printf(" %s=%d", k.first.c_str(), k.second);

@@ -7,6 +7,9 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRep_Builder.hxx>
+#include <IMeshTools_Parameters.hxx>
 #include <BRepLib.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
@@ -1897,6 +1900,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   const double maxEdge = options.MaxEdgeLength > 0.0 ? options.MaxEdgeLength : diagonal / 50.0;
   BRepMesh_IncrementalMesh mesher(shape, deflection, Standard_False, options.AngularDeflection,
     Standard_True);
+  stats.RemeshedFaces = MeshFacesLeftWithoutTriangulation(faceMap, deflection, options.AngularDeflection);
   DisplayMesh& M = model.Mesh;
   // Each face is refined on its own (FaceRefiner), on every core, faces taken in turn; their
   // meshes are then joined in the faces' order, as one loop over them gives them. The calling
@@ -2170,6 +2174,81 @@ BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& opti
   warnings.insert(warnings.begin(), info.Warnings.begin(), info.Warnings.end());
   CheckConvertedModel(path, model);
   return model;
+}
+
+// Doc in BRepConverter.h. Measured on Ploopy's parts (docs/Robustness.md, "Faces BRepMesh leaves").
+int MeshFacesLeftWithoutTriangulation(
+  const TopTools_IndexedMapOfShape& faceMap, double deflection, double angularDeflection)
+{
+  int meshed = 0;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Face& face = TopoDS::Face(faceMap(i));
+    TopLoc_Location loc;
+    if (!BRep_Tool::Triangulation(face, loc).IsNull())
+      continue;
+    // Coarser first, with the algorithm that meshed most of such faces, then the other; finer
+    // only for a small face: on a large face a try that fails took seconds.
+    Bnd_Box box;
+    BRepBndLib::Add(face, box);
+    const bool small = !box.IsVoid() && std::sqrt(box.SquareExtent()) < 10.0 * deflection;
+    std::vector<std::pair<double, IMeshTools_MeshAlgoType>> tries = {
+      { 4.0, IMeshTools_MeshAlgoType_Delabella }, { 4.0, IMeshTools_MeshAlgoType_Watson }
+    };
+    if (small)
+      tries.emplace_back(0.25, IMeshTools_MeshAlgoType_Watson);
+    for (const auto& [k, algo] : tries)
+    {
+      BRepBuilderAPI_Copy copier(face, Standard_True, Standard_False);
+      const TopoDS_Face copy = TopoDS::Face(copier.Shape());
+      IMeshTools_Parameters p;
+      p.Deflection = k * deflection;
+      p.Angle = angularDeflection;
+      p.MeshAlgo = algo;
+      try
+      {
+        BRepMesh_IncrementalMesh m(copy, p);
+      }
+      catch (const Standard_Failure&)
+      {
+        continue;
+      }
+      TopLoc_Location cl;
+      const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(copy, cl);
+      if (tri.IsNull() || !tri->HasUVNodes())
+        continue;
+      // Each edge of the face with its copy; every one needs its polygon on the triangulation.
+      std::vector<std::pair<TopoDS_Edge, TopoDS_Edge>> edges;
+      bool polygons = true;
+      for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && polygons; ex.Next())
+      {
+        const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+        if (BRep_Tool::Degenerated(e))
+          continue;
+        const TopoDS_Edge c = TopoDS::Edge(copier.ModifiedShape(e));
+        polygons = !BRep_Tool::PolygonOnTriangulation(c, tri, cl).IsNull();
+        edges.emplace_back(e, c);
+      }
+      if (!polygons)
+        continue;
+      BRep_Builder b;
+      b.UpdateFace(face, tri);
+      for (const auto& [e, c] : edges)
+      {
+        if (BRep_Tool::IsClosed(c, copy))
+          // A seam: the polygon of its forward use first, as BRep_Tool reads them.
+          b.UpdateEdge(e,
+            BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_FORWARD)), tri, cl),
+            BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_REVERSED)), tri, cl),
+            tri, loc);
+        else
+          b.UpdateEdge(e, BRep_Tool::PolygonOnTriangulation(c, tri, cl), tri, loc);
+      }
+      ++meshed;
+      break;
+    }
+  }
+  return meshed;
 }
 
 } // namespace brt

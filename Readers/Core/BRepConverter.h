@@ -4,6 +4,8 @@
 
 #include "BRepModel.h"
 
+#include <TopTools_IndexedMapOfShape.hxx>
+
 #include <functional>
 #include <vector>
 
@@ -60,6 +62,18 @@ struct ConversionOptions
 /// If `faces` is given it receives the healed faces, model.Faces[i] being (*faces)[i].
 BRepModel ConvertShape(const TopoDS_Shape& shape, const ConversionOptions& options,
   std::vector<TopoDS_Face>* faces = nullptr);
+
+/// Meshes again, one by one, the faces of `faceMap` that BRepMesh left without a triangulation,
+/// and returns how many got one. BRepMesh fails on some faces whose wires are valid (status
+/// Failure): Ploopy's scroll-wheel holder's cone, its top circle written in two arcs, one past
+/// 2 pi; the planes and small B-spline faces of SolidWorks's headbands. A copy of the face (its
+/// own edges, the same surface and parameters) is meshed at 4 times `deflection` with BRepMesh's
+/// Delabella algorithm, then its Watson one, and at 1/4 of it for a face within ten deflections
+/// across (small B-spline faces; a failing try on a large face took seconds); the first
+/// triangulation made goes on the face, with its edges' polygons on the face's edges (both of a
+/// seam's). The display mesh's refinement makes such a face's mesh as fine as the others'.
+int MeshFacesLeftWithoutTriangulation(
+  const TopTools_IndexedMapOfShape& faceMap, double deflection, double angularDeflection);
 
 /// Parts smaller than this many conversion tolerances across are refused.
 constexpr double MinSizeInTolerances = 100.0;

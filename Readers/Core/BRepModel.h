@@ -136,6 +136,9 @@ struct ConversionStatistics
   /// faces whose display mesh is the flipped one because bisection would exceed
   /// ConversionOptions::SliverRatio times its vertices
   int FlippedFaces = 0;
+  /// faces that BRepMesh left without a triangulation and that got one when meshed again alone
+  /// (coarser, or by its other algorithm; BRepConverter's MeshFacesBRepMeshLeft)
+  int RemeshedFaces = 0;
   /// B-spline or Bezier faces found to be a plane, cylinder, cone, sphere or torus within a
   /// thousandth of the tolerance (their Face::Kind says which; DegreeU/V stay the file's)
   int AnalyticFromSpline = 0;

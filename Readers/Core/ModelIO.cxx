@@ -13,7 +13,7 @@ namespace brt
 {
 namespace
 {
-constexpr std::uint64_t Magic = 0x324C444F4D545242ull; // "BRTMODL2": FaceExact
+constexpr std::uint64_t Magic = 0x334C444F4D545242ull; // "BRTMODL3": FaceExact, remeshed faces
 
 using binary::Get;
 using binary::GetString;
@@ -85,7 +85,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   Put(out, m.Mesh.TriangleFace);
   const ConversionStatistics& s = m.Stats;
   Put(out, std::vector<int>{ s.Solids, s.Faces, s.Patches, s.TrimSegments, s.Loops, s.Edges,
-             s.EdgeSegments, s.OpenLoops, s.FlippedFaces });
+             s.EdgeSegments, s.OpenLoops, s.FlippedFaces, s.RemeshedFaces, s.AnalyticFromSpline });
   Put(out, std::vector<double>{ s.MaxPatchDeviation, s.MaxEdgeDeviation, s.MaxLoopGap,
              s.MaxLoopGap3D, s.ReadSeconds, s.HealSeconds, s.ConvertSeconds, s.MeshSeconds });
   Put(out, std::vector<std::uint64_t>{ s.Warnings.size() });
@@ -127,7 +127,7 @@ BRepModel ReadModel(const std::string& path)
     Get(in, counts);
     Get(in, figures);
     Get(in, warnings);
-    if (counts.size() != 9 || figures.size() != 8 || warnings.size() != 1 ||
+    if (counts.size() != 11 || figures.size() != 8 || warnings.size() != 1 ||
       warnings[0] > 10000000)
       Bad("statistics");
     ConversionStatistics& s = m.Stats;
@@ -140,6 +140,8 @@ BRepModel ReadModel(const std::string& path)
     s.EdgeSegments = counts[6];
     s.OpenLoops = counts[7];
     s.FlippedFaces = counts[8];
+    s.RemeshedFaces = counts[9];
+    s.AnalyticFromSpline = counts[10];
     s.MaxPatchDeviation = figures[0];
     s.MaxEdgeDeviation = figures[1];
     s.MaxLoopGap = figures[2];

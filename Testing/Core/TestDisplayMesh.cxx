@@ -9,7 +9,17 @@
 
 #include <gtest/gtest.h>
 
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
@@ -338,4 +348,62 @@ TEST(DisplayMesh, NudgedBoundarySamplesStayInTheirFace)
       name.c_str(), nudged, outside, farthest);
     EXPECT_EQ(outside, 0u) << name;
   }
+}
+
+TEST(DisplayMesh, FaceLeftWithoutTriangulationIsMeshedAgain)
+{
+  // BRepMesh leaves some faces without a triangulation (Ploopy's parts: a cone whose top circle
+  // is written in two arcs, one past 2 pi; SolidWorks's headbands). Such a face is stood in for
+  // here by the tube's outer cylinder with its triangulation taken away: it is meshed again
+  // alone, and its edges, the seam's two sides included, get their polygons on the new
+  // triangulation, which the display mesh's refinement reads.
+  const TopoDS_Shape tube = brt::analytic::Tube(20, 15, 80);
+  BRepMesh_IncrementalMesh(tube, 0.1, Standard_False, 0.5, Standard_False);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(tube, TopAbs_FACE, faces);
+  int target = 0;
+  for (int i = 1; i <= faces.Extent() && target == 0; ++i)
+  {
+    BRepAdaptor_Surface s(TopoDS::Face(faces(i)));
+    if (s.GetType() == GeomAbs_Cylinder && std::fabs(s.Cylinder().Radius() - 20.0) < 1e-9)
+      target = i;
+  }
+  ASSERT_GT(target, 0);
+  const TopoDS_Face face = TopoDS::Face(faces(target));
+  BRep_Builder().UpdateFace(face, Handle(Poly_Triangulation)());
+  TopLoc_Location loc;
+  ASSERT_TRUE(BRep_Tool::Triangulation(face, loc).IsNull());
+
+  EXPECT_EQ(brt::MeshFacesLeftWithoutTriangulation(faces, 0.1, 0.5), 1);
+  const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+  ASSERT_FALSE(tri.IsNull());
+  EXPECT_TRUE(tri->HasUVNodes());
+  EXPECT_GT(tri->NbTriangles(), 10);
+  int seams = 0;
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+    const Handle(Poly_PolygonOnTriangulation) poly = BRep_Tool::PolygonOnTriangulation(e, tri, loc);
+    ASSERT_FALSE(poly.IsNull());
+    // Its nodes are the triangulation's nodes on the edge.
+    for (int k = 1; k <= poly->NbNodes(); ++k)
+    {
+      const gp_Pnt p = tri->Node(poly->Node(k));
+      EXPECT_NEAR(std::hypot(p.X(), p.Y()), 20.0, 1e-9);
+    }
+    if (BRep_Tool::IsClosed(e, face))
+    {
+      ++seams;
+      // The seam's two sides: the same points, at u = 0 and u = 2 pi.
+      const Handle(Poly_PolygonOnTriangulation) other = BRep_Tool::PolygonOnTriangulation(
+        TopoDS::Edge(e.Reversed()), tri, loc);
+      ASSERT_FALSE(other.IsNull());
+      ASSERT_EQ(other->NbNodes(), poly->NbNodes());
+      EXPECT_NEAR(std::fabs(tri->UVNode(poly->Node(1)).X() - tri->UVNode(other->Node(1)).X()),
+        2.0 * M_PI, 1e-9);
+    }
+  }
+  EXPECT_EQ(seams, 2) << "the seam, once in each orientation";
+  // The other faces keep theirs; a second call finds nothing to do.
+  EXPECT_EQ(brt::MeshFacesLeftWithoutTriangulation(faces, 0.1, 0.5), 0);
 }
