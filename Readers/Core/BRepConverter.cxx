@@ -5,7 +5,13 @@
 #include "ModelIO.h"
 #include "StepFile.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
+#include <Precision.hxx>
+#include <TopTools_MapOfShape.hxx>
+#include <ShapeBuild_Edge.hxx>
+#include <ShapeAnalysis_Curve.hxx>
+#include <GCPnts_AbscissaPoint.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRep_Builder.hxx>
@@ -2176,6 +2182,119 @@ BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& opti
   return model;
 }
 
+namespace
+{
+/// The oriented edge's direction where it starts (or ends, atEnd) in its wire's sense.
+gp_Vec WireTangent(const TopoDS_Edge& e, bool atEnd)
+{
+  BRepAdaptor_Curve c(e);
+  const bool reversed = e.Orientation() == TopAbs_REVERSED;
+  gp_Pnt p;
+  gp_Vec d;
+  c.D1((atEnd != reversed) ? c.LastParameter() : c.FirstParameter(), p, d);
+  return reversed ? -d : d;
+}
+
+/// A copy of `longer` (an edge of `face`, oriented as in its wire) that keeps its start in the
+/// wire's sense (keepStart) or its end, and ends (starts) at `to`, a vertex on its curve.
+TopoDS_Edge TrimmedTo(const TopoDS_Edge& longer, bool keepStart, const TopoDS_Vertex& to,
+  const TopoDS_Face& face)
+{
+  double f, l;
+  const Handle(Geom_Curve) c = BRep_Tool::Curve(longer, f, l);
+  gp_Pnt proj;
+  double param = f;
+  ShapeAnalysis_Curve().Project(c, BRep_Tool::Pnt(to), Precision::Confusion(), proj, param, f, l,
+    Standard_False);
+  // In the edge's own sense its first vertex lies at f; reversed in the wire, the wire's start
+  // is its last vertex.
+  const bool keepFirst = keepStart != (longer.Orientation() == TopAbs_REVERSED);
+  const TopoDS_Edge forward = TopoDS::Edge(longer.Oriented(TopAbs_FORWARD));
+  TopoDS_Vertex vf, vl;
+  TopExp::Vertices(forward, vf, vl);
+  ShapeBuild_Edge sbe;
+  const TopoDS_Edge e = keepFirst
+    ? sbe.CopyReplaceVertices(forward, vf, TopoDS::Vertex(to.Oriented(TopAbs_REVERSED)))
+    : sbe.CopyReplaceVertices(forward, TopoDS::Vertex(to.Oriented(TopAbs_FORWARD)), vl);
+  const double a = keepFirst ? f : param, b = keepFirst ? param : l;
+  sbe.SetRange3d(e, a, b);
+  BRep_Builder().Range(e, face, a, b);
+  return TopoDS::Edge(e.Oriented(longer.Orientation()));
+}
+
+/// `face` without the notches of its wires: two edges in a row on one curve, the second turning
+/// back along the first (a boundary that goes out and comes back the same way, enclosing
+/// nothing: the headbands' planes, written so by SolidWorks). The longer edge is trimmed to where
+/// the shorter one ends and the shorter one goes. BRepMesh fails on such a face; without the
+/// notch it meshes, and the face's area is the same. The edges that went or changed are added to
+/// `changed` (the face's own ones); none where the face has no notch.
+TopoDS_Face WithoutNotches(const TopoDS_Face& face, TopTools_MapOfShape& changed)
+{
+  BRep_Builder b;
+  TopoDS_Face out = TopoDS::Face(face.EmptyCopied());
+  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next())
+  {
+    std::vector<TopoDS_Edge> edges;
+    for (BRepTools_WireExplorer e(TopoDS::Wire(w.Current()), face); e.More(); e.Next())
+      edges.push_back(e.Current());
+    bool again = true;
+    while (again && edges.size() > 2)
+    {
+      again = false;
+      for (size_t i = 0; i < edges.size() && !again; ++i)
+      {
+        const size_t j = (i + 1) % edges.size();
+        const TopoDS_Edge a = edges[i], c = edges[j];
+        if (BRep_Tool::Degenerated(a) || BRep_Tool::Degenerated(c))
+          continue;
+        const gp_Vec ta = WireTangent(a, true), tc = WireTangent(c, false);
+        if (ta.Magnitude() < 1e-12 || tc.Magnitude() < 1e-12 ||
+          ta.Normalized().Dot(tc.Normalized()) > -0.9999)
+          continue;
+        // The shorter edge must lie on the longer's curve: its far end within the tolerances.
+        const double la = GCPnts_AbscissaPoint::Length(BRepAdaptor_Curve(a));
+        const double lc = GCPnts_AbscissaPoint::Length(BRepAdaptor_Curve(c));
+        const bool aShorter = la < lc;
+        const TopoDS_Edge& longer = aShorter ? c : a;
+        const TopoDS_Vertex far = aShorter ? TopExp::FirstVertex(a, Standard_True)
+                                           : TopExp::LastVertex(c, Standard_True);
+        double f, l;
+        const Handle(Geom_Curve) curve = BRep_Tool::Curve(longer, f, l);
+        if (curve.IsNull())
+          continue;
+        gp_Pnt proj;
+        double param;
+        const double gap = ShapeAnalysis_Curve().Project(curve, BRep_Tool::Pnt(far),
+          Precision::Confusion(), proj, param, f, l, Standard_False);
+        if (gap > BRep_Tool::Tolerance(a) + BRep_Tool::Tolerance(c) + BRep_Tool::Tolerance(far))
+          continue;
+        changed.Add(a);
+        changed.Add(c);
+        const TopoDS_Edge merged = TrimmedTo(longer, !aShorter, far, face);
+        if (aShorter)
+        {
+          edges[j] = merged;
+          edges.erase(edges.begin() + static_cast<std::ptrdiff_t>(i));
+        }
+        else
+        {
+          edges[i] = merged;
+          edges.erase(edges.begin() + static_cast<std::ptrdiff_t>(j));
+        }
+        again = true;
+      }
+    }
+    TopoDS_Wire wire;
+    b.MakeWire(wire);
+    for (const TopoDS_Edge& e : edges)
+      b.Add(wire, e);
+    wire.Orientation(w.Current().Orientation());
+    b.Add(out, wire);
+  }
+  return changed.IsEmpty() ? face : out;
+}
+} // namespace
+
 // Doc in BRepConverter.h. Measured on Ploopy's parts (docs/Robustness.md, "Faces BRepMesh leaves").
 int MeshFacesLeftWithoutTriangulation(
   const TopTools_IndexedMapOfShape& faceMap, double deflection, double angularDeflection)
@@ -2192,15 +2311,26 @@ int MeshFacesLeftWithoutTriangulation(
     Bnd_Box box;
     BRepBndLib::Add(face, box);
     const bool small = !box.IsVoid() && std::sqrt(box.SquareExtent()) < 10.0 * deflection;
-    std::vector<std::pair<double, IMeshTools_MeshAlgoType>> tries = {
-      { 4.0, IMeshTools_MeshAlgoType_Delabella }, { 4.0, IMeshTools_MeshAlgoType_Watson }
-    };
+    // A face whose wire turns back on itself is meshed without the notch, first at the
+    // deflection asked for; the notch's edges get no polygon (the refinement splits their
+    // chords in UV).
+    TopTools_MapOfShape notched;
+    {
+      BRepBuilderAPI_Copy probe(face, Standard_True, Standard_False);
+      (void)WithoutNotches(TopoDS::Face(probe.Shape()), notched);
+    }
+    std::vector<std::pair<double, IMeshTools_MeshAlgoType>> tries;
+    if (!notched.IsEmpty())
+      tries.emplace_back(1.0, IMeshTools_MeshAlgoType_Watson);
+    tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Delabella);
+    tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Watson);
     if (small)
       tries.emplace_back(0.25, IMeshTools_MeshAlgoType_Watson);
     for (const auto& [k, algo] : tries)
     {
       BRepBuilderAPI_Copy copier(face, Standard_True, Standard_False);
-      const TopoDS_Face copy = TopoDS::Face(copier.Shape());
+      TopTools_MapOfShape changed;
+      const TopoDS_Face copy = WithoutNotches(TopoDS::Face(copier.Shape()), changed);
       IMeshTools_Parameters p;
       p.Deflection = k * deflection;
       p.Angle = angularDeflection;
@@ -2226,6 +2356,8 @@ int MeshFacesLeftWithoutTriangulation(
         if (BRep_Tool::Degenerated(e))
           continue;
         const TopoDS_Edge c = TopoDS::Edge(copier.ModifiedShape(e));
+        if (changed.Contains(c))
+          continue;
         polygons = !BRep_Tool::PolygonOnTriangulation(c, tri, cl).IsNull();
         edges.emplace_back(e, c);
       }

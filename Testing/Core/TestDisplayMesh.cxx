@@ -21,6 +21,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
@@ -406,4 +407,60 @@ TEST(DisplayMesh, FaceLeftWithoutTriangulationIsMeshedAgain)
   EXPECT_EQ(seams, 2) << "the seam, once in each orientation";
   // The other faces keep theirs; a second call finds nothing to do.
   EXPECT_EQ(brt::MeshFacesLeftWithoutTriangulation(faces, 0.1, 0.5), 0);
+}
+
+TEST(DisplayMesh, NotchedFaceIsMeshedWithoutItsNotch)
+{
+  // A wire that goes out and comes back the same way, enclosing nothing (SolidWorks's headband
+  // planes: a circle arc 2.8 mm out, 0.96 mm back along it), on which BRepMesh fails. Here a
+  // sector of radius 10 from 0 to 45 degrees whose arc runs on to 60 degrees and back.
+  const gp_Circ circle(gp_Ax2(gp::Origin(), gp::DZ()), 10.0);
+  const double deg = M_PI / 180.0;
+  const gp_Pnt p0(10, 0, 0), p45(10 * std::cos(45 * deg), 10 * std::sin(45 * deg), 0),
+    p60(10 * std::cos(60 * deg), 10 * std::sin(60 * deg), 0);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(gp::Origin(), p0).Edge());
+  const TopoDS_Edge out = BRepBuilderAPI_MakeEdge(circle, 0.0, 60 * deg).Edge();
+  wire.Add(out);
+  const TopoDS_Edge back =
+    TopoDS::Edge(BRepBuilderAPI_MakeEdge(circle, 45 * deg, 60 * deg).Edge().Reversed());
+  wire.Add(back);
+  wire.Add(BRepBuilderAPI_MakeEdge(p45, gp::Origin()).Edge());
+  ASSERT_TRUE(wire.IsDone());
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  BRepMesh_IncrementalMesh mesher(face, 0.01, Standard_False, 0.5, Standard_False);
+  TopLoc_Location loc;
+  std::printf("[notch] BRepMesh alone: %s (status %d)\n",
+    BRep_Tool::Triangulation(face, loc).IsNull() ? "no triangulation" : "a triangulation",
+    mesher.GetStatusFlags());
+  BRep_Builder().UpdateFace(face, Handle(Poly_Triangulation)());
+  TopTools_IndexedMapOfShape faces;
+  faces.Add(face);
+  ASSERT_EQ(brt::MeshFacesLeftWithoutTriangulation(faces, 0.01, 0.5), 1);
+  const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+  ASSERT_FALSE(tri.IsNull());
+  // The sector, and nothing of the notch: nodes within 45 degrees, triangles covering the
+  // sector's area but for the chords' segments (deflection 0.01).
+  double area = 0.0;
+  for (int i = 1; i <= tri->NbNodes(); ++i)
+  {
+    const gp_Pnt p = tri->Node(i);
+    EXPECT_LE(std::atan2(p.Y(), p.X()), 45 * deg + 1e-9) << "a node on the notch";
+    EXPECT_LE(std::hypot(p.X(), p.Y()), 10.0 + 1e-9);
+  }
+  for (int i = 1; i <= tri->NbTriangles(); ++i)
+  {
+    int a, b, c;
+    tri->Triangle(i).Get(a, b, c);
+    area += 0.5 *
+      gp_Vec(tri->Node(a), tri->Node(b)).Crossed(gp_Vec(tri->Node(a), tri->Node(c))).Magnitude();
+  }
+  const double sector = 0.5 * 100.0 * 45 * deg;
+  EXPECT_LT(area, sector);
+  EXPECT_GT(area, sector - 0.01 * 10.0 * 45 * deg) << "more than the chords' segments missing";
+  // The two lines have their polygons; the notch's two arcs have none.
+  int withPolygon = 0;
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
+    withPolygon += !BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(ex.Current()), tri, loc).IsNull();
+  EXPECT_EQ(withPolygon, 2);
 }
