@@ -232,6 +232,7 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
   AddScalar(fd, "MaxLoopGap3D", s.MaxLoopGap3D);
   AddScalar(fd, "OpenLoops", s.OpenLoops);
   AddScalar(fd, "FlippedMeshFaces", s.FlippedFaces);
+  AddScalar(fd, "RemeshedFaces", s.RemeshedFaces);
   AddScalar(fd, "ReadSeconds", s.ReadSeconds);
   AddScalar(fd, "HealSeconds", s.HealSeconds);
   AddScalar(fd, "ConvertSeconds", s.ConvertSeconds);

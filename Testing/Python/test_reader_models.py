@@ -111,6 +111,10 @@ n5 = d5.GetNumberOfPoints()
 check("tube.step", 0 < n5 < 15000, "the default mesh keeps the sliver strips (%d points)" % n5)
 check("tube.step", d5.GetFieldData().GetArray("FlippedMeshFaces").GetValue(0) == 2,
       "FlippedMeshFaces is not the tube's two cylinders")
+# Every face of the tube gets BRepMesh's mesh at once: none is meshed again (the count travels
+# through the worker's model file).
+check("tube.step", d5.GetFieldData().GetArray("RemeshedFaces") is not None and
+      d5.GetFieldData().GetArray("RemeshedFaces").GetValue(0) == 0, "RemeshedFaces missing or not 0")
 
 for f in failures:
     print("FAIL", f)
