@@ -13,6 +13,9 @@
 #include <ShapeAnalysis_Curve.hxx>
 #include <GCPnts_AbscissaPoint.hxx>
 #include <BRepBndLib.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRep_Builder.hxx>
 #include <IMeshTools_Parameters.hxx>
@@ -2293,7 +2296,106 @@ TopoDS_Face WithoutNotches(const TopoDS_Face& face, TopTools_MapOfShape& changed
   }
   return changed.IsEmpty() ? face : out;
 }
+
 } // namespace
+
+// Doc in BRepConverter.h.
+Handle(Poly_Triangulation) MeshThroughBSplines(const TopoDS_Face& face, double deflection,
+  double angularDeflection, std::vector<EdgePolygons>& polygons)
+{
+  polygons.clear();
+  BRepBuilderAPI_NurbsConvert converter(face, Standard_True);
+  if (!converter.IsDone())
+    return nullptr;
+  const TopoDS_Face copy = TopoDS::Face(converter.Shape());
+  BRepMesh_IncrementalMesh(copy, deflection, Standard_False, angularDeflection, Standard_False);
+  TopLoc_Location cl, fl;
+  const Handle(Poly_Triangulation) ct = BRep_Tool::Triangulation(copy, cl);
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face, fl);
+  if (ct.IsNull() || !ct->HasUVNodes() || surface.IsNull() || !(cl == fl))
+    return nullptr;
+  double u0, u1, v0, v1, cu0, cu1, cv0, cv1;
+  BRepTools::UVBounds(face, u0, u1, v0, v1);
+  BRepTools::UVBounds(copy, cu0, cu1, cv0, cv1);
+  Bnd_Box box;
+  BRepBndLib::Add(face, box);
+  const double size = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  ShapeAnalysis_Surface sas(surface);
+  const int n = ct->NbNodes();
+  Handle(Poly_Triangulation) tri = new Poly_Triangulation(n, ct->NbTriangles(), Standard_True);
+  auto unwrap = [](double x, double guide, bool periodic, double period) {
+    return periodic ? x + period * std::round((guide - x) / period) : x;
+  };
+  for (int i = 1; i <= n; ++i)
+  {
+    const gp_Pnt p = ct->Node(i);
+    const gp_Pnt2d c = ct->UVNode(i);
+    const gp_Pnt2d uv = sas.ValueOfUV(p, 1e-7 * size);
+    if (!(sas.Gap() <= 1e-6 * size))
+      return nullptr;
+    const double gu = u0 + (cu1 > cu0 ? (c.X() - cu0) / (cu1 - cu0) : 0.0) * (u1 - u0);
+    const double gv = v0 + (cv1 > cv0 ? (c.Y() - cv0) / (cv1 - cv0) : 0.0) * (v1 - v0);
+    tri->SetNode(i, p);
+    tri->SetUVNode(i,
+      gp_Pnt2d(unwrap(uv.X(), gu, surface->IsUPeriodic(), surface->IsUPeriodic() ? surface->UPeriod() : 0.0),
+        unwrap(uv.Y(), gv, surface->IsVPeriodic(), surface->IsVPeriodic() ? surface->VPeriod() : 0.0)));
+  }
+  auto cross = [](const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
+    return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
+  };
+  for (int i = 1; i <= ct->NbTriangles(); ++i)
+  {
+    int a, b, c;
+    ct->Triangle(i).Get(a, b, c);
+    // The copy's winding in (u, v), whatever the directions of the face's parameters.
+    const bool flip = (cross(ct->UVNode(a), ct->UVNode(b), ct->UVNode(c)) > 0.0) !=
+      (cross(tri->UVNode(a), tri->UVNode(b), tri->UVNode(c)) > 0.0);
+    tri->SetTriangle(i, flip ? Poly_Triangle(a, c, b) : Poly_Triangle(a, b, c));
+  }
+  // Polygons: the copy's nodes, with parameters on the face's edges.
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+    if (BRep_Tool::Degenerated(e))
+      continue;
+    const TopoDS_Edge ce = TopoDS::Edge(converter.ModifiedShape(e));
+    double f, l;
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(e, f, l);
+    if (curve.IsNull())
+      return nullptr;
+    std::array<Handle(Poly_PolygonOnTriangulation), 2> both;
+    const bool seam = BRep_Tool::IsClosed(ce, copy);
+    for (int side = 0; side < (seam ? 2 : 1); ++side)
+    {
+      const TopoDS_Edge oriented =
+        seam ? TopoDS::Edge(ce.Oriented(side == 0 ? TopAbs_FORWARD : TopAbs_REVERSED)) : ce;
+      const Handle(Poly_PolygonOnTriangulation) cp =
+        BRep_Tool::PolygonOnTriangulation(oriented, ct, cl);
+      if (cp.IsNull() || !cp->HasParameters())
+        return nullptr;
+      TColStd_Array1OfInteger nodes(1, cp->NbNodes());
+      TColStd_Array1OfReal params(1, cp->NbNodes());
+      // The nearest point of the edge's curve; a closed edge's ends go to its first and last
+      // parameters (the polygon runs along the edge).
+      const bool closed = curve->Value(f).Distance(curve->Value(l)) <= BRep_Tool::Tolerance(e);
+      const int count = cp->NbNodes();
+      for (int k = 1; k <= count; ++k)
+      {
+        nodes(k) = cp->Node(k);
+        gp_Pnt proj;
+        double t = f;
+        ShapeAnalysis_Curve().Project(curve, ct->Node(cp->Node(k)), 1e-7 * size, proj, t, f, l,
+          Standard_False);
+        if (closed && (k == 1 || k == count))
+          t = k == 1 ? f : l;
+        params(k) = std::min(l, std::max(f, t));
+      }
+      both[static_cast<size_t>(side)] = new Poly_PolygonOnTriangulation(nodes, params);
+    }
+    polygons.emplace_back(e, both);
+  }
+  return tri;
+}
 
 // Doc in BRepConverter.h. Measured on Ploopy's parts (docs/Robustness.md, "Faces BRepMesh leaves").
 int MeshFacesLeftWithoutTriangulation(
@@ -2326,6 +2428,7 @@ int MeshFacesLeftWithoutTriangulation(
     tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Watson);
     if (small)
       tries.emplace_back(0.25, IMeshTools_MeshAlgoType_Watson);
+    bool done = false;
     for (const auto& [k, algo] : tries)
     {
       BRepBuilderAPI_Copy copier(face, Standard_True, Standard_False);
@@ -2377,8 +2480,34 @@ int MeshFacesLeftWithoutTriangulation(
           b.UpdateEdge(e, BRep_Tool::PolygonOnTriangulation(c, tri, cl), tri, loc);
       }
       ++meshed;
+      done = true;
       break;
     }
+    if (done)
+      continue;
+    // Last, a B-spline copy, mapped back onto the face.
+    std::vector<EdgePolygons> polys;
+    Handle(Poly_Triangulation) tri;
+    try
+    {
+      tri = MeshThroughBSplines(face, deflection, angularDeflection, polys);
+    }
+    catch (const Standard_Failure&)
+    {
+      tri.Nullify();
+    }
+    if (tri.IsNull())
+      continue;
+    BRep_Builder b;
+    b.UpdateFace(face, tri);
+    for (const auto& [e, p] : polys)
+    {
+      if (p[1].IsNull())
+        b.UpdateEdge(e, p[0], tri, loc);
+      else
+        b.UpdateEdge(e, p[0], p[1], tri, loc);
+    }
+    ++meshed;
   }
   return meshed;
 }

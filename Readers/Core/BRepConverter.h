@@ -4,7 +4,13 @@
 
 #include "BRepModel.h"
 
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+
+#include <array>
 
 #include <functional>
 #include <vector>
@@ -71,9 +77,28 @@ BRepModel ConvertShape(const TopoDS_Shape& shape, const ConversionOptions& optio
 /// Delabella algorithm, then its Watson one, and at 1/4 of it for a face within ten deflections
 /// across (small B-spline faces; a failing try on a large face took seconds); the first
 /// triangulation made goes on the face, with its edges' polygons on the face's edges (both of a
-/// seam's). The display mesh's refinement makes such a face's mesh as fine as the others'.
+/// seam's). A face whose wires turn back on themselves (a notch) is tried without the notch
+/// first. Last, MeshThroughBSplines. The display mesh's refinement makes such a face's mesh as
+/// fine as the others'.
 int MeshFacesLeftWithoutTriangulation(
   const TopTools_IndexedMapOfShape& faceMap, double deflection, double angularDeflection);
+
+/// An edge of a face and its polygons on a triangulation: the second only for a seam (its
+/// reversed use).
+using EdgePolygons = std::pair<TopoDS_Edge, std::array<Handle(Poly_PolygonOnTriangulation), 2>>;
+
+/// A triangulation of `face` made by BRepMesh on a copy converted to B-splines
+/// (BRepBuilderAPI_NurbsConvert), mapped back onto the face's own parameters, with the polygons
+/// of the face's edges in `polygons`; null where none could be made so. BRepMesh fails on some
+/// analytic faces whatever the deflection and meshes their B-spline copies (Voron's power panel:
+/// four cones, each a full turn from pi to 3 pi with its top circle in two arcs). Each node
+/// keeps its point and gets its (u, v) on the face's surface (within 1e-6 of the face's size),
+/// a periodic parameter taken in the face's range where the node sits in the copy's (the
+/// conversion keeps the parameters' order); triangles keep the copy's winding in (u, v); each
+/// polygon node gets the parameter of its nearest point on the face's edge (a closed edge's
+/// first and last nodes its ends). The last try of MeshFacesLeftWithoutTriangulation.
+Handle(Poly_Triangulation) MeshThroughBSplines(const TopoDS_Face& face, double deflection,
+  double angularDeflection, std::vector<EdgePolygons>& polygons);
 
 /// Parts smaller than this many conversion tolerances across are refused.
 constexpr double MinSizeInTolerances = 100.0;

@@ -25,7 +25,12 @@
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepTools.hxx>
+#include <Geom_Surface.hxx>
+#include <Geom_Curve.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <TopoDS_Face.hxx>
@@ -463,4 +468,66 @@ TEST(DisplayMesh, NotchedFaceIsMeshedWithoutItsNotch)
   for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
     withPolygon += !BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(ex.Current()), tri, loc).IsNull();
   EXPECT_EQ(withPolygon, 2);
+}
+
+TEST(DisplayMesh, BSplineCopyMeshLiesOnTheFace)
+{
+  // The last try for a face BRepMesh leaves (Voron's power panel's cones): a mesh of its
+  // B-spline copy, mapped back onto the face's own parameters. On a cone's side (a seam, a full
+  // turn): every node at its (u, v) on the cone, within the face's range; triangles wound in
+  // (u, v) as BRepMesh winds them on the face itself; polygon parameters on the edges' curves;
+  // the seam's two polygons a period apart.
+  const TopoDS_Shape cone = BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, 5), gp::DZ()), 4, 2, 3).Shape();
+  TopoDS_Face face;
+  for (TopExp_Explorer ex(cone, TopAbs_FACE); ex.More() && face.IsNull(); ex.Next())
+    if (BRepAdaptor_Surface(TopoDS::Face(ex.Current())).GetType() == GeomAbs_Cone)
+      face = TopoDS::Face(ex.Current());
+  ASSERT_FALSE(face.IsNull());
+  std::vector<brt::EdgePolygons> polygons;
+  const Handle(Poly_Triangulation) tri = brt::MeshThroughBSplines(face, 0.01, 0.5, polygons);
+  ASSERT_FALSE(tri.IsNull());
+  ASSERT_TRUE(tri->HasUVNodes());
+  TopLoc_Location loc;
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face, loc);
+  double u0, u1, v0, v1;
+  BRepTools::UVBounds(face, u0, u1, v0, v1);
+  double worst = 0.0;
+  for (int i = 1; i <= tri->NbNodes(); ++i)
+  {
+    const gp_Pnt2d uv = tri->UVNode(i);
+    worst = std::max(worst, surface->Value(uv.X(), uv.Y()).Distance(tri->Node(i)));
+    EXPECT_TRUE(uv.X() > u0 - 1e-9 && uv.X() < u1 + 1e-9 && uv.Y() > v0 - 1e-9 && uv.Y() < v1 + 1e-9)
+      << "node " << i << " at (" << uv.X() << ", " << uv.Y() << ") outside the face's range";
+  }
+  EXPECT_LT(worst, 1e-9);
+  // Winding: BRepMesh's own mesh of the face gives the sign.
+  const TopoDS_Face own = TopoDS::Face(BRepBuilderAPI_Copy(face).Shape());
+  BRepMesh_IncrementalMesh(own, 0.01, Standard_False, 0.5, Standard_False);
+  TopLoc_Location ol;
+  const Handle(Poly_Triangulation) ref = BRep_Tool::Triangulation(own, ol);
+  ASSERT_FALSE(ref.IsNull());
+  auto sign = [](const Handle(Poly_Triangulation)& t, int i) {
+    int a, b, c;
+    t->Triangle(i).Get(a, b, c);
+    const gp_Pnt2d p = t->UVNode(a), q = t->UVNode(b), r = t->UVNode(c);
+    return ((q.X() - p.X()) * (r.Y() - p.Y()) - (q.Y() - p.Y()) * (r.X() - p.X())) > 0.0;
+  };
+  for (int i = 1; i <= tri->NbTriangles(); ++i)
+    ASSERT_EQ(sign(tri, i), sign(ref, 1)) << "triangle " << i << " wound the other way";
+  int seams = 0;
+  for (const auto& [edge, polys] : polygons)
+  {
+    ASSERT_FALSE(polys[0].IsNull());
+    double f, l;
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, f, l);
+    for (int k = 1; k <= polys[0]->NbNodes(); ++k)
+      EXPECT_LT(curve->Value(polys[0]->Parameter(k)).Distance(tri->Node(polys[0]->Node(k))), 1e-7);
+    if (!polys[1].IsNull())
+    {
+      ++seams;
+      EXPECT_NEAR(std::fabs(tri->UVNode(polys[0]->Node(1)).X() - tri->UVNode(polys[1]->Node(1)).X()),
+        2.0 * M_PI, 1e-9);
+    }
+  }
+  EXPECT_GT(seams, 0);
 }
