@@ -2297,6 +2297,100 @@ TopoDS_Face WithoutNotches(const TopoDS_Face& face, TopTools_MapOfShape& changed
   return changed.IsEmpty() ? face : out;
 }
 
+/// One face of MeshFacesLeftWithoutTriangulation: true where it got a triangulation.
+bool MeshFaceAgain(
+  const TopoDS_Face& face, const TopLoc_Location& loc, double deflection, double angularDeflection)
+{
+  // Coarser first, with the algorithm that meshed most of such faces, then the other; finer
+  // only for a small face: on a large face a try that fails took seconds.
+  Bnd_Box box;
+  BRepBndLib::Add(face, box);
+  const bool small = !box.IsVoid() && std::sqrt(box.SquareExtent()) < 10.0 * deflection;
+  // Every try meshes a copy without the notches of its wires; a face that has any is tried
+  // first at the deflection asked for. The notch's edges get no polygon (the refinement splits
+  // their chords in UV).
+  TopTools_MapOfShape notched;
+  {
+    BRepBuilderAPI_Copy probe(face, Standard_True, Standard_False);
+    (void)WithoutNotches(TopoDS::Face(probe.Shape()), notched);
+  }
+  std::vector<std::pair<double, IMeshTools_MeshAlgoType>> tries;
+  if (!notched.IsEmpty())
+    tries.emplace_back(1.0, IMeshTools_MeshAlgoType_Watson);
+  tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Delabella);
+  tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Watson);
+  if (small)
+    tries.emplace_back(0.25, IMeshTools_MeshAlgoType_Watson);
+  for (const auto& [k, algo] : tries)
+  {
+    BRepBuilderAPI_Copy copier(face, Standard_True, Standard_False);
+    TopTools_MapOfShape changed;
+    const TopoDS_Face copy = WithoutNotches(TopoDS::Face(copier.Shape()), changed);
+    IMeshTools_Parameters p;
+    p.Deflection = k * deflection;
+    p.Angle = angularDeflection;
+    p.MeshAlgo = algo;
+    try
+    {
+      BRepMesh_IncrementalMesh m(copy, p);
+    }
+    catch (const Standard_Failure&)
+    {
+      continue;
+    }
+    TopLoc_Location cl;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(copy, cl);
+    if (tri.IsNull() || !tri->HasUVNodes())
+      continue;
+    // Each edge of the face with its copy; every one needs its polygon on the triangulation.
+    std::vector<std::pair<TopoDS_Edge, TopoDS_Edge>> edges;
+    bool polygons = true;
+    for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && polygons; ex.Next())
+    {
+      const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+      if (BRep_Tool::Degenerated(e))
+        continue;
+      const TopoDS_Edge c = TopoDS::Edge(copier.ModifiedShape(e));
+      if (changed.Contains(c))
+        continue;
+      polygons = !BRep_Tool::PolygonOnTriangulation(c, tri, cl).IsNull();
+      edges.emplace_back(e, c);
+    }
+    if (!polygons)
+      continue;
+    BRep_Builder b;
+    b.UpdateFace(face, tri);
+    for (const auto& [e, c] : edges)
+    {
+      if (BRep_Tool::IsClosed(c, copy))
+        // A seam: the polygon of its forward use first, as BRep_Tool reads them.
+        b.UpdateEdge(e,
+          BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_FORWARD)), tri, cl),
+          BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_REVERSED)), tri, cl),
+          tri, loc);
+      else
+        b.UpdateEdge(e, BRep_Tool::PolygonOnTriangulation(c, tri, cl), tri, loc);
+    }
+    return true;
+  }
+  // Last, a B-spline copy, mapped back onto the face.
+  std::vector<EdgePolygons> polys;
+  const Handle(Poly_Triangulation) tri =
+    MeshThroughBSplines(face, deflection, angularDeflection, polys);
+  if (tri.IsNull())
+    return false;
+  BRep_Builder b;
+  b.UpdateFace(face, tri);
+  for (const auto& [e, p] : polys)
+  {
+    if (p[1].IsNull())
+      b.UpdateEdge(e, p[0], tri, loc);
+    else
+      b.UpdateEdge(e, p[0], p[1], tri, loc);
+  }
+  return true;
+}
+
 } // namespace
 
 // Doc in BRepConverter.h.
@@ -2336,9 +2430,10 @@ Handle(Poly_Triangulation) MeshThroughBSplines(const TopoDS_Face& face, double d
     const double gu = u0 + (cu1 > cu0 ? (c.X() - cu0) / (cu1 - cu0) : 0.0) * (u1 - u0);
     const double gv = v0 + (cv1 > cv0 ? (c.Y() - cv0) / (cv1 - cv0) : 0.0) * (v1 - v0);
     tri->SetNode(i, p);
+    const bool pu = surface->IsUPeriodic(), pv = surface->IsVPeriodic();
     tri->SetUVNode(i,
-      gp_Pnt2d(unwrap(uv.X(), gu, surface->IsUPeriodic(), surface->IsUPeriodic() ? surface->UPeriod() : 0.0),
-        unwrap(uv.Y(), gv, surface->IsVPeriodic(), surface->IsVPeriodic() ? surface->VPeriod() : 0.0)));
+      gp_Pnt2d(unwrap(uv.X(), gu, pu, pu ? surface->UPeriod() : 0.0),
+        unwrap(uv.Y(), gv, pv, pv ? surface->VPeriod() : 0.0)));
   }
   auto cross = [](const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
     return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
@@ -2408,106 +2503,14 @@ int MeshFacesLeftWithoutTriangulation(
     TopLoc_Location loc;
     if (!BRep_Tool::Triangulation(face, loc).IsNull())
       continue;
-    // Coarser first, with the algorithm that meshed most of such faces, then the other; finer
-    // only for a small face: on a large face a try that fails took seconds.
-    Bnd_Box box;
-    BRepBndLib::Add(face, box);
-    const bool small = !box.IsVoid() && std::sqrt(box.SquareExtent()) < 10.0 * deflection;
-    // A face whose wire turns back on itself is meshed without the notch, first at the
-    // deflection asked for; the notch's edges get no polygon (the refinement splits their
-    // chords in UV).
-    TopTools_MapOfShape notched;
-    {
-      BRepBuilderAPI_Copy probe(face, Standard_True, Standard_False);
-      (void)WithoutNotches(TopoDS::Face(probe.Shape()), notched);
-    }
-    std::vector<std::pair<double, IMeshTools_MeshAlgoType>> tries;
-    if (!notched.IsEmpty())
-      tries.emplace_back(1.0, IMeshTools_MeshAlgoType_Watson);
-    tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Delabella);
-    tries.emplace_back(4.0, IMeshTools_MeshAlgoType_Watson);
-    if (small)
-      tries.emplace_back(0.25, IMeshTools_MeshAlgoType_Watson);
-    bool done = false;
-    for (const auto& [k, algo] : tries)
-    {
-      BRepBuilderAPI_Copy copier(face, Standard_True, Standard_False);
-      TopTools_MapOfShape changed;
-      const TopoDS_Face copy = WithoutNotches(TopoDS::Face(copier.Shape()), changed);
-      IMeshTools_Parameters p;
-      p.Deflection = k * deflection;
-      p.Angle = angularDeflection;
-      p.MeshAlgo = algo;
-      try
-      {
-        BRepMesh_IncrementalMesh m(copy, p);
-      }
-      catch (const Standard_Failure&)
-      {
-        continue;
-      }
-      TopLoc_Location cl;
-      const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(copy, cl);
-      if (tri.IsNull() || !tri->HasUVNodes())
-        continue;
-      // Each edge of the face with its copy; every one needs its polygon on the triangulation.
-      std::vector<std::pair<TopoDS_Edge, TopoDS_Edge>> edges;
-      bool polygons = true;
-      for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && polygons; ex.Next())
-      {
-        const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
-        if (BRep_Tool::Degenerated(e))
-          continue;
-        const TopoDS_Edge c = TopoDS::Edge(copier.ModifiedShape(e));
-        if (changed.Contains(c))
-          continue;
-        polygons = !BRep_Tool::PolygonOnTriangulation(c, tri, cl).IsNull();
-        edges.emplace_back(e, c);
-      }
-      if (!polygons)
-        continue;
-      BRep_Builder b;
-      b.UpdateFace(face, tri);
-      for (const auto& [e, c] : edges)
-      {
-        if (BRep_Tool::IsClosed(c, copy))
-          // A seam: the polygon of its forward use first, as BRep_Tool reads them.
-          b.UpdateEdge(e,
-            BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_FORWARD)), tri, cl),
-            BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_REVERSED)), tri, cl),
-            tri, loc);
-        else
-          b.UpdateEdge(e, BRep_Tool::PolygonOnTriangulation(c, tri, cl), tri, loc);
-      }
-      ++meshed;
-      done = true;
-      break;
-    }
-    if (done)
-      continue;
-    // Last, a B-spline copy, mapped back onto the face.
-    std::vector<EdgePolygons> polys;
-    Handle(Poly_Triangulation) tri;
     try
     {
-      tri = MeshThroughBSplines(face, deflection, angularDeflection, polys);
+      meshed += MeshFaceAgain(face, loc, deflection, angularDeflection) ? 1 : 0;
     }
     catch (const Standard_Failure&)
     {
-      tri.Nullify();
+      // Left without a mesh, and warned of, as before.
     }
-    if (tri.IsNull())
-      continue;
-    BRep_Builder b;
-    b.UpdateFace(face, tri);
-    for (const auto& [e, p] : polys)
-    {
-      if (p[1].IsNull())
-        b.UpdateEdge(e, p[0], tri, loc);
-      else
-        b.UpdateEdge(e, p[0], p[1], tri, loc);
-    }
-    ++meshed;
   }
   return meshed;
 }
