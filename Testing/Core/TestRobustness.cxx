@@ -307,7 +307,8 @@ TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
   // 2 mm wall) is written without pcurves, as SolidWorks writes its files, and each surface of
   // revolution is replaced by what SolidWorks writes: the torus with major radius -5, whose
   // parametric normal points out of the lemon, so the outer lemon's face has same_sense .T. and
-  // the inner one's .F. (the material lies between them).
+  // the inner one's .F. (the material lies between them); and, as ISO 10303-42 asks, by a
+  // DEGENERATE_TOROIDAL_SURFACE, which the text check never refused.
   const TopoDS_Shape shape = analytic::LemonShell(5, 20, 22, 8);
   STEPControl_Controller::Init(); // before the setting, which its first call would reset
   Interface_Static::SetIVal("write.surfacecurve.mode", 0);
@@ -335,59 +336,77 @@ TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
     lemons.emplace_back((*it)[1].str(), std::round(minor));
   }
   ASSERT_EQ(lemons.size(), 2u) << "the two lemons, each a surface of revolution";
-  size_t faces = 0;
-  std::string extra;
-  int next = 900000;
-  for (const auto& [id, minor] : lemons)
-  {
-    const int place = next;
-    next += 3;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "#%d = TOROIDAL_SURFACE('',#%d,-5.,%.1f);", std::stoi(id),
-      place, minor);
-    text = std::regex_replace(text,
-      std::regex("#" + id + R"( = SURFACE_OF_REVOLUTION\([^;]*;)"), std::string(buf));
-    std::snprintf(buf, sizeof buf,
-      "#%d = AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n#%d = CARTESIAN_POINT('',(0.,0.,0.));\n"
-      "#%d = DIRECTION('',(0.,0.,1.));\n#%d = DIRECTION('',(1.,0.,0.));\n",
-      place, place + 1, place + 2, place + 3, place + 1, place + 2, place + 3);
-    extra += buf;
-    next += 1;
-    const std::regex face("(ADVANCED_FACE\\('',\\([^)]*\\),#" + id + ",)\\.[TF]\\.");
-    const std::string sense = minor > 21.0 ? ".T." : ".F.";
-    faces += static_cast<size_t>(
-      std::distance(std::sregex_iterator(text.begin(), text.end(), face), std::sregex_iterator()));
-    text = std::regex_replace(text, face, "$1" + sense);
-  }
-  text.insert(text.rfind("ENDSEC;", text.find("END-ISO")), extra);
-  EXPECT_EQ(faces, 2u) << "one face on each lemon";
-  const fs::path negative = TempDir() / "lemon-shell-negative-major.step";
-  std::ofstream(negative, std::ios::binary) << text;
+  // The file with each surface of revolution replaced: SolidWorks's torus of major radius -5,
+  // or ISO 10303-42's DEGENERATE_TOROIDAL_SURFACE (major radius 5, select_outer false: the
+  // lemon), whose parametric normal points into the lemon, so the faces' senses swap.
+  const std::string written = text;
+  auto lemonFile = [&](bool degenerate, const std::string& name) {
+    std::string out = written;
+    size_t faces = 0;
+    std::string extra;
+    int next = 900000;
+    for (const auto& [id, minor] : lemons)
+    {
+      const int place = next;
+      next += 4;
+      char buf[256];
+      if (degenerate)
+        std::snprintf(buf, sizeof buf, "#%d = DEGENERATE_TOROIDAL_SURFACE('',#%d,5.,%.1f,.F.);",
+          std::stoi(id), place, minor);
+      else
+        std::snprintf(buf, sizeof buf, "#%d = TOROIDAL_SURFACE('',#%d,-5.,%.1f);", std::stoi(id),
+          place, minor);
+      out = std::regex_replace(out,
+        std::regex("#" + id + R"( = SURFACE_OF_REVOLUTION\([^;]*;)"), std::string(buf));
+      std::snprintf(buf, sizeof buf,
+        "#%d = AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n#%d = CARTESIAN_POINT('',(0.,0.,0.));\n"
+        "#%d = DIRECTION('',(0.,0.,1.));\n#%d = DIRECTION('',(1.,0.,0.));\n",
+        place, place + 1, place + 2, place + 3, place + 1, place + 2, place + 3);
+      extra += buf;
+      const std::regex face("(ADVANCED_FACE\\('',\\([^)]*\\),#" + id + ",)\\.[TF]\\.");
+      const std::string sense = (minor > 21.0) != degenerate ? ".T." : ".F.";
+      faces += static_cast<size_t>(
+        std::distance(std::sregex_iterator(out.begin(), out.end(), face), std::sregex_iterator()));
+      out = std::regex_replace(out, face, "$1" + sense);
+    }
+    out.insert(out.rfind("ENDSEC;", out.find("END-ISO")), extra);
+    EXPECT_EQ(faces, 2u) << "one face on each lemon";
+    const fs::path path = TempDir() / name;
+    std::ofstream(path, std::ios::binary) << out;
+    return path.string();
+  };
 
-  // It reads as the plainly written file does, and the wall is 2 mm.
+  // Each reads as the plainly written file does, and the wall is 2 mm.
   const BRepModel a = ConvertStepFileIsolated(plain, ConversionOptions());
-  const BRepModel b = ConvertStepFileIsolated(negative.string(), ConversionOptions());
-  EXPECT_EQ(a.Faces.size(), b.Faces.size());
-  for (const SolidCheck& c : CheckSolids(b))
-    EXPECT_TRUE(c.Closed());
-  const Solved solved = SolveAll(b);
-  const std::vector<double> rim = test::RimDistances(b, solved.Samples);
-  size_t interior = 0;
-  double worst = 0.0;
-  for (size_t i = 0; i < solved.Samples.size(); ++i)
+  for (const bool degenerate : { false, true })
   {
-    const SampleResult& r = solved.Results[i];
-    EXPECT_NE(r.Type, ContactType::Failed) << "sample " << i;
-    if (rim[i] < 2.0)
-      continue;
-    ++interior;
-    worst = std::max(worst, std::fabs(r.Thickness - 2.0) / 2.0);
+    SCOPED_TRACE(degenerate ? "DEGENERATE_TOROIDAL_SURFACE" : "negative major radius");
+    const BRepModel b = ConvertStepFileIsolated(
+      lemonFile(degenerate, degenerate ? "lemon-shell-degenerate.step" : "lemon-shell-negative.step"),
+      ConversionOptions());
+    EXPECT_EQ(a.Faces.size(), b.Faces.size());
+    for (const SolidCheck& c : CheckSolids(b))
+      EXPECT_TRUE(c.Closed());
+    const Solved solved = SolveAll(b);
+    const std::vector<double> rim = test::RimDistances(b, solved.Samples);
+    size_t interior = 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < solved.Samples.size(); ++i)
+    {
+      const SampleResult& r = solved.Results[i];
+      EXPECT_NE(r.Type, ContactType::Failed) << "sample " << i;
+      if (rim[i] < 2.0)
+        continue;
+      ++interior;
+      worst = std::max(worst, std::fabs(r.Thickness - 2.0) / 2.0);
+    }
+    std::printf("[lemon, %s] %zu samples, %zu farther than 2 from a rim, max |2t - 2| / 2 = "
+                "%.2e\n",
+      degenerate ? "DEGENERATE_TOROIDAL_SURFACE" : "negative major radius", solved.Samples.size(),
+      interior, worst);
+    EXPECT_GT(interior, 100u);
+    EXPECT_LE(worst, 1e-6);
   }
-  std::printf("[lemon, negative major radius] %zu samples, %zu farther than 2 from a rim, "
-              "max |2t - 2| / 2 = %.2e\n",
-    solved.Samples.size(), interior, worst);
-  EXPECT_GT(interior, 100u);
-  EXPECT_LE(worst, 1e-6);
 
   // A negative major radius that is not a lemon's (|R| not below the minor radius) is refused.
   ExpectIsolatedError(Mutated("toroidal_shell.step", "negative-ring-torus.step",
