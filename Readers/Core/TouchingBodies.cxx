@@ -9,6 +9,9 @@
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepClass3d.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
+#include <BRepClass3d_SolidExplorer.hxx>
 #include <BRepGProp.hxx>
 #include <BRepTools_ReShape.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
@@ -23,6 +26,8 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Iterator.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
 #include <TopoDS_Wire.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -482,6 +487,85 @@ TopoDS_Shape RemakeSolid(const TopoDS_Shape& solid, std::string& failure)
     failure = "its faces enclose no volume";
   return joined;
 }
+
+/// `solid` with each of its shells but the outer one whose inside lies outside the outer shell's
+/// material turned the other way, or a null shape where it has none. OpenCASCADE's STEP
+/// transfer makes a body that lies within another's envelope (a rod in a sleeve's bore, shorter
+/// than the sleeve, the two in one shell) the other's cavity, its faces turned inwards: the rod
+/// then counts as air and the air around it as material. A true cavity's inside lies within the
+/// outer shell's material; points just inside the shell (a point of a face moved along the
+/// solid's outward normal there, a thousandth of the shell's size, on up to five faces) are
+/// classified against the outer shell alone, and a shell most of whose points lie outside it is
+/// a body, turned. `where` receives a point of the first one turned.
+TopoDS_Shape WithFalseCavitiesTurned(
+  const TopoDS_Shape& shape, double tol, int& turned, gp_Pnt& where)
+{
+  turned = 0;
+  if (shape.ShapeType() != TopAbs_SOLID)
+    return TopoDS_Shape();
+  const TopoDS_Solid& solid = TopoDS::Solid(shape);
+  std::vector<TopoDS_Shell> shells;
+  for (TopoDS_Iterator it(solid); it.More(); it.Next())
+    if (it.Value().ShapeType() == TopAbs_SHELL)
+      shells.push_back(TopoDS::Shell(it.Value()));
+  if (shells.size() < 2)
+    return TopoDS_Shape();
+  const TopoDS_Shell outer = BRepClass3d::OuterShell(solid);
+  if (outer.IsNull())
+    return TopoDS_Shape();
+  BRep_Builder b;
+  TopoDS_Solid envelope;
+  b.MakeSolid(envelope);
+  b.Add(envelope, outer);
+  BRepClass3d_SolidClassifier classifier(envelope);
+  TopoDS_Solid out;
+  b.MakeSolid(out);
+  for (const TopoDS_Shell& shell : shells)
+  {
+    if (shell.IsSame(outer))
+    {
+      b.Add(out, shell);
+      continue;
+    }
+    Bnd_Box box;
+    BRepBndLib::Add(shell, box);
+    const double step = std::max(10.0 * tol, 1e-3 * std::sqrt(box.SquareExtent()));
+    int inside = 0, outside = 0, tried = 0;
+    gp_Pnt first;
+    for (TopExp_Explorer fx(shell, TopAbs_FACE); fx.More() && tried < 5; fx.Next())
+    {
+      const TopoDS_Face& f = TopoDS::Face(fx.Current());
+      gp_Pnt p;
+      double u = 0.0, v = 0.0, param = 0.0;
+      if (!BRepClass3d_SolidExplorer::FindAPointInTheFace(f, p, u, v, param))
+        continue;
+      BRepAdaptor_Surface surface(f);
+      gp_Vec du, dv;
+      surface.D1(u, v, p, du, dv);
+      gp_Vec n = du.Crossed(dv);
+      if (n.Magnitude() < 1e-12)
+        continue;
+      n.Normalize();
+      if (f.Orientation() == TopAbs_REVERSED)
+        n.Reverse(); // the solid's outward normal: into a cavity, away from its material
+      classifier.Perform(p.Translated(n * step), tol);
+      ++tried;
+      inside += classifier.State() == TopAbs_IN ? 1 : 0;
+      outside += classifier.State() == TopAbs_OUT ? 1 : 0;
+      if (tried == 1)
+        first = p;
+    }
+    if (outside > inside)
+    {
+      b.Add(out, shell.Reversed());
+      if (turned++ == 0)
+        where = first;
+    }
+    else
+      b.Add(out, shell);
+  }
+  return turned > 0 ? TopoDS_Shape(out) : TopoDS_Shape();
+}
 } // namespace
 
 TouchingFacesResult JoinBodiesTouchingFaceToFace(
@@ -501,13 +585,36 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
   {
     ++solidIndex;
     // In the solid's own frame: the replacement then holds for every placement of it.
-    const TopoDS_Shape solid = sx.Current().Located(TopLoc_Location());
-    if (!seen.insert(solid.TShape().get()).second)
+    const TopoDS_Shape original = sx.Current().Located(TopLoc_Location());
+    if (!seen.insert(original.TShape().get()).second)
       continue;
+    const std::string name = "solid " + std::to_string(solidIndex);
+    // A body the transfer made another's cavity is turned back into a body first.
+    int turned = 0;
+    gp_Pnt turnedAt;
+    TopoDS_Shape turnedSolid;
+    try
+    {
+      turnedSolid = WithFalseCavitiesTurned(original, tol, turned, turnedAt);
+    }
+    catch (const Standard_Failure&)
+    {
+      turned = 0;
+    }
+    if (turned > 0)
+    {
+      // Recorded below, once: the turned solid, or the join made from it.
+      anyJoined = true;
+      result.Turned += turned;
+      warnings.push_back(name + ": " + std::to_string(turned) +
+        " shell(s) that OpenCASCADE's transfer made cavities lie outside the solid's material, " +
+        (turned == 1 ? "" : "the first ") + "near " + Where(turnedAt) +
+        " (a body within another's bore or pocket, written in one shell): read as bodies");
+    }
+    const TopoDS_Shape solid = turned > 0 ? turnedSolid : original;
     TopTools_IndexedMapOfShape faces;
     TopExp::MapShapes(solid, TopAbs_FACE, faces);
     const SolidPairs pairs = FindPairs(faces, tol);
-    const std::string name = "solid " + std::to_string(solidIndex);
     if (pairs.Partial > 0)
     {
       result.LeftAlone += pairs.Partial;
@@ -518,7 +625,11 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
         "walls, each sphere ending at them");
     }
     if (pairs.Inside.empty())
+    {
+      if (turned > 0)
+        solids.Replace(original, turnedSolid);
       continue;
+    }
     double shared = 0.0;
     for (const auto& p : pairs.Inside)
       shared += Area(TopoDS::Face(faces(p.first)));
@@ -572,13 +683,15 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
     }
     if (failure.empty() && !joined.IsNull())
     {
-      solids.Replace(solid, joined);
+      solids.Replace(original, joined);
       anyJoined = true;
       result.Joined += static_cast<int>(pairs.Inside.size());
       warnings.push_back(w.str() + ": joined into one body, the shared area now inside the solid");
     }
     else
     {
+      if (turned > 0)
+        solids.Replace(original, turnedSolid);
       result.LeftAlone += static_cast<int>(pairs.Inside.size());
       warnings.push_back(w.str() + ": not joined (" + failure +
         "), so the samples on the shared area measure one body, and the spheres of both end "

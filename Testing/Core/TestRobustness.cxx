@@ -828,6 +828,44 @@ TEST(Robustness, BodiesTouchingFaceToFaceAreJoined)
   EXPECT_FALSE(Warned(mo, "joined into one body"));
 }
 
+
+TEST(Robustness, BodyInAnotherBoreIsNotACavity)
+{
+  // A rod of radius 5 in a sleeve's bore (radii 10 and 5, 60 long), the rod 40 long and inside
+  // the sleeve's length (z from 10 to 50), the two in one shell: OpenCASCADE's STEP transfer
+  // makes the rod the sleeve's cavity, its faces turned inwards (one solid of two shells, of
+  // volume sleeve - rod), so the rod counted as air. The reader turns the shell back into a body,
+  // then joins the two (the rod's side lies inside the bore's): on the sleeve's outer wall where
+  // the rod fills the bore (z from 21 to 39) the sphere reaches across, 2t = 20 (as a cavity:
+  // the wall alone, 5); where the bore is open (z from 3 to 7) the wall, 2t = 5.
+  const std::string file = WriteShape(
+    OneShell(BRepAlgoAPI_Cut(BRepPrimAPI_MakeCylinder(10, 60).Shape(),
+               BRepPrimAPI_MakeCylinder(5, 60).Shape())
+               .Shape(),
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 10), gp::DZ()), 5, 40).Shape()),
+    "short-rod-in-sleeve.step");
+  const BRepModel m = ConvertStepFileIsolated(file, ConversionOptions());
+  EXPECT_TRUE(Warned(m, "made cavities lie outside the solid's material")) << "no warning";
+  EXPECT_TRUE(Warned(m, "joined into one body"));
+  for (const SolidCheck& c : CheckSolids(m))
+    EXPECT_TRUE(c.Closed());
+  const Solved solved = SolveAll(m);
+  const auto filled = WorstThickness(solved, 20.0, [](const Sample& q) {
+    return std::hypot(q.Point[0], q.Point[1]) > 9.99 && q.Point[2] > 21 && q.Point[2] < 39;
+  });
+  const auto open = WorstThickness(solved, 5.0, [](const Sample& q) {
+    return std::hypot(q.Point[0], q.Point[1]) > 9.99 && q.Point[2] > 3 && q.Point[2] < 7;
+  });
+  std::printf("[body in a bore] %zu samples on the outer wall along the rod, max |2t - 20| / 20 "
+              "%.2e; %zu beside the open bore, max |2t - 5| / 5 %.2e\n",
+    filled.first, filled.second, open.first, open.second);
+  EXPECT_GT(filled.first, 20u);
+  EXPECT_LE(filled.second, 1e-6);
+  EXPECT_GT(open.first, 5u);
+  EXPECT_LE(open.second, 1e-6);
+  // A true cavity stays one: a block with a spherical void (BREP_WITH_VOIDS) keeps its 5 mm
+  // walls, in Robustness.SolidWithACavity.
+}
 TEST(Robustness, FinStaysNonManifold)
 {
   // A box with a fin sewn along one of its edges: that edge bounds three faces, which pair into
