@@ -28,12 +28,15 @@ algo = f.GetClientSideObject()
 failures = []
 progress, warnings = [], []
 abort_at = [None]
+abort_seen = [None]  # the progress at which the abort was asked for (the first value past abort_at)
 
 
 def on_progress(obj, event):
     p = obj.GetProgress()
     progress.append(p)
     if abort_at[0] is not None and p >= abort_at[0]:
+        if abort_seen[0] is None:
+            abort_seen[0] = p
         obj.SetAbortExecute(1)
 
 
@@ -83,12 +86,20 @@ if not aborted or len(aborted) != len(warnings):
     failures.append("expected 'aborted' warnings only, got %s" % warnings)
 if n != 0 or medial != 0:
     failures.append("aborted solve left %d points and %d medial points" % (n, medial))
+# The solve stops soon after the abort is asked for. Where it is asked depends on when the
+# progress events come: the calling thread reports the samples all threads have done, so on a
+# busy machine one report can jump (0.21 to 0.62 in a CI run of the fortieth session, the abort
+# then asked at 0.62); the check is against that point, not against 0.3.
 solved_part = max([p for p in progress if p < 1.0], default=0.0)  # 1.0 is the executive's "done"
-if solved_part > 0.5:
-    failures.append("the solve went on to progress %.2f after the abort at 0.3" % solved_part)
+if abort_seen[0] is None:
+    failures.append("no progress reached the abort point 0.3")
+elif solved_part > abort_seen[0] + 0.1:
+    failures.append("the solve went on to progress %.2f after the abort at %.2f"
+                    % (solved_part, abort_seen[0]))
 
 # 3. ParaView clears the abort flag it set; the next update solves again, with no property changed.
 abort_at[0] = None
+abort_seen[0] = None
 del warnings[:], progress[:]
 algo.SetAbortExecute(0)
 f.UpdatePipeline()
