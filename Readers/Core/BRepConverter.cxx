@@ -1909,7 +1909,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   const double maxEdge = options.MaxEdgeLength > 0.0 ? options.MaxEdgeLength : diagonal / 50.0;
   BRepMesh_IncrementalMesh mesher(shape, deflection, Standard_False, options.AngularDeflection,
     Standard_True);
-  stats.RemeshedFaces = MeshFacesLeftWithoutTriangulation(faceMap, deflection, options.AngularDeflection);
+  stats.RemeshedFaces =
+    MeshFacesLeftWithoutTriangulation(faceMap, deflection, options.AngularDeflection);
   DisplayMesh& M = model.Mesh;
   // Each face is refined on its own (FaceRefiner), on every core, faces taken in turn; their
   // meshes are then joined in the faces' order, as one loop over them gives them. The calling
@@ -2298,6 +2299,22 @@ TopoDS_Face WithoutNotches(const TopoDS_Face& face, TopTools_MapOfShape& changed
 }
 
 /// One face of MeshFacesLeftWithoutTriangulation: true where it got a triangulation.
+/// Puts `tri` on `face` (at the face's location `loc`) and each polygon on its edge: the two of
+/// a seam as BRep_Tool reads them, its forward use's first.
+void InstallTriangulation(const TopoDS_Face& face, const TopLoc_Location& loc,
+  const Handle(Poly_Triangulation)& tri, const std::vector<EdgePolygons>& polygons)
+{
+  BRep_Builder b;
+  b.UpdateFace(face, tri);
+  for (const auto& [e, p] : polygons)
+  {
+    if (p[1].IsNull())
+      b.UpdateEdge(e, p[0], tri, loc);
+    else
+      b.UpdateEdge(e, p[0], p[1], tri, loc);
+  }
+}
+
 bool MeshFaceAgain(
   const TopoDS_Face& face, const TopLoc_Location& loc, double deflection, double angularDeflection)
 {
@@ -2342,10 +2359,10 @@ bool MeshFaceAgain(
     const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(copy, cl);
     if (tri.IsNull() || !tri->HasUVNodes())
       continue;
-    // Each edge of the face with its copy; every one needs its polygon on the triangulation.
-    std::vector<std::pair<TopoDS_Edge, TopoDS_Edge>> edges;
-    bool polygons = true;
-    for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && polygons; ex.Next())
+    // Each edge of the face (but a notch's) needs its copy's polygon on the triangulation.
+    std::vector<EdgePolygons> polygons;
+    bool complete = true;
+    for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && complete; ex.Next())
     {
       const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
       if (BRep_Tool::Degenerated(e))
@@ -2353,41 +2370,27 @@ bool MeshFaceAgain(
       const TopoDS_Edge c = TopoDS::Edge(copier.ModifiedShape(e));
       if (changed.Contains(c))
         continue;
-      polygons = !BRep_Tool::PolygonOnTriangulation(c, tri, cl).IsNull();
-      edges.emplace_back(e, c);
+      const bool seam = BRep_Tool::IsClosed(c, copy);
+      const Handle(Poly_PolygonOnTriangulation) first = BRep_Tool::PolygonOnTriangulation(
+        seam ? TopoDS::Edge(c.Oriented(TopAbs_FORWARD)) : c, tri, cl);
+      const Handle(Poly_PolygonOnTriangulation) second = seam
+        ? BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_REVERSED)), tri, cl)
+        : Handle(Poly_PolygonOnTriangulation)();
+      complete = !first.IsNull() && (!seam || !second.IsNull());
+      polygons.push_back({ e, { first, second } });
     }
-    if (!polygons)
+    if (!complete)
       continue;
-    BRep_Builder b;
-    b.UpdateFace(face, tri);
-    for (const auto& [e, c] : edges)
-    {
-      if (BRep_Tool::IsClosed(c, copy))
-        // A seam: the polygon of its forward use first, as BRep_Tool reads them.
-        b.UpdateEdge(e,
-          BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_FORWARD)), tri, cl),
-          BRep_Tool::PolygonOnTriangulation(TopoDS::Edge(c.Oriented(TopAbs_REVERSED)), tri, cl),
-          tri, loc);
-      else
-        b.UpdateEdge(e, BRep_Tool::PolygonOnTriangulation(c, tri, cl), tri, loc);
-    }
+    InstallTriangulation(face, loc, tri, polygons);
     return true;
   }
   // Last, a B-spline copy, mapped back onto the face.
-  std::vector<EdgePolygons> polys;
+  std::vector<EdgePolygons> polygons;
   const Handle(Poly_Triangulation) tri =
-    MeshThroughBSplines(face, deflection, angularDeflection, polys);
+    MeshThroughBSplines(face, deflection, angularDeflection, polygons);
   if (tri.IsNull())
     return false;
-  BRep_Builder b;
-  b.UpdateFace(face, tri);
-  for (const auto& [e, p] : polys)
-  {
-    if (p[1].IsNull())
-      b.UpdateEdge(e, p[0], tri, loc);
-    else
-      b.UpdateEdge(e, p[0], p[1], tri, loc);
-  }
+  InstallTriangulation(face, loc, tri, polygons);
   return true;
 }
 

@@ -72,14 +72,15 @@ BRepModel ConvertShape(const TopoDS_Shape& shape, const ConversionOptions& optio
 /// Meshes again, one by one, the faces of `faceMap` that BRepMesh left without a triangulation,
 /// and returns how many got one. BRepMesh fails on some faces whose wires are valid (status
 /// Failure): Ploopy's scroll-wheel holder's cone, its top circle written in two arcs, one past
-/// 2 pi; the planes and small B-spline faces of SolidWorks's headbands. A copy of the face (its
-/// own edges, the same surface and parameters) is meshed at 4 times `deflection` with BRepMesh's
-/// Delabella algorithm, then its Watson one, and at 1/4 of it for a face within ten deflections
-/// across (small B-spline faces; a failing try on a large face took seconds); the first
-/// triangulation made goes on the face, with its edges' polygons on the face's edges (both of a
-/// seam's). A face whose wires turn back on themselves (a notch) is tried without the notch
-/// first. Last, MeshThroughBSplines. The display mesh's refinement makes such a face's mesh as
-/// fine as the others'.
+/// 2 pi; the planes and small B-spline faces of SolidWorks's headbands. Each try meshes a copy
+/// of the face (its own edges, the same surface and parameters) without the notches of its
+/// wires (two edges in a row on one curve, the second turning back), until one gives a
+/// triangulation: at `deflection` where the face had a notch; at 4 times it with BRepMesh's
+/// Delabella algorithm, then its Watson one; at 1/4 of it for a face within ten deflections
+/// across (a failing try on a large face took seconds); last, MeshThroughBSplines. The
+/// triangulation goes on the face, with its edges' polygons on the face's edges (both of a
+/// seam's; none for a notch's edges). The display mesh's refinement makes such a face's mesh as
+/// fine as the others'. A face no try meshes, or on which OpenCASCADE throws, is left as it was.
 int MeshFacesLeftWithoutTriangulation(
   const TopTools_IndexedMapOfShape& faceMap, double deflection, double angularDeflection);
 

@@ -137,7 +137,7 @@ struct ConversionStatistics
   /// ConversionOptions::SliverRatio times its vertices
   int FlippedFaces = 0;
   /// faces that BRepMesh left without a triangulation and that got one when meshed again alone
-  /// (coarser, or by its other algorithm; BRepConverter's MeshFacesBRepMeshLeft)
+  /// (MeshFacesLeftWithoutTriangulation, BRepConverter.h)
   int RemeshedFaces = 0;
   /// B-spline or Bezier faces found to be a plane, cylinder, cone, sphere or torus within a
   /// thousandth of the tolerance (their Face::Kind says which; DegreeU/V stay the file's)

@@ -578,7 +578,7 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
   // placement of a solid placed several times takes its joined solid in its place.
   BRepTools_ReShape solids;
   solids.ModeConsiderLocation() = true;
-  bool anyJoined = false;
+  bool anyReplaced = false;
   int solidIndex = -1;
   std::set<const TopoDS_TShape*> seen; // a solid placed several times is looked at once
   for (TopExp_Explorer sx(shape, TopAbs_SOLID); sx.More(); sx.Next())
@@ -604,7 +604,7 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
     if (turned > 0)
     {
       // Recorded below, once: the turned solid, or the join made from it.
-      anyJoined = true;
+      anyReplaced = true;
       result.Turned += turned;
       warnings.push_back(name + ": " + std::to_string(turned) +
         " shell(s) that OpenCASCADE's transfer made cavities lie outside the solid's material, " +
@@ -684,7 +684,7 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
     if (failure.empty() && !joined.IsNull())
     {
       solids.Replace(original, joined);
-      anyJoined = true;
+      anyReplaced = true;
       result.Joined += static_cast<int>(pairs.Inside.size());
       warnings.push_back(w.str() + ": joined into one body, the shared area now inside the solid");
     }
@@ -698,7 +698,7 @@ TouchingFacesResult JoinBodiesTouchingFaceToFace(
         "at it");
     }
   }
-  if (anyJoined)
+  if (anyReplaced)
     result.Shape = solids.Apply(shape);
   return result;
 }
