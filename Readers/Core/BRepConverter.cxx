@@ -1448,10 +1448,16 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
         faceSolid.push_back(solid);
   }
-  int looseShells = 0;
+  // Shells outside solids: a surface model's (SHELL_BASED_SURFACE_MODEL; FreeCAD writes a shape
+  // that is a shell so), each given a SolidId of its own. A closed one bounds a volume and is
+  // measured as a solid; an open one is flagged by the closure check (CheckSolids).
+  int looseShells = 0, closedLooseShells = 0;
   for (TopExp_Explorer hx(shape, TopAbs_SHELL, TopAbs_SOLID); hx.More(); hx.Next(), ++solid)
   {
-    ++looseShells;
+    if (BRep_Tool::IsClosed(hx.Current()))
+      ++closedLooseShells;
+    else
+      ++looseShells;
     for (TopExp_Explorer fx(hx.Current(), TopAbs_FACE); fx.More(); fx.Next())
       if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
         faceSolid.push_back(solid);
@@ -1467,6 +1473,9 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   }
   if (looseFaces > 0)
     ++solid;
+  if (closedLooseShells > 0)
+    warn(std::to_string(closedLooseShells) + " closed shell(s) are not written as solids (a "
+      "surface model): each is measured as the solid it bounds");
   if (looseShells > 0 || looseFaces > 0)
   {
     std::ostringstream w;

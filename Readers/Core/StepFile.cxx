@@ -376,8 +376,8 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   if (scan.SurfaceModels > 0)
   {
     result.Warnings.push_back("the file holds " + std::to_string(scan.SurfaceModels) +
-      " surface model(s) (SHELL_BASED_SURFACE_MODEL): shells, not solids; only closed shells "
-      "are measured");
+      " surface model(s) (SHELL_BASED_SURFACE_MODEL): shells, not solids; a closed shell is "
+      "measured as the solid it bounds, an open one is not");
   }
   result.Seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
