@@ -573,7 +573,8 @@ void RestrictCubic(double* c, int stride, double a, double b)
 /// hole is then boxed by its face alone. Returns false where no part of the patch is inside
 /// the face (the certification never searches it). The UV box is widened by the face's UV
 /// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding.
-bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch, double* b)
+bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
+  const std::vector<TrimCandidate>& faceSegments, double* b)
 {
   if (patch.Face < 0 || patch.Face >= static_cast<int>(model.Faces.size()))
     return true;
@@ -596,7 +597,7 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch, double* b
   // The segments that can be nearest to a point of the domain, with every one within the band
   // of it (TrimCandidatesFor): the others neither reach into the domain nor decide a corner.
   const std::vector<TrimCandidate> near =
-    TrimCandidatesFor(model, patch.Face, { u0, v0, u1, v1 }, 2.0 * band);
+    TrimCandidatesFor(model, faceSegments, { u0, v0, u1, v1 }, 2.0 * band);
   for (const TrimCandidate& c : near)
   {
     const std::array<double, 4>& sb = c.Box;
@@ -664,11 +665,28 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
     }
   };
   data.PatchBoxes.assign(6 * model.Patches.size(), 0.0);
-  // Patches wholly outside their face's trim take no part in the certification's tree.
+  // Patches wholly outside their face's trim take no part in the certification's tree. Each
+  // face's trimming segments and their boxes once, for all of its patches (as
+  // TrimCandidatesFor(model, face, ...) gathers them).
+  std::vector<std::vector<TrimCandidate>> faceSegments(model.Faces.size());
+  ParallelFor(model.Faces.size(), 0, [&](size_t f) {
+    const Face& F = model.Faces[f];
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+    {
+      const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
+      for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+        faceSegments[f].push_back(
+          { l, s, SegmentBox(model.TrimSegments[static_cast<size_t>(s)].ControlPoints) });
+    }
+  });
+  static const std::vector<TrimCandidate> none;
   std::vector<char> trimmedAway(model.Patches.size(), 0);
   ParallelFor(model.Patches.size(), 0, [&](size_t p) {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
-    trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], &data.PatchBoxes[6 * p]);
+    const int f = model.Patches[p].Face;
+    const std::vector<TrimCandidate>& segments =
+      f >= 0 && f < static_cast<int>(faceSegments.size()) ? faceSegments[static_cast<size_t>(f)] : none;
+    trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], segments, &data.PatchBoxes[6 * p]);
   });
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
