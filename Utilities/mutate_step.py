@@ -121,7 +121,9 @@ def negative_radius(data, rng):
     r = reals[-1] if s[3] != b"TOROIDAL_SURFACE" else rng.choice(reals[-2:])
     a, b = s[0] + r.start(), s[0] + r.end()
     val = r.group(0).lstrip(b"-")
-    return data[:a] + b"-" + val + data[b:], "#%d %s radius -%s" % (s[2], s[3].decode(), val.decode())
+    # A cone's last number is its semi-angle, not its radius.
+    what = "semi-angle" if s[3] == b"CONICAL_SURFACE" else "radius"
+    return data[:a] + b"-" + val + data[b:], "#%d %s %s -%s" % (s[2], s[3].decode(), what, val.decode())
 
 
 def zero_length_edge(data, rng):

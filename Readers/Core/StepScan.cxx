@@ -373,6 +373,20 @@ void Scanner::EndEntity(size_t begin, size_t end)
       this->Fail("CONICAL_SURFACE has a negative radius");
     this->Geometry(p[2].Value, "radius");
   }
+  // The semi-angle lies strictly between 0 and 90 degrees (ISO 10303-42). OpenCASCADE reads one
+  // of 0 or below as a cone of 1e-12 rad, nearly a cylinder, whose face then lies up to the
+  // cone's spread off its own edges, with no warning (a mutated Voron part: its vertices 0.3 mm
+  // off the surface, the file read and measured); 90 or more is no cone in radians or degrees.
+  // Between pi/2 and 90 the file's angle unit decides, which this check does not read:
+  // OpenCASCADE then fails on the face, and the solid left open is refused after the transfer.
+  if (type == "CONICAL_SURFACE" && p.size() > 3 && p[3].Kind == 'n' &&
+    !(p[3].Value > 0.0 && p[3].Value < 90.0))
+  {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", p[3].Value);
+    this->Fail(std::string("CONICAL_SURFACE has a semi-angle of ") + buf +
+      ", not between 0 and 90 degrees: no cone has such a face");
+  }
   if (type == "CARTESIAN_POINT" || type == "DIRECTION")
   {
     const size_t n = this->Coordinates.size();

@@ -298,6 +298,22 @@ TEST(Robustness, NegativeRadius)
     "SPHERICAL_SURFACE has a negative radius (-20)");
 }
 
+TEST(Robustness, ConeSemiAngleOutOfRange)
+{
+  // OpenCASCADE reads a cone whose semi-angle is 0 or negative as one of 1e-12 rad, nearly a
+  // cylinder, and its face then lies off its own edges with no warning (a mutated Voron part: the
+  // vertices 0.3 mm off the surface, read and measured). The tile writes its countersinks' cones
+  // in degrees (3.E0): refused at -3 and at 0, read as written.
+  ExpectIsolatedError(Mutated("FRAMEWORK_DESKTOP_BLANK_TILE.stp", "cone-negative-angle.step",
+                        R"(CONICAL_SURFACE\('',#8465,7\.538242786057E-1,3\.E0\))",
+                        "CONICAL_SURFACE('',#8465,7.538242786057E-1,-3.E0)"),
+    "CONICAL_SURFACE has a semi-angle of -3, not between 0 and 90 degrees");
+  ExpectIsolatedError(Mutated("FRAMEWORK_DESKTOP_BLANK_TILE.stp", "cone-zero-angle.step",
+                        R"(CONICAL_SURFACE\('',#8465,7\.538242786057E-1,3\.E0\))",
+                        "CONICAL_SURFACE('',#8465,7.538242786057E-1,0.)"),
+    "CONICAL_SURFACE has a semi-angle of 0, not between 0 and 90 degrees");
+}
+
 TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
 {
   // SolidWorks 2020 (Parasolid) writes the lemon of a spindle torus (major radius below the
