@@ -314,6 +314,29 @@ TEST(Robustness, ConeSemiAngleOutOfRange)
     "CONICAL_SURFACE has a semi-angle of 0, not between 0 and 90 degrees");
 }
 
+TEST(Robustness, MovedVertexIsWarnedOf)
+{
+  // A vertex whose point is another entity's, 41 mm off its edges: OpenCASCADE's healing grows
+  // its tolerance to 42.6 mm and the loops close within it; read silently before the forty-first
+  // session (a mutated Voron part had gaps of 1.6-24 mm so). One warning, naming where.
+  const std::string p = Mutated("l_bracket.step", "moved-vertex.step",
+    R"(#22 = VERTEX_POINT\('',#23\);)", "#22 = VERTEX_POINT('',#46);");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  int warned = 0;
+  for (const std::string& w : m.Stats.Warnings)
+    if (w.find("closes only within its vertex's tolerance") != std::string::npos)
+    {
+      ++warned;
+      EXPECT_NE(w.find("(18.7333, 18.7333, 0)"), std::string::npos) << w;
+      EXPECT_NE(w.find("not reliable"), std::string::npos) << w;
+    }
+  EXPECT_EQ(warned, 1);
+  // The file as written: no such warning.
+  const BRepModel good = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  for (const std::string& w : good.Stats.Warnings)
+    EXPECT_EQ(w.find("closes only within"), std::string::npos) << w;
+}
+
 TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
 {
   // SolidWorks 2020 (Parasolid) writes the lemon of a spindle torus (major radius below the
