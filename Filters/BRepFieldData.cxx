@@ -161,6 +161,18 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
       std::copy(&exact[8 * f], &exact[8 * f] + 8, m.FaceExact[f].begin());
   }
 
+  // Optional: where the file's faces and edges miss each other (the filter flags the samples
+  // there, FailReason 12); none in a file saved before it existed.
+  const auto loose = Get(fd, "LooseVertices", 4, -1, false);
+  for (size_t i = 0; i + 3 < loose.size(); i += 4)
+  {
+    if (!(loose[i + 3] >= 0.0))
+      Fail("array 'LooseVertices' has a negative radius in row " + std::to_string(i / 4));
+    m.LooseVertices.push_back({ loose[i], loose[i + 1], loose[i + 2], loose[i + 3] });
+  }
+  for (double f : Get(fd, "LooseFaces", 1, -1, false))
+    m.LooseFaces.push_back(Index(f, 0, NF, "LooseFaces", 0));
+
   // Patches.
   const auto cps = Get(fd, "BezierPatches", 48, np);
   const auto pface = Get(fd, "PatchFace", 1, np);

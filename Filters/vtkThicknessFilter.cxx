@@ -591,11 +591,11 @@ int vtkThicknessFilter::RequestData(
     }
     if (!gapOnly)
       row("Failed", sums[Stats::PerType + 0], "samples");
-    // One row per failure reason (brt::FailReason 1..11), named for scripts.
+    // One row per failure reason (brt::FailReason 1..12), named for scripts.
     static const char* const reasonRows[Stats::FailReasons] = { "", "FailedNoOppositePoint",
       "FailedNotConverged", "FailedEdgeNotConverged", "FailedNoEdge", "FailedSingular",
       "FailedLeftModel", "FailedNotMaximal", "FailedOpenShell", "FailedNonManifold",
-      "FailedUnbounded", "FailedThinWall" };
+      "FailedUnbounded", "FailedThinWall", "FailedFileGap" };
     for (int k = 1; k < Stats::FailReasons && !gapOnly; ++k)
       row(reasonRows[k], sums[Stats::PerReason + k], "samples");
     row("Solids", solidCount, "solids");
@@ -933,6 +933,10 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   if (check.NonManifold > 0)
     vtkWarningMacro(<< I.SourceFile << ": " << check.NonManifold
                     << " samples lie on non-manifold solids: flagged failed (FailReason 9)");
+  if (check.FileGap > 0)
+    vtkWarningMacro(<< I.SourceFile << ": " << check.FileGap
+                    << " samples lie where the file's faces and edges miss each other (the "
+                       "reader's warnings name the places): flagged failed (FailReason 12)");
   if (check.Unbounded > 0)
     vtkWarningMacro(<< I.SourceFile << ": " << check.Unbounded
                     << " samples had a thickness that was not finite or exceeded their solid's "

@@ -68,6 +68,31 @@ ResultCheckSummary CheckResults(
     {
       flag(FailReason::Unbounded);
       ++summary.Unbounded;
+      continue;
+    }
+    // Where the file's faces and edges miss each other (a vertex or a face moved off its edges,
+    // covered by a tolerance of millimetres): the faces there are not the part's, and neither is
+    // a sphere at them or touching them.
+    if (std::find(model.LooseFaces.begin(), model.LooseFaces.end(), face) != model.LooseFaces.end() ||
+      std::find(model.LooseFaces.begin(), model.LooseFaces.end(), r.OppositeFace) !=
+        model.LooseFaces.end())
+    {
+      flag(FailReason::FileGap);
+      ++summary.FileGap;
+      continue;
+    }
+    for (const auto& v : model.LooseVertices)
+    {
+      auto within = [&](const std::array<double, 3>& p) {
+        const double dx = p[0] - v[0], dy = p[1] - v[1], dz = p[2] - v[2];
+        return dx * dx + dy * dy + dz * dz <= v[3] * v[3];
+      };
+      if (within(samples[i].Point) || within(r.Foot))
+      {
+        flag(FailReason::FileGap);
+        ++summary.FileGap;
+        break;
+      }
     }
   }
   return summary;

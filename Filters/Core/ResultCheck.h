@@ -13,13 +13,16 @@ struct ResultCheckSummary
   std::size_t OpenShell = 0;   ///< samples flagged because their solid is open
   std::size_t NonManifold = 0; ///< samples flagged because their solid is non-manifold
   std::size_t Unbounded = 0;   ///< solved samples whose thickness was not finite or too large
+  std::size_t FileGap = 0;     ///< samples flagged where the file's faces and edges miss each other
 };
 
 /// Flags as failed, with the reason, the samples of open and non-manifold solids (CheckSolids,
 /// ModelIO.h) and every solved sample whose thickness, radius or centre is not finite or whose
 /// thickness exceeds the bounding-box diagonal of its solid (the Bezier control points' box,
 /// which holds the solid) by more than the conversion tolerance: nothing infinite, NaN or
-/// impossible is ever reported as solved.
+/// impossible is ever reported as solved. Then every sample not failed already whose point, or
+/// whose sphere's contact, lies within the radius of one of the model's loose vertices (where the
+/// file's faces and edges miss each other, BRepModel::LooseVertices): FailReason::FileGap.
 ResultCheckSummary CheckResults(const BRepModel& model, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results);
 

@@ -55,8 +55,12 @@ enum class FailReason : int
   NonManifold = 9,      ///< the sample's solid is non-manifold (a fin, bodies touching at an edge)
   Unbounded = 10,       ///< thickness not finite or beyond its solid's bounding-box diagonal
   // Set by the kernels again:
-  ThinWall = 11         ///< the wall across the sample (along its normal) is thinner than 4
+  ThinWall = 11,        ///< the wall across the sample (along its normal) is thinner than 4
                         ///< conversion tolerances, below what the patches resolve
+  // Set after the solve by CheckResults again:
+  FileGap = 12          ///< the sample or its contact lies where the file's faces and edges miss
+                        ///< each other (BRepModel::LooseVertices): the geometry there is not
+                        ///< the part's
 };
 const char* FailReasonName(FailReason reason);
 

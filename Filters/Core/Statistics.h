@@ -50,7 +50,7 @@ std::vector<double> VertexAreas(const std::vector<double>& points, const std::ve
 struct ThicknessStatistics
 {
   static constexpr int ContactTypes = 5; ///< brt::ContactType values 0..4
-  static constexpr int FailReasons = 12; ///< brt::FailReason values 0..11
+  static constexpr int FailReasons = 13; ///< brt::FailReason values 0..12
   /// log10 |R| histogram: ResidualBins bins over [ResidualLow, ResidualHigh]; residuals outside
   /// (and 0) go to the end bins.
   static constexpr double ResidualLow = -16.0, ResidualHigh = 0.0;

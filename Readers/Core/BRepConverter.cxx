@@ -1524,6 +1524,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       if (!(vt > loose))
         continue;
       gapVertices.Add(v);
+      const gp_Pnt vp = BRep_Tool::Pnt(v);
+      model.LooseVertices.push_back({ vp.X(), vp.Y(), vp.Z(), vt });
       if (gapVertices.Extent() > 3) // a moved face takes all of its vertices along
       {
         ++more;
@@ -1543,6 +1545,45 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       w << more << " more vertices have tolerances above " << loose << " mm (up to " << moreTol
         << " mm)";
       warn(w.str());
+    }
+    // The faces around them whose surface lies off most of their own vertices by more than that:
+    // a face whose surface was moved off its edges is wrong all over, not only near a vertex.
+    if (!gapVertices.IsEmpty())
+    {
+      TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
+      TopExp::MapShapesAndUniqueAncestors(shape, TopAbs_VERTEX, TopAbs_FACE, vertexFaces);
+      TopTools_MapOfShape seen;
+      for (TopTools_MapOfShape::Iterator it(gapVertices); it.More(); it.Next())
+      {
+        const int vi = vertexFaces.FindIndex(it.Key());
+        if (vi == 0)
+          continue;
+        for (const TopoDS_Shape& fs : vertexFaces(vi))
+        {
+          const int fi = faceMap.FindIndex(fs);
+          if (fi == 0 || !seen.Add(fs))
+            continue;
+          const TopoDS_Face face = TopoDS::Face(fs);
+          const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+          if (surface.IsNull())
+            continue;
+          TopTools_IndexedMapOfShape own;
+          TopExp::MapShapes(face, TopAbs_VERTEX, own);
+          int off = 0;
+          for (int k = 1; k <= own.Extent(); ++k)
+          {
+            GeomAPI_ProjectPointOnSurf proj(BRep_Tool::Pnt(TopoDS::Vertex(own(k))), surface);
+            off += proj.NbPoints() > 0 && proj.LowerDistance() > loose;
+          }
+          if (off >= 2 && 2 * off > own.Extent())
+          {
+            model.LooseFaces.push_back(fi - 1);
+            warn("face " + std::to_string(fi - 1) + ": " + std::to_string(off) + " of its " +
+              std::to_string(own.Extent()) + " vertices lie more than " + std::to_string(loose) +
+              " mm off its surface: its samples, and the spheres touching it, are flagged failed");
+          }
+        }
+      }
     }
   }
   const double maxPatchSize =
@@ -1821,6 +1862,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           if (gap3d > std::max(100.0 * tol, 1e-3 * diagonal) && gapVertices.Add(vtx))
           {
             const gp_Pnt at = BRep_Tool::Pnt(vtx);
+            model.LooseVertices.push_back({ at.X(), at.Y(), at.Z(), std::max(vtxTol, gap3d) });
             std::ostringstream w;
             w << where << ": trimming loop " << model.Loops.size()
               << " closes only within its vertex's tolerance " << vtxTol << " at (" << at.X()

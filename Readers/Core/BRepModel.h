@@ -173,6 +173,16 @@ struct BRepModel
   std::vector<EdgeSegment> EdgeSegments;
   DisplayMesh Mesh;
   ConversionStatistics Stats;
+  /// Places where the file's faces and edges miss each other by far more than the tolerance: a
+  /// vertex whose tolerance the translation or the healing grew to cover a gap, or a trimming
+  /// loop bridged across one (the converter warns of each, with the place). Each a point (3)
+  /// and a radius (the tolerance or the gap) within which CheckResults flags the samples
+  /// (FailReason::FileGap). Follows the rest of a model file.
+  std::vector<std::array<double, 4>> LooseVertices;
+  /// Faces whose surface lies off most of their own vertices by as much (a face whose surface
+  /// was moved off its edges): CheckResults flags the samples on them and the spheres touching
+  /// them (FailReason::FileGap). Follows LooseVertices in a model file.
+  std::vector<int> LooseFaces;
 };
 
 } // namespace brt

@@ -13,7 +13,7 @@ namespace brt
 {
 namespace
 {
-constexpr std::uint64_t Magic = 0x334C444F4D545242ull; // "BRTMODL3": FaceExact, remeshed faces
+constexpr std::uint64_t Magic = 0x344C444F4D545242ull; // "BRTMODL4": FaceExact, remeshed faces, loose vertices
 
 using binary::Get;
 using binary::GetString;
@@ -92,6 +92,8 @@ void WriteModel(const std::string& path, const BRepModel& m)
   for (const std::string& w : s.Warnings)
     PutString(out, w);
   Put(out, m.FaceExact);
+  Put(out, m.LooseVertices);
+  Put(out, m.LooseFaces);
   if (!out.flush())
     throw std::runtime_error("cannot write '" + path + "' (disk full?)");
 }
@@ -153,6 +155,8 @@ BRepModel ReadModel(const std::string& path)
     for (std::uint64_t i = 0; i < warnings[0]; ++i)
       s.Warnings.push_back(GetString(in));
     Get(in, m.FaceExact);
+    Get(in, m.LooseVertices);
+    Get(in, m.LooseFaces);
     ValidateModel(m);
   }
   catch (const std::runtime_error& e)
@@ -194,6 +198,12 @@ void ValidateModel(const BRepModel& m)
   for (size_t f = 0; f < m.FaceExact.size(); ++f)
     if (!Finite(m.FaceExact[f].data(), 8))
       Bad("face " + std::to_string(f) + ": non-finite exact surface");
+  for (const auto& v : m.LooseVertices)
+    if (!Finite(v.data(), 4) || !(v[3] >= 0.0))
+      Bad("a loose vertex: non-finite point or negative radius");
+  for (int f : m.LooseFaces)
+    if (!Index(f, nf))
+      Bad("a loose face: index out of range");
   for (size_t p = 0; p < np; ++p)
     if (!Index(m.Patches[p].Face, nf) || !Finite(m.Patches[p].ControlPoints.data(), 48) ||
       !Finite(m.Patches[p].Domain.data(), 4))

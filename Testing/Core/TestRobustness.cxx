@@ -333,21 +333,54 @@ TEST(Robustness, MovedVertexOrFaceIsWarnedOf)
     R"(#22 = VERTEX_POINT\('',#23\);)", "#22 = VERTEX_POINT('',#46);"));
   EXPECT_EQ(count(vertex, "the vertex at (18.7333, 18.7333, 0) has a tolerance of 42.6"), 1);
   EXPECT_EQ(count(vertex, "not reliable"), 1);
+  EXPECT_EQ(count(vertex, "vertices lie more than"), 0); // no face moved: the vertex alone
   const std::vector<std::string> plane = warnings(Mutated("l_bracket.step", "moved-plane.step",
     R"(#33 = AXIS2_PLACEMENT_3D\('',#34,#35,#36\);)", "#33 = AXIS2_PLACEMENT_3D('',#46,#35,#36);"));
   EXPECT_EQ(count(plane, "the vertex at (60, 8, 0) has a tolerance of 10.7"), 1);
   EXPECT_EQ(count(plane, "has a tolerance of 10.7"), 3);
   EXPECT_EQ(count(plane, "1 more vertices have tolerances above"), 1);
+  // The samples there are flagged (FileGap): every sample within 10.7 mm of the moved plane's
+  // four vertices, or whose sphere touches within it, and no other.
+  {
+    const BRepModel m = ConvertStepFileIsolated(
+      (TempDir() / "moved-plane.step").string(), ConversionOptions());
+    ASSERT_EQ(m.LooseVertices.size(), 4u);
+    ASSERT_EQ(m.LooseFaces.size(), 1u); // the plane whose four vertices lie 10.7 mm off it
+    Solved solved = SolveAll(m);
+    const ResultCheckSummary c = CheckResults(m, solved.Samples, solved.Results);
+    size_t flagged = 0, near = 0;
+    for (size_t i = 0; i < solved.Samples.size(); ++i)
+    {
+      bool inside = false;
+      for (const auto& v : m.LooseVertices)
+      {
+        const auto& o = solved.Samples[i].Point;
+        inside = inside || std::hypot(o[0] - v[0], o[1] - v[1], o[2] - v[2]) <= v[3];
+      }
+      near += inside;
+      flagged += solved.Results[i].Reason == FailReason::FileGap;
+      if (solved.Samples[i].Face == m.LooseFaces[0])
+        EXPECT_EQ(solved.Results[i].Reason, FailReason::FileGap) << i;
+      if (inside && solved.Results[i].Reason != FailReason::FileGap)
+        EXPECT_EQ(solved.Results[i].Type, ContactType::Failed) << i; // failed for another reason
+    }
+    EXPECT_GT(near, 100u);
+    EXPECT_GE(flagged, near / 2);
+    EXPECT_EQ(c.FileGap, flagged);
+  }
   // A vertex moved 0.3 mm (within 5e-3 of the 94 mm diagonal, beyond 1e-3 of it): the loop's
   // bridge across the gap is named.
   const std::vector<std::string> near = warnings(Mutated("l_bracket.step", "moved-vertex-0.3.step",
     R"(#23 = CARTESIAN_POINT\('',\(60\.,8\.,0\.\)\);)", "#23 = CARTESIAN_POINT('',(60.,8.3,0.));"));
   EXPECT_EQ(count(near, "closes only within its vertex's tolerance 0.3 at (60, 8.3, 0)"), 1);
   EXPECT_EQ(count(near, "has a tolerance of"), 0);
-  // The file as written: none.
+  // The file as written: none, and nothing flagged so.
   const std::vector<std::string> good = warnings(test::DataFile("l_bracket.step"));
   EXPECT_EQ(count(good, "tolerance"), 0);
   EXPECT_EQ(count(good, "closes only within"), 0);
+  const BRepModel m = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  EXPECT_TRUE(m.LooseVertices.empty());
+  EXPECT_TRUE(m.LooseFaces.empty());
 }
 
 TEST(Robustness, NegativeTorusMajorRadiusIsALemon)
