@@ -35,6 +35,35 @@ ResultCheckSummary CheckResults(
       diagonal[s] = std::sqrt(std::pow(boxes[s][1] - boxes[s][0], 2) +
         std::pow(boxes[s][3] - boxes[s][2], 2) + std::pow(boxes[s][5] - boxes[s][4], 2));
 
+  // Where the file's faces and edges miss each other: the loose faces as flags, the loose
+  // vertices sorted along x with their largest radius, so that a sample looks only at those
+  // within that of it along x (a broken file may hold thousands of them).
+  std::vector<char> looseFace(model.Faces.size(), 0);
+  for (int f : model.LooseFaces)
+    if (f >= 0 && static_cast<size_t>(f) < looseFace.size())
+      looseFace[static_cast<size_t>(f)] = 1;
+  std::vector<std::array<double, 4>> loose = model.LooseVertices;
+  std::sort(loose.begin(), loose.end(),
+    [](const std::array<double, 4>& a, const std::array<double, 4>& b) { return a[0] < b[0]; });
+  double reach = 0.0;
+  for (const auto& v : loose)
+    reach = std::max(reach, v[3]);
+  auto nearLoose = [&](const std::array<double, 3>& p) {
+    auto it = std::lower_bound(loose.begin(), loose.end(), p[0] - reach,
+      [](const std::array<double, 4>& v, double x) { return v[0] < x; });
+    for (; it != loose.end() && (*it)[0] <= p[0] + reach; ++it)
+    {
+      const auto& v = *it;
+      const double dx = p[0] - v[0], dy = p[1] - v[1], dz = p[2] - v[2];
+      if (dx * dx + dy * dy + dz * dz <= v[3] * v[3])
+        return true;
+    }
+    return false;
+  };
+  auto onLooseFace = [&](int f) {
+    return f >= 0 && static_cast<size_t>(f) < looseFace.size() && looseFace[static_cast<size_t>(f)];
+  };
+
   const size_t n = std::min(samples.size(), results.size());
   for (size_t i = 0; i < n; ++i)
   {
@@ -73,26 +102,11 @@ ResultCheckSummary CheckResults(
     // Where the file's faces and edges miss each other (a vertex or a face moved off its edges,
     // covered by a tolerance of millimetres): the faces there are not the part's, and neither is
     // a sphere at them or touching them.
-    if (std::find(model.LooseFaces.begin(), model.LooseFaces.end(), face) != model.LooseFaces.end() ||
-      std::find(model.LooseFaces.begin(), model.LooseFaces.end(), r.OppositeFace) !=
-        model.LooseFaces.end())
+    if (onLooseFace(face) || onLooseFace(r.OppositeFace) ||
+      (!loose.empty() && (nearLoose(samples[i].Point) || nearLoose(r.Foot))))
     {
       flag(FailReason::FileGap);
       ++summary.FileGap;
-      continue;
-    }
-    for (const auto& v : model.LooseVertices)
-    {
-      auto within = [&](const std::array<double, 3>& p) {
-        const double dx = p[0] - v[0], dy = p[1] - v[1], dz = p[2] - v[2];
-        return dx * dx + dy * dy + dz * dz <= v[3] * v[3];
-      };
-      if (within(samples[i].Point) || within(r.Foot))
-      {
-        flag(FailReason::FileGap);
-        ++summary.FileGap;
-        break;
-      }
     }
   }
   return summary;
