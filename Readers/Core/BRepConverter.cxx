@@ -1532,9 +1532,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         moreTol = std::max(moreTol, vt);
         continue;
       }
-      const gp_Pnt at = BRep_Tool::Pnt(v);
       std::ostringstream w;
-      w << "the vertex at (" << at.X() << ", " << at.Y() << ", " << at.Z() << ") has a tolerance of "
+      w << "the vertex at (" << vp.X() << ", " << vp.Y() << ", " << vp.Z() << ") has a tolerance of "
         << vt << " mm: the file's faces and edges miss each other there by up to that much; the "
            "thickness near there is not reliable";
       warn(w.str());
@@ -1570,10 +1569,17 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           TopTools_IndexedMapOfShape own;
           TopExp::MapShapes(face, TopAbs_VERTEX, own);
           int off = 0;
-          for (int k = 1; k <= own.Extent(); ++k)
+          try
           {
-            GeomAPI_ProjectPointOnSurf proj(BRep_Tool::Pnt(TopoDS::Vertex(own(k))), surface);
-            off += proj.NbPoints() > 0 && proj.LowerDistance() > loose;
+            for (int k = 1; k <= own.Extent(); ++k)
+            {
+              GeomAPI_ProjectPointOnSurf proj(BRep_Tool::Pnt(TopoDS::Vertex(own(k))), surface);
+              off += proj.NbPoints() > 0 && proj.LowerDistance() > loose;
+            }
+          }
+          catch (const Standard_Failure&)
+          {
+            off = 0; // not judged: its vertices stay named, the face is not
           }
           if (off >= 2 && 2 * off > own.Extent())
           {
