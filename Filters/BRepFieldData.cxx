@@ -170,8 +170,9 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
       Fail("array 'LooseVertices' has a negative radius in row " + std::to_string(i / 4));
     m.LooseVertices.push_back({ loose[i], loose[i + 1], loose[i + 2], loose[i + 3] });
   }
-  for (double f : Get(fd, "LooseFaces", 1, -1, false))
-    m.LooseFaces.push_back(Index(f, 0, NF, "LooseFaces", 0));
+  const auto looseFaces = Get(fd, "LooseFaces", 1, -1, false);
+  for (size_t i = 0; i < looseFaces.size(); ++i)
+    m.LooseFaces.push_back(Index(looseFaces[i], 0, NF, "LooseFaces", i));
 
   // Patches.
   const auto cps = Get(fd, "BezierPatches", 48, np);

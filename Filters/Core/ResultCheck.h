@@ -20,9 +20,10 @@ struct ResultCheckSummary
 /// ModelIO.h) and every solved sample whose thickness, radius or centre is not finite or whose
 /// thickness exceeds the bounding-box diagonal of its solid (the Bezier control points' box,
 /// which holds the solid) by more than the conversion tolerance: nothing infinite, NaN or
-/// impossible is ever reported as solved. Then every sample not failed already whose point, or
-/// whose sphere's contact, lies within the radius of one of the model's loose vertices (where the
-/// file's faces and edges miss each other, BRepModel::LooseVertices): FailReason::FileGap.
+/// impossible is ever reported as solved. Then every sample not failed already that lies on one of
+/// the model's loose faces or within the radius of one of its loose vertices, or whose sphere
+/// touches there (where the file's faces and edges miss each other, BRepModel::LooseVertices and
+/// LooseFaces): FailReason::FileGap.
 ResultCheckSummary CheckResults(const BRepModel& model, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results);
 

@@ -667,19 +667,10 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
   };
   data.PatchBoxes.assign(6 * model.Patches.size(), 0.0);
   // Patches wholly outside their face's trim take no part in the certification's tree. Each
-  // face's trimming segments and their boxes once, for all of its patches (as
-  // TrimCandidatesFor(model, face, ...) gathers them).
+  // face's trimming segments and their boxes once, for all of its patches.
   std::vector<std::vector<TrimCandidate>> faceSegments(model.Faces.size());
-  ParallelFor(model.Faces.size(), 0, [&](size_t f) {
-    const Face& F = model.Faces[f];
-    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
-    {
-      const TrimLoop& loop = model.Loops[static_cast<size_t>(l)];
-      for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-        faceSegments[f].push_back(
-          { l, s, SegmentBox(model.TrimSegments[static_cast<size_t>(s)].ControlPoints) });
-    }
-  });
+  ParallelFor(model.Faces.size(), 0,
+    [&](size_t f) { FaceTrimCandidates(model, static_cast<int>(f), faceSegments[f]); });
   static const std::vector<TrimCandidate> none;
   std::vector<char> trimmedAway(model.Patches.size(), 0);
   ParallelFor(model.Patches.size(), 0, [&](size_t p) {

@@ -59,8 +59,8 @@ enum class FailReason : int
                         ///< conversion tolerances, below what the patches resolve
   // Set after the solve by CheckResults again:
   FileGap = 12          ///< the sample or its contact lies where the file's faces and edges miss
-                        ///< each other (BRepModel::LooseVertices): the geometry there is not
-                        ///< the part's
+                        ///< each other (BRepModel::LooseVertices, LooseFaces): the geometry
+                        ///< there is not the part's
 };
 const char* FailReasonName(FailReason reason);
 

@@ -170,17 +170,23 @@ std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
   return near;
 }
 
-std::vector<TrimCandidate> TrimCandidatesFor(
-  const BRepModel& model, int face, const std::array<double, 4>& uvBox, double reach)
+void FaceTrimCandidates(const BRepModel& model, int face, std::vector<TrimCandidate>& out)
 {
-  std::vector<TrimCandidate> all;
+  out.clear();
   const Face& f = model.Faces[face];
   for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
   {
     const TrimLoop& loop = model.Loops[l];
     for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-      all.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
+      out.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
   }
+}
+
+std::vector<TrimCandidate> TrimCandidatesFor(
+  const BRepModel& model, int face, const std::array<double, 4>& uvBox, double reach)
+{
+  std::vector<TrimCandidate> all;
+  FaceTrimCandidates(model, face, all);
   return TrimCandidatesFor(model, all, uvBox, reach);
 }
 
@@ -307,14 +313,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
 TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v)
 {
   thread_local std::vector<TrimCandidate> all;
-  all.clear();
-  const Face& f = model.Faces[face];
-  for (int l = f.FirstLoop; l < f.FirstLoop + f.LoopCount; ++l)
-  {
-    const TrimLoop& loop = model.Loops[l];
-    for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-      all.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
-  }
+  FaceTrimCandidates(model, face, all);
   return Classify(model, u, v, all.data(), all.size());
 }
 

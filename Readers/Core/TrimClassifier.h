@@ -41,6 +41,10 @@ struct TrimCandidate
   std::array<double, 4> Box{};
 };
 
+/// Every trimming segment of `face` with its box, loop by loop in the face's order, into `out`
+/// (cleared first).
+void FaceTrimCandidates(const BRepModel& model, int face, std::vector<TrimCandidate>& out);
+
 /// The segments of `face` that can hold the nearest trimming point of some point of the UV box
 /// (u0, v0, u1, v1): every segment whose control box lies within U of the box, U the largest
 /// distance from the box to the nearest end of a segment (no point of the box is farther than U

@@ -360,9 +360,13 @@ TEST(Robustness, MovedVertexOrFaceIsWarnedOf)
       near += inside;
       flagged += solved.Results[i].Reason == FailReason::FileGap;
       if (solved.Samples[i].Face == m.LooseFaces[0])
+      {
         EXPECT_EQ(solved.Results[i].Reason, FailReason::FileGap) << i;
+      }
       if (inside && solved.Results[i].Reason != FailReason::FileGap)
+      {
         EXPECT_EQ(solved.Results[i].Type, ContactType::Failed) << i; // failed for another reason
+      }
     }
     EXPECT_GT(near, 100u);
     EXPECT_GE(flagged, near / 2);
