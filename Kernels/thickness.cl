@@ -551,21 +551,48 @@ inline real cross2(real2 a, real2 b)
   return a.x * b.y - a.y * b.x;
 }
 
-// Segment s of loop l, projected, replaces the best so far where nearer (ties: lower index).
-inline void nearer_segment(const Model* m, int l, int s, real2 P, real* bestD, int* bestSeg,
-  real* bestT, int* bestLoop)
+// Two distances to the trim within this (relative) of each other are a tie to classify: the
+// projections' rounding orders them (and the nearest-segment search keeps every segment whose box
+// lies within it of the best distance).
+#ifdef BRT_DOUBLE
+#define TRIM_TIE ((real)1e-6)
+#else
+#define TRIM_TIE ((real)1e-5)
+#endif
+
+// The nearest segment so far and the one after it (classify).
+typedef struct
+{
+  real d, t;
+  int seg, loop;
+  real d2, t2;
+  int seg2;
+} NearSegments;
+
+// Segment s of loop l, projected, replaces the best so far where nearer (ties: lower index); the
+// one it replaces, or s where it is not nearer, replaces the second where nearer than that.
+inline void nearer_segment(const Model* m, int l, int s, real2 P, NearSegments* n)
 {
   __global const real* c = m->trim + TRIM_REALS * s;
   if (!(seg_length(c) > (real)0))
     return;
   real dd;
   const real t = project_segment(c, P, &dd);
-  if (dd < *bestD || (dd == *bestD && s < *bestSeg))
+  if (dd < n->d || (dd == n->d && s < n->seg))
   {
-    *bestD = dd;
-    *bestSeg = s;
-    *bestT = t;
-    *bestLoop = l;
+    n->d2 = n->d;
+    n->t2 = n->t;
+    n->seg2 = n->seg;
+    n->d = dd;
+    n->seg = s;
+    n->t = t;
+    n->loop = l;
+  }
+  else if (dd < n->d2 || (dd == n->d2 && s < n->seg2))
+  {
+    n->d2 = dd;
+    n->t2 = t;
+    n->seg2 = s;
   }
 }
 
@@ -574,12 +601,25 @@ int inside_by_crossings(const Model* m, int face, real u, real v);
 
 // Point-in-face test on the cubic trimming segments (the same steps as the host's
 // brt::ClassifyPoint, Readers/Core/TrimClassifier, the crossing parity at a cusp included).
-BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
+//
+// *clearOut: a lower bound on the squared distance from P to the face's trimming curves, from the
+// control boxes of the segments projected (each box's gap is at most its curve's distance, and
+// the segments not projected have boxes farther than the nearest found): no trimming curve
+// crosses the disk of that radius about P, so every point of it lies on P's side of the trim
+// (descend_on_face and consider_point skip their trim tests there).
+BRT_SPLIT int classify_clear(const Model* m, int face, real2 P, int* segOut, real* paramOut,
+  real* distOut, real* clearOut)
 {
+  real clear2 = REAL_MAX;
   __global const int* fi = m->faceInfo + FACE_INTS * face;
-  real bestD = REAL_MAX;
-  int bestSeg = -1, bestLoop = -1;
-  real bestT = 0;
+  NearSegments n;
+  n.d = REAL_MAX;
+  n.t = 0;
+  n.seg = -1;
+  n.loop = -1;
+  n.d2 = REAL_MAX;
+  n.t2 = 0;
+  n.seg2 = -1;
   // Nearest segment, ties to the lowest index; a segment whose control box is farther than the
   // best distance so far is not projected (rounding must not drop a tie: the bound is a little
   // wider). A face with a tree walks it nearest box first; the others take the nearest box
@@ -593,11 +633,11 @@ BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* par
     stack[top++] = fi[9];
     while (top > 0)
     {
-      const int n = stack[--top];
-      const real bound = bestD * (real)(1 + 1e-6);
-      if (uv_box_gap2(m->trimNodeBox + 4 * n, P) > bound * bound)
+      const int node = stack[--top];
+      const real bound = n.d * ((real)1 + TRIM_TIE);
+      if (uv_box_gap2(m->trimNodeBox + 4 * node, P) > bound * bound)
         continue;
-      __global const int* ni = m->trimNodeInfo + 3 * n;
+      __global const int* ni = m->trimNodeInfo + 3 * node;
       if (ni[1] > 0)
       {
         // A leaf's segments (up to TRIM_LEAF), nearest box first: the first projection bounds
@@ -619,16 +659,16 @@ BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* par
         }
         for (int j = 0; j < cnt; ++j)
         {
-          const real b = bestD * (real)(1 + 1e-6);
+          const real b = n.d * ((real)1 + TRIM_TIE);
           if (gap[j] > b * b)
             break;
+          clear2 = fmin(clear2, gap[j]);
           const int i = ni[0] + order[j];
-          nearer_segment(m, m->trimItems[2 * i + 1], m->trimItems[2 * i], P, &bestD, &bestSeg,
-            &bestT, &bestLoop);
+          nearer_segment(m, m->trimItems[2 * i + 1], m->trimItems[2 * i], P, &n);
         }
         continue;
       }
-      const int left = n + 1, right = ni[2];
+      const int left = node + 1, right = ni[2];
       const int leftFirst = uv_box_gap2(m->trimNodeBox + 4 * left, P) <=
         uv_box_gap2(m->trimNodeBox + 4 * right, P);
       if (top + 2 > 32)
@@ -653,22 +693,32 @@ BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* par
     }
   }
   if (firstSeg >= 0)
-    nearer_segment(m, firstLoop, firstSeg, P, &bestD, &bestSeg, &bestT, &bestLoop);
+  {
+    clear2 = firstBound;
+    nearer_segment(m, firstLoop, firstSeg, P, &n);
+  }
   for (int l = fi[4]; l < fi[4] + fi[5] && firstSeg >= 0; ++l)
   {
     const int first = m->loops[2 * l], count = m->loops[2 * l + 1];
     for (int s = first; s < first + count; ++s)
     {
-      const real bound = bestD * (real)(1 + 1e-6); // rounding must not drop a tie
-      if (s != firstSeg && !(box_distance2(m->trim + TRIM_REALS * s, P) > bound * bound))
-        nearer_segment(m, l, s, P, &bestD, &bestSeg, &bestT, &bestLoop);
+      const real bound = n.d * ((real)1 + TRIM_TIE); // rounding must not drop a tie
+      const real gap = box_distance2(m->trim + TRIM_REALS * s, P);
+      if (s != firstSeg && !(gap > bound * bound))
+      {
+        clear2 = fmin(clear2, gap);
+        nearer_segment(m, l, s, P, &n);
+      }
     }
   }
-  *segOut = bestSeg;
-  *paramOut = bestT;
-  *distOut = bestD;
-  if (bestSeg < 0)
+  *segOut = n.seg;
+  *paramOut = n.t;
+  *distOut = n.d;
+  *clearOut = clear2;
+  if (n.seg < 0)
     return 0;
+  const int bestSeg = n.seg, bestLoop = n.loop;
+  const real bestT = n.t;
   __global const real* c = m->trim + TRIM_REALS * bestSeg;
   real2 d1, d2;
   const real2 q = P - seg_point(c, bestT, &d1, &d2);
@@ -682,7 +732,24 @@ BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* par
   const real sliver = (real)1e-3 * length(q);
   const int onSliver = !(seg_length(c) > sliver);
   if (bestT > endEps && bestT < (real)1 - endEps && !onSliver)
-    return cross2(seg_tangent(c, bestT), q) > (real)0;
+  {
+    const int side = cross2(seg_tangent(c, bestT), q) > (real)0;
+    // A second segment as near (within TRIM_TIE) that puts the point on the other side: the
+    // point lies beside a part of the face, or of a hole, far thinner than its distance, whose
+    // two sides' curves run together, and may cross (a sliver face's tip on the Ploopy headband,
+    // its loop a figure of eight there: beside it the nearer edge, by 1e-9, said inside, and a
+    // contact 0.27 mm outside the face gave 2t 0.547 against the exact 0.696). The parity of the
+    // crossings decides.
+    if (n.seg2 >= 0 && n.d2 <= n.d * ((real)1 + TRIM_TIE) && n.t2 > endEps &&
+      n.t2 < (real)1 - endEps)
+    {
+      __global const real* c2 = m->trim + TRIM_REALS * n.seg2;
+      const real2 q2 = P - seg_point(c2, n.t2, &d1, &d2);
+      if (seg_length(c2) > sliver && (cross2(seg_tangent(c2, n.t2), q2) > (real)0) != side)
+        return inside_by_crossings(m, face, P.x, P.y);
+    }
+    return side;
+  }
   const int first = m->loops[2 * bestLoop], count = m->loops[2 * bestLoop + 1];
   // The nearest segment that is not a sliver from `s` along the loop in `dir` (s itself left
   // out); any with a length where all are slivers, s where none has one.
@@ -723,6 +790,12 @@ BRT_SPLIT int classify(const Model* m, int face, real2 P, int* segOut, real* par
   if (fabs(cross2(ta, tb)) < (real)1e-3 * length(ta) * length(tb))
     return inside_by_crossings(m, face, P.x, P.y);
   return cross2(ta, tb) < (real)0; // corner rule
+}
+
+inline int classify(const Model* m, int face, real2 P, int* segOut, real* paramOut, real* distOut)
+{
+  real clear2;
+  return classify_clear(m, face, P, segOut, paramOut, distOut, &clear2);
 }
 
 // --- linear algebra -------------------------------------------------------------------------
@@ -1679,6 +1752,11 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
   *crossing = -1;
   if (!(cur.t < REAL_MAX))
     return cur;
+  // The last point the trim test found inside, and the square of a radius about it that no
+  // trimming curve enters (classify_clear, a thousandth of it kept as margin): the descent's
+  // steps near its minimum end there, inside for certain, without a trim test.
+  real knownU = 0, knownV = 0, knownR2 = (real)-1;
+  real borderStep = 0; // the length of the step before where it crossed the trim, else 0
   for (int it = 0; it < 4 * maxIterations; ++it)
   {
     ++*iterations;
@@ -1709,6 +1787,11 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
     const real len = length(s0 * Su + s1 * Sv);
     const real limit = fmax(t, (real)1e-3 * scale);
     real f = len > limit ? limit / len : (real)1;
+    // Along the face's border (the step before was halved after one that left the face), the
+    // line search starts at twice the step's length before rather than at the whole step: each
+    // halving outside the face was a trim test, about a dozen per step along a border.
+    if (borderStep > (real)0 && f * len > (real)2 * borderStep)
+      f = (real)2 * borderStep / len;
     const real slope = g0 * s0 + g1 * s1;
     *crossing = -1;
     if (len * f < tiny || !(slope < (real)0))
@@ -1728,9 +1811,18 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
       // (most steps of a descent along the domain's border end here, each a trim test before).
       if ((outsideDomain && *crossing >= 0) || f > outsideAbove)
         continue;
-      int seg;
-      real param, dist;
-      const int inside = classify(m, face, make_real2(uc, vc), &seg, &param, &dist);
+      int seg = -1, inside = 1;
+      real param = 0, dist = 0, clear2;
+      if (outsideDomain || !((uc - knownU) * (uc - knownU) + (vc - knownV) * (vc - knownV) < knownR2))
+      {
+        inside = classify_clear(m, face, make_real2(uc, vc), &seg, &param, &dist, &clear2);
+        if (inside && !outsideDomain)
+        {
+          knownU = uc;
+          knownV = vc;
+          knownR2 = (real)0.998 * clear2;
+        }
+      }
       if (!(inside || dist <= fd[6]) || outsideDomain)
       {
         if (*crossing < 0)
@@ -1756,6 +1848,7 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
     }
     if (!accepted || len * f < tiny)
       break;
+    borderStep = *crossing >= 0 ? f * len : (real)0;
   }
   return cur;
 }
@@ -2258,6 +2351,12 @@ typedef struct
   int onTrim; // a face's point on its trim (within rounding), not inside it: where the face ends
   real u, v, t, T;
   real3 w; // the point, relative to O
+  // The last trim test's point on face trimFace and the square of a radius about it that no
+  // trimming curve enters (classify_clear; a thousandth of it kept as margin, and on the
+  // outside the trim's rounding), and whether it counted: the points of that disk count or not
+  // alike without a trim test of their own (consider_point).
+  int trimFace, trimIn;
+  real trimU, trimV, trimR2;
 } PointInside;
 
 // Squared distance from p to a box (min x, y, z, max x, y, z); p and the box relative to the
@@ -2304,9 +2403,36 @@ BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, rea
   // to it): the nearest point of a face often lies on its trim, where the side test is a coin
   // flip.
   const real size = fd[1] - fd[0] + fd[3] - fd[2];
-  const int inTrim = classify(m, face, make_real2(u, v), &seg, &param, &trimDist);
-  if (!(inTrim || trimDist <= (real)1e-9 * size) ||
-    (trimDist > (real)1e-3 * size && !inside_by_crossings(m, face, u, v)))
+  int inTrim = 1;
+  if (!(face == st->trimFace &&
+        (u - st->trimU) * (u - st->trimU) + (v - st->trimV) * (v - st->trimV) < st->trimR2))
+  {
+    real clear2;
+    inTrim = classify_clear(m, face, make_real2(u, v), &seg, &param, &trimDist, &clear2);
+    const real onTrim = (real)1e-9 * size;
+    if (!(inTrim || trimDist <= onTrim))
+    {
+      // Outside beyond the trim's rounding: so is every point nearer than clear - onTrim.
+      const real r = sqrt(clear2) - onTrim;
+      st->trimFace = r > (real)0 ? face : -1;
+      st->trimU = u;
+      st->trimV = v;
+      st->trimR2 = (real)0.998 * r * r;
+      st->trimIn = 0;
+      return;
+    }
+    if (trimDist > (real)1e-3 * size && !inside_by_crossings(m, face, u, v))
+      return;
+    if (inTrim)
+    {
+      st->trimFace = face;
+      st->trimU = u;
+      st->trimV = v;
+      st->trimR2 = (real)0.998 * clear2;
+      st->trimIn = 1;
+    }
+  }
+  else if (!st->trimIn)
     return;
   st->best = dist;
   st->found = 1;
@@ -3238,6 +3364,7 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
   st->found = 0;
   st->edge = -1;
   st->onTrim = 0;
+  st->trimFace = -1;
   const real reach = t - depth - (real)0.25 * m->slack;
   if (!(m->mode & MODE_CERTIFY) || !(reach > (real)0))
     return 0;

@@ -199,6 +199,13 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   TrimProjection res;
   res.Distance = std::numeric_limits<double>::max();
   int bestLoop = -1;
+  // The segment after the nearest: a tie within rounding that puts the point on the other side
+  // hands the decision to the crossings (below).
+  double secondDistance = std::numeric_limits<double>::max(), secondParameter = 0.0;
+  int secondSegment = -1;
+  // Two distances within this (relative) of each other are a tie (the kernel's TRIM_TIE in
+  // double); the search keeps every segment whose box lies within it of the best distance.
+  const double tie = 1e-6;
   // The nearest segment, ties to the lowest index. A cubic lies in the box of its control
   // points, so a segment whose box is farther than the best distance so far cannot be nearer
   // and is not projected: first the segment with the nearest box, then the others in order.
@@ -210,10 +217,19 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     const double t = ProjectOnSegment(cp, u, v, &d);
     if (d < res.Distance || (d == res.Distance && s < res.Segment))
     {
+      secondDistance = res.Distance;
+      secondParameter = res.Parameter;
+      secondSegment = res.Segment;
       res.Distance = d;
       res.Segment = s;
       res.Parameter = t;
       bestLoop = l;
+    }
+    else if (d < secondDistance || (d == secondDistance && s < secondSegment))
+    {
+      secondDistance = d;
+      secondParameter = t;
+      secondSegment = s;
     }
   };
   // Each segment's box distance once (the s1 sampling classifies every candidate point of every
@@ -240,7 +256,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   for (size_t k = 0; k < count; ++k)
   {
     // The margin keeps rounding in the projection from dropping a segment that ties.
-    const double bound = res.Distance * (1.0 + 1e-9);
+    const double bound = res.Distance * (1.0 + tie);
     if (k != first && !(boxGap[k] > bound * bound))
       consider(candidates[k].Loop, candidates[k].Segment);
   }
@@ -281,6 +297,20 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   {
     const auto tg = Tangent(cp, res.Parameter);
     res.Inside = Cross(tg[0], tg[1], px, py) > 0.0;
+    // A second segment as near (within the tie) that puts the point on the other side: the
+    // point lies beside a part of the face (or of a hole) far thinner than its distance, whose
+    // two sides' curves run together and may cross (a sliver face's tip); the crossings decide
+    // (the kernel's classify, the same steps).
+    if (secondSegment >= 0 && secondDistance <= res.Distance * (1.0 + tie) &&
+      secondParameter > endEps && secondParameter < 1.0 - endEps)
+    {
+      const auto& cp2 = model.TrimSegments[secondSegment].ControlPoints;
+      const auto e2 = EvaluateCubic<2>(cp2.data(), secondParameter);
+      const auto tg2 = Tangent(cp2, secondParameter);
+      if (Length2(cp2) > sliver &&
+        (Cross(tg2[0], tg2[1], u - e2.P[0], v - e2.P[1]) > 0.0) != res.Inside)
+        res.Inside = InsideByCrossings(model, model.TrimSegments[res.Segment].Face, u, v);
+    }
     return res;
   }
   // At a corner: incoming segment a (ending there) and outgoing segment b (starting there).

@@ -153,6 +153,93 @@ TEST(TrimClassifier, CuspTakesTheCrossingParity)
   EXPECT_TRUE(below.Corner);
 }
 
+/// Beside the tip of a sliver face, where its two edges run together: the tip of face 68 of the
+/// Ploopy headband (Headband-Triangle-SMALL, a rational B-spline face 8.8e-4 by 0.29 in its
+/// parameters, whose two edges lie within 3e-7 of each other and cross near the tip, so that its
+/// loop is a figure of eight there), its first segment down from the tip, a short closing segment,
+/// and its last segment back up to the tip, as the file's conversion gives them (to the last bit).
+/// At (2.96e-4, 0.289028), 2.1e-4 to the side of the tip, both edges' nearest points lie just
+/// below the tip at distances equal within 1.1e-9 (relative), and each edge's tangent puts the
+/// point on its own side: the nearer said inside, and a contact there, 0.27 mm outside the face,
+/// gave a sphere 2t = 0.547 where the exact is 0.696. The reader's ClassifyPoint and the kernel's
+/// classify must give the crossing parity's answer (outside) there.
+TEST(TrimClassifier, TiedEdgesBesideASliverTakeTheCrossingParity)
+{
+  BRepModel m;
+  m.Faces.resize(1);
+  Face& F = m.Faces[0];
+  F.Domain = { 0.0, 1e-3, 0.0, 0.3 };
+  F.PatchCount = 1;
+  F.PatchesU = F.PatchesV = 1;
+  F.LoopCount = 1;
+  F.UVTolerance = 4e-8;
+  BezierPatch patch; // the plane z = 0 over the domain (the kernel needs a patch per face)
+  patch.Face = 0;
+  patch.Domain = F.Domain;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+    {
+      patch.ControlPoints[(4 * i + j) * 3] = 100.0 * i / 3.0;
+      patch.ControlPoints[(4 * i + j) * 3 + 1] = 100.0 * j / 3.0;
+    }
+  m.Patches.push_back(patch);
+  const std::array<double, 8> down = { 8.8056931890676562e-05, 0.28902804582399244,
+    0.00010396923458925021, 0.28711742477597607, 0.00011979854110764232, 0.28506940260125591,
+    0.0001355369605204197, 0.28288861905085111 };
+  const std::array<double, 8> up = { 0.00013575764462472493, 0.28286013593856885,
+    0.00011995237339327605, 0.28505016667621208, 0.00010404967833121704, 0.28710773524542577,
+    8.8056931890676562e-05, 0.28902804582399244 };
+  std::array<double, 8> across{};
+  for (int k = 0; k < 4; ++k)
+  {
+    across[2 * k] = down[6] + (up[0] - down[6]) * k / 3.0;
+    across[2 * k + 1] = down[7] + (up[1] - down[7]) * k / 3.0;
+  }
+  TrimLoop loop;
+  loop.Face = 0;
+  loop.Outer = true;
+  loop.SegmentCount = 3;
+  for (const auto& c : { down, across, up })
+  {
+    TrimSegment s;
+    s.Face = 0;
+    s.Loop = 0;
+    s.ControlPoints = c;
+    m.TrimSegments.push_back(s);
+  }
+  m.Loops.push_back(loop);
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const NativeSolver native(m, data);
+  struct Probe
+  {
+    double u, v;
+    bool inside;
+  };
+  const Probe probes[] = { { 0.000296, 0.289028, false }, { 0.000296, 0.2889, false },
+    { 0.0002, 0.289028, false }, { 0.00012, 0.2855, false } };
+  // The case is a tie: at the first probe both edges lie as near within 1e-8, their nearest
+  // points inside the segments.
+  double dDown = 0.0, dUp = 0.0;
+  const double tDown = ProjectOnSegment(down, probes[0].u, probes[0].v, &dDown);
+  const double tUp = ProjectOnSegment(up, probes[0].u, probes[0].v, &dUp);
+  EXPECT_NEAR(dDown, dUp, 1e-8 * dDown);
+  EXPECT_GT(tDown, 0.0);
+  EXPECT_LT(tUp, 1.0);
+  for (const Probe& p : probes)
+  {
+    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v);
+    EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
+                                  << r.Segment << " t " << r.Parameter;
+    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
+    bool inside = false;
+    int segment = -1;
+    double parameter = 0.0, distance = 0.0;
+    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
+    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
+                                << segment << " t " << parameter;
+  }
+}
+
 TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
 {
   // Quarter circle of radius 1 as a cubic (standard kappa); projection of points on rays.
