@@ -3840,7 +3840,7 @@ BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
   // normal n at the foot moves the tangent sphere by e / (1 - d.n), n towards the centre (half
   // of e for a wall straight across, more as the foot comes round towards O's tangent plane; a
   // cone's wall at 46 degrees on a Voron part read 2t 2.7e-4 short with half the slack alone).
-  // Up to four times, and a sphere grown past half the slack is certified again, strictly
+  // Up to 64 times, and a sphere grown past half the slack is certified again, strictly
   // (below). Not a sphere touching O's own surface across (the closed form): there the growth
   // is the trim's, the sphere next to the face's edge (the mold's torus, 2t = 1 against the
   // exact 0.99964, a face across its edge 3e-5 inside the sphere).
@@ -3850,7 +3850,7 @@ BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
   const real across = (real)1 - dot(d, t * d - foot) / t;
   const real grow = selfContact ? (real)0
                                 : (real)0.5 * m->slack *
-      ((real)4 * across >= (real)1 ? (real)1 / across : (real)4);
+      ((real)64 * across >= (real)1 ? (real)1 / across : (real)64);
   if (!(length(moved) <= reach) || !(t <= tPatches + fmax(grow, (real)0.5 * m->slack)) ||
     !(t >= tPatches - m->slack))
     return;
