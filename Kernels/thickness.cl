@@ -787,7 +787,15 @@ BRT_SPLIT int classify_clear(const Model* m, int face, real2 P, int* segOut, rea
   // inside the face, and spheres touched the face's plane beyond its trim: control_arm read 2t
   // 0.0002-2.5 against the exact 10 on 39 samples, MVE_100 1 against 6 on 78, two Ender-3 fans
   // 0.65 against 2.35 on 5 each (docs/Solver.md, Open items, "The corner rule at a cusp").
-  if (fabs(cross2(ta, tb)) < (real)1e-3 * length(ta) * length(tb))
+  // Likewise where the corner's sides are not next to each other on the loop: the slivers between
+  // them turn the loop too, and the turn from one side to the other alone may take the wrong way
+  // round. A spike's tip on the classic Ploopy trackball's secondary buttons (face 10): a fillet
+  // ending 1.4e-3 rad short of the way back, then a sliver 1.6e-4 long, then the way back; the
+  // loop turns left by 180.08 degrees there, the two sides alone say right by 179.92, and points
+  // 5-10 away outside the face came out inside (37 spheres too small, 2t 0.027 against the
+  // exact 2.0; docs/Solver.md, item 5).
+  const int adjacent = first + (incoming - first + 1) % count == outgoing;
+  if (!adjacent || fabs(cross2(ta, tb)) < (real)1e-3 * length(ta) * length(tb))
     return inside_by_crossings(m, face, P.x, P.y);
   return cross2(ta, tb) < (real)0; // corner rule
 }

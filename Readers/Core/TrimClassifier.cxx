@@ -330,9 +330,14 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   // of each other or of opposite (a loop that turns back on itself at a cusp, or a corner all
   // but smooth), the turn's sign is rounding, and the crossing parity decides, as in the
   // kernel's classify (docs/Solver.md, Open items, "The corner rule at a cusp").
+  // Likewise where slivers lie between the corner's two sides: they turn the loop too, and the
+  // turn from one side to the other alone may take the wrong way round (a spike's tip whose
+  // fillet ends a little short of the way back, then a sliver: the kernel's classify).
   res.Corner = true;
   const double turn = Cross(ta[0], ta[1], tb[0], tb[1]);
-  if (std::fabs(turn) < 1e-3 * std::hypot(ta[0], ta[1]) * std::hypot(tb[0], tb[1]))
+  const bool adjacent =
+    loop.FirstSegment + (incoming - loop.FirstSegment + 1) % loop.SegmentCount == outgoing;
+  if (!adjacent || std::fabs(turn) < 1e-3 * std::hypot(ta[0], ta[1]) * std::hypot(tb[0], tb[1]))
     res.Inside = InsideByCrossings(model, model.TrimSegments[res.Segment].Face, u, v);
   else
     res.Inside = turn < 0.0;

@@ -240,6 +240,92 @@ TEST(TrimClassifier, TiedEdgesBesideASliverTakeTheCrossingParity)
   }
 }
 
+/// A spike's tip whose sides are not next to each other on the loop: the triangle (0, 0),
+/// (10.3, 5), (-9.3, 9) traversed counter-clockwise, its tip rounded by a short fillet that turns
+/// right by 38 degrees (ending 1.4e-3 rad short of the way back), then a sliver 1e-4 long turning
+/// left, then the way back (the classic Ploopy trackball's secondary buttons, face 10, have such a
+/// tip). The loop turns left by 180.08 degrees at the tip, the fillet's end and the way back alone
+/// say right by 179.92: with the sliver left out as a side, the corner rule put points 5 away
+/// outside the spike's tip inside the face (37 spheres of that part too small, 2t 0.027 against
+/// the exact 2.0). There the crossing parity decides, in the reader and in the kernel.
+TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
+{
+  BRepModel m;
+  m.Faces.resize(1);
+  Face& F = m.Faces[0];
+  F.Domain = { -12.0, 14.0, -4.0, 12.0 };
+  F.PatchCount = 1;
+  F.PatchesU = F.PatchesV = 1;
+  F.LoopCount = 1;
+  F.UVTolerance = 1e-9;
+  BezierPatch patch;
+  patch.Face = 0;
+  patch.Domain = F.Domain;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+    {
+      patch.ControlPoints[(4 * i + j) * 3] = -12.0 + 26.0 * i / 3.0;
+      patch.ControlPoints[(4 * i + j) * 3 + 1] = -4.0 + 16.0 * j / 3.0;
+    }
+  m.Patches.push_back(patch);
+  auto line = [](double x0, double y0, double x1, double y1) {
+    std::array<double, 8> c{};
+    for (int k = 0; k < 4; ++k)
+    {
+      c[2 * k] = x0 + (x1 - x0) * k / 3.0;
+      c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
+    }
+    return c;
+  };
+  // The way back: the fillet's end direction (0.98, -0.2) reversed, turned right by 1.4e-3 rad.
+  const double bx = -0.98 - 0.2 * 1.4e-3, by = 0.2 - 0.98 * 1.4e-3;
+  const double sx = 10.3 + 1e-4 * 0.2, sy = 5.0 + 1e-4 * 0.98; // the sliver's end
+  const double ex = sx + 20.0 * bx, ey = sy + 20.0 * by;
+  const std::vector<std::array<double, 8>> segments = { line(0, 0, 10, 5),
+    { 10, 5, 10.0894, 5.0447, 10.202, 5.02, 10.3, 5.0 }, // the fillet
+    line(10.3, 5.0, sx, sy), line(sx, sy, ex, ey), line(ex, ey, 0, 0) };
+  TrimLoop loop;
+  loop.Face = 0;
+  loop.Outer = true;
+  loop.SegmentCount = static_cast<int>(segments.size());
+  for (const auto& c : segments)
+  {
+    TrimSegment t;
+    t.Face = 0;
+    t.Loop = 0;
+    t.ControlPoints = c;
+    m.TrimSegments.push_back(t);
+  }
+  m.Loops.push_back(loop);
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  const NativeSolver native(m, data);
+  struct Probe
+  {
+    double u, v;
+    bool inside;
+  };
+  // Beyond the tip (its nearest loop point the fillet's end), and inside the triangle.
+  const Probe probes[] = { { 12.0, 0.0, false }, { 13.0, 2.0, false }, { 11.5, -2.0, false },
+    { 11.0, 3.0, false }, { 3.0, 4.0, true }, { 8.0, 5.0, true } };
+  for (const Probe& p : probes)
+  {
+    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v);
+    EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
+                                  << r.Segment << " t " << r.Parameter << ", corner " << r.Corner;
+    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
+    bool inside = false;
+    int segment = -1;
+    double parameter = 0.0, distance = 0.0;
+    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
+    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
+                                << segment << " t " << parameter;
+  }
+  // The first probe's nearest loop point is the fillet's end, and the sliver is left out there.
+  const TrimProjection tip = ClassifyPoint(m, 0, probes[0].u, probes[0].v);
+  EXPECT_TRUE(tip.Corner);
+  EXPECT_TRUE(tip.Segment == 1 || tip.Segment == 2) << tip.Segment;
+}
+
 TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
 {
   // Quarter circle of radius 1 as a cubic (standard kappa); projection of points on rays.
