@@ -78,8 +78,10 @@ typedef float3 real3;
 // unit axis (3) and three sizes, then the patches' measured deviation from the face (FACE_DEVIATION;
 // brt::PackKernelModel), then on a plane with a frame (FACE_INTS slot 11) the measured distance
 // between its edges and their trimming segments' images at the same edge parameter
-// (FACE_TRIM_EDGE_GAP; brt::PlaneTrimEdgeGap, memo_inside).
-#define FACE_REALS 21
+// (FACE_TRIM_EDGE_GAP; brt::PlaneTrimEdgeGap, memo_inside), then -1 where its trimming loops do
+// not cross, else a bound on the crossing test's chords' error (FACE_LOOPS_CROSS;
+// brt::TrimLoopsCross, classify).
+#define FACE_REALS 22
 // Per trimming segment: its four (u, v) control points, then their box (u0, v0, u1, v1).
 #define TRIM_REALS 12
 // Segments per leaf of a face's trim tree at most (brt::PackTrimTrees).
@@ -87,6 +89,7 @@ typedef float3 real3;
 #define FACE_EXACT 7
 #define FACE_DEVIATION 19
 #define FACE_TRIM_EDGE_GAP 20
+#define FACE_LOOPS_CROSS 21
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
 // (cylinder_patch_gap); of a toroidal face, its range of angles around the tube and its wedge
 // around the axis (torus_patch_gap); of a spherical face, its cone from the centre
@@ -717,6 +720,17 @@ BRT_SPLIT int classify_clear(const Model* m, int face, real2 P, int* segOut, rea
   *clearOut = clear2;
   if (n.seg < 0)
     return 0;
+  // A face whose loops cross themselves or each other (a lobe that runs the wrong way round, a
+  // hook at a corner): the nearer curve puts a point beside the lobe on the wrong side at any
+  // distance, and the parity of the crossings decides farther from the trim than four times the
+  // chords' error (docs/Solver.md, item 5, "Loops that cross themselves").
+  {
+    __global const real* fd = m->faceDomain + FACE_REALS * face;
+    const real chords = fd[FACE_LOOPS_CROSS];
+    if (chords >= (real)0 &&
+      n.d > (real)4 * chords + (real)1e-9 * (fd[1] - fd[0] + fd[3] - fd[2]))
+      return inside_by_crossings(m, face, P.x, P.y);
+  }
   const int bestSeg = n.seg, bestLoop = n.loop;
   const real bestT = n.t;
   __global const real* c = m->trim + TRIM_REALS * bestSeg;

@@ -731,6 +731,9 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     // The memo's room on a framed plane (KernelFaceTrimEdgeGap).
     k.FaceDomain.push_back(
       static_cast<T>(frame != 0 ? PlaneTrimEdgeGap(m, static_cast<int>(f)) : 0.0));
+    // Whether the face's loops cross (KernelFaceLoopsCross; a solve data without it: none).
+    k.FaceDomain.push_back(static_cast<T>(
+      data.FaceLoopsCross.size() == nf ? data.FaceLoopsCross[f] : -1.0));
     // Per patch of a cylinder (EXACT_CYLINDER) its sector, of a torus (EXACT_TORUS) whose tube
     // is clear of the axis its arc of the tube (cylinder_patch_gap, torus_patch_gap): on a torus
     // written as one the arc its (u, v) domain spans (its parameters are the torus's angles), on

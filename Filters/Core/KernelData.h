@@ -29,8 +29,9 @@ constexpr size_t KernelWallPartners = 8;
 /// Reals per face (FACE_REALS): its (u, v) domain, periods and UV tolerance, its exact surface,
 /// the patches' measured deviation, and last (KernelFaceTrimEdgeGap) on a plane whose patches are
 /// its isometric parametrisation the measured distance between its edges and their trimming
-/// segments' images at the same edge parameter (PlaneTrimEdgeGap in KernelData.cxx; 0 elsewhere).
-constexpr size_t KernelFaceReals = 21, KernelFaceTrimEdgeGap = 20;
+/// segments' images at the same edge parameter (PlaneTrimEdgeGap in KernelData.cxx; 0 elsewhere),
+/// then (KernelFaceLoopsCross) SolverData::FaceLoopsCross (-1 where the loops do not cross).
+constexpr size_t KernelFaceReals = 22, KernelFaceTrimEdgeGap = 20, KernelFaceLoopsCross = 21;
 /// Reals per trimming segment (TRIM_REALS): four (u, v) control points, then their box.
 constexpr size_t KernelTrimReals = 12;
 /// Reals per patch of the cylinder sectors (PATCH_SECTOR_REALS; PackKernelModel): the control

@@ -20,6 +20,7 @@ static_assert(S1_SPLIT_ROOT == S1SplitRoot, "the kernel's split root marker diff
 static_assert(SAMPLE_REALS == KernelSampleReals && OUT_REALS == KernelOutReals &&
     OUT_INTS == KernelOutInts && FACE_INTS == KernelFaceInts &&
     FACE_REALS == KernelFaceReals && FACE_TRIM_EDGE_GAP == KernelFaceTrimEdgeGap &&
+    FACE_LOOPS_CROSS == KernelFaceLoopsCross &&
     WALL_PARTNERS == KernelWallPartners && TRIM_REALS == KernelTrimReals &&
     TRIM_LEAF == KernelTrimLeaf && PATCH_SECTOR_REALS == KernelPatchSectorReals &&
     PATCH_HULL_REALS == KernelPatchHullReals,

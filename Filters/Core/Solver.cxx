@@ -385,7 +385,16 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);
   BuildWallPartners(model, data);
+  BuildLoopCrossings(model, data);
   return data;
+}
+
+void BuildLoopCrossings(const BRepModel& model, SolverData& data)
+{
+  data.FaceLoopsCross.assign(model.Faces.size(), -1.0);
+  ParallelFor(model.Faces.size(), 0, [&](size_t f) {
+    data.FaceLoopsCross[f] = TrimLoopsCross(model, static_cast<int>(f));
+  });
 }
 
 void BuildWallPartners(const BRepModel& model, SolverData& data)

@@ -188,7 +188,14 @@ struct SolverData
   /// none): the starts of wall_partner_start where s1 is much coarser than the wall
   /// (BuildWallPartners; derived like PatchBoxes).
   std::vector<int> WallPartners;
+  /// Per face, TrimLoopsCross: -1 where its trimming loops do not cross, else a bound on the
+  /// crossing test's chords' error; the kernel's trim test takes the crossing parity on such a
+  /// face (BuildLoopCrossings; derived like PatchBoxes).
+  std::vector<double> FaceLoopsCross;
 };
+
+/// Fills data.FaceLoopsCross (TrimLoopsCross of every face; PrepareSolver and ReadSolve call it).
+void BuildLoopCrossings(const BRepModel& model, SolverData& data);
 
 /// Fills data.WallPartners: a 4 x 4 grid of points over each face's (u, v) bounds, where inside
 /// its trim, probe the wall across by the certification's query for the deepest point of the

@@ -358,6 +358,99 @@ TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
   return Classify(model, u, v, candidates.data(), candidates.size());
 }
 
+double TrimLoopsCross(const BRepModel& model, int face)
+{
+  const Face& F = model.Faces[static_cast<size_t>(face)];
+  struct Piece
+  {
+    int Loop, Index, Count; // the segment's loop, its place in it, the loop's length
+    std::array<double, 34> P; // 17 points: the 16 chords' ends
+    std::array<double, 4> Box;
+  };
+  std::vector<Piece> pieces;
+  double chordError = 0.0;
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& L = model.Loops[static_cast<size_t>(l)];
+    for (int k = 0; k < L.SegmentCount; ++k)
+    {
+      const auto& cp = model.TrimSegments[static_cast<size_t>(L.FirstSegment + k)].ControlPoints;
+      if (!(Length2(cp) > 0.0))
+        continue;
+      Piece pc;
+      pc.Loop = l;
+      pc.Index = k;
+      pc.Count = L.SegmentCount;
+      pc.Box = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+        -std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+      for (int j = 0; j <= 16; ++j)
+      {
+        const auto e = EvaluateCubic<2>(cp.data(), j / 16.0);
+        pc.P[2 * j] = e.P[0];
+        pc.P[2 * j + 1] = e.P[1];
+        pc.Box[0] = std::min(pc.Box[0], e.P[0]);
+        pc.Box[1] = std::min(pc.Box[1], e.P[1]);
+        pc.Box[2] = std::max(pc.Box[2], e.P[0]);
+        pc.Box[3] = std::max(pc.Box[3], e.P[1]);
+      }
+      for (int i = 0; i < 2; ++i)
+        chordError = std::max(chordError,
+          6.0 / 8.0 / 256.0 *
+            std::hypot(cp[2 * i + 4] - 2.0 * cp[2 * i + 2] + cp[2 * i],
+              cp[2 * i + 5] - 2.0 * cp[2 * i + 3] + cp[2 * i + 1]));
+      pieces.push_back(pc);
+    }
+  }
+  auto orient = [](const double* a, const double* b, const double* c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  // Chords ab and cd cross properly: each one's ends strictly on either side of the other.
+  auto cross = [&](const double* a, const double* b, const double* c, const double* d) {
+    const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+                 o4 = orient(c, d, b);
+    return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
+      ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
+  };
+  auto overlap = [](const std::array<double, 4>& a, const std::array<double, 4>& b) {
+    return a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
+  };
+  std::vector<size_t> order(pieces.size());
+  for (size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(),
+    [&](size_t a, size_t b) { return pieces[a].Box[0] < pieces[b].Box[0]; });
+  for (size_t x = 0; x < order.size(); ++x)
+  {
+    const Piece& A = pieces[order[x]];
+    for (size_t y = x + 1; y < order.size() && pieces[order[y]].Box[0] <= A.Box[2]; ++y)
+    {
+      const Piece& B = pieces[order[y]];
+      if (!overlap(A.Box, B.Box))
+        continue;
+      // Next to each other on a loop: their shared end's two chords are not compared.
+      const bool aThenB = A.Loop == B.Loop && (A.Index + 1) % A.Count == B.Index;
+      const bool bThenA = A.Loop == B.Loop && (B.Index + 1) % B.Count == A.Index;
+      for (int i = 0; i < 16; ++i)
+      {
+        const double* a = &A.P[2 * i];
+        const std::array<double, 4> ab = { std::min(a[0], a[2]), std::min(a[1], a[3]),
+          std::max(a[0], a[2]), std::max(a[1], a[3]) };
+        if (!overlap(ab, B.Box))
+          continue;
+        for (int j = 0; j < 16; ++j)
+        {
+          if ((aThenB && i == 15 && j == 0) || (bThenA && i == 0 && j == 15))
+            continue;
+          const double* c = &B.P[2 * j];
+          if (cross(a, a + 2, c, c + 2))
+            return chordError;
+        }
+      }
+    }
+  }
+  return -1.0;
+}
+
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v)
 {
   const Face& f = model.Faces[face];

@@ -67,4 +67,14 @@ TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
 /// loops than the chords' error, as a second opinion beside ClassifyPoint.
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v);
 
+/// Whether the trimming loops of `face` cross themselves or each other, the segments taken as
+/// InsideByCrossings' 16 chords each (a proper crossing of two chords, neither at the two
+/// segments' shared end): -1 where none cross, else a bound on the chords' distance from their
+/// segments, over the face's segments (6 / 8 / 16^2 times the largest second difference of a
+/// segment's control points). A loop that crosses itself (a lobe that runs the wrong way round, a
+/// hook at a corner) puts points beside the lobe on the wrong side of its nearer curve at any
+/// distance: the kernel's classify takes the crossing parity on such a face farther than a few
+/// of these bounds from the trim (docs/Solver.md, item 5, "Loops that cross themselves").
+double TrimLoopsCross(const BRepModel& model, int face);
+
 } // namespace brt

@@ -326,6 +326,100 @@ TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
   EXPECT_TRUE(tip.Segment == 1 || tip.Segment == 2) << tip.Segment;
 }
 
+/// A loop that crosses itself: the unit square whose top edge runs on past the corner (0, 1) to
+/// (-0.005, 0.999), hooks back above itself to (0, 0.9993), and only then turns down the left side,
+/// which crosses the top edge at (0, 0.999): a small lobe there runs clockwise (the classic
+/// Ploopy trackball's secondary buttons, face 88, a B-spline face whose top edge hooks so at its
+/// domain's corner: 6 contacts at the corner above the hook, spheres of 2t 0.146 against the exact
+/// 0.234). Above the corner, (0, 1.0008), the nearest loop point is the hook's end, whose sides say
+/// inside. TrimLoopsCross finds the crossing (and none on the plain square), and the kernel's
+/// classify takes the crossing parity on such a face: outside. (The reader's ClassifyPoint keeps
+/// the nearer curve's answer: s1's points, docs/Solver.md, item 5.)
+TEST(TrimClassifier, LoopThatCrossesItselfTakesTheCrossingParity)
+{
+  auto line = [](double x0, double y0, double x1, double y1) {
+    std::array<double, 8> c{};
+    for (int k = 0; k < 4; ++k)
+    {
+      c[2 * k] = x0 + (x1 - x0) * k / 3.0;
+      c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
+    }
+    return c;
+  };
+  auto build = [&](bool hook) {
+    BRepModel m;
+    m.Faces.resize(1);
+    Face& F = m.Faces[0];
+    F.Domain = { -0.1, 1.1, -0.1, 1.1 };
+    F.PatchCount = 1;
+    F.PatchesU = F.PatchesV = 1;
+    F.LoopCount = 1;
+    F.UVTolerance = 1e-9;
+    BezierPatch patch;
+    patch.Face = 0;
+    patch.Domain = F.Domain;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+      {
+        patch.ControlPoints[(4 * i + j) * 3] = 10.0 * (-0.1 + 1.2 * i / 3.0);
+        patch.ControlPoints[(4 * i + j) * 3 + 1] = 10.0 * (-0.1 + 1.2 * j / 3.0);
+      }
+    m.Patches.push_back(patch);
+    std::vector<std::array<double, 8>> segments = { line(0, 0, 1, 0), line(1, 0, 1, 1) };
+    if (hook)
+    {
+      segments.push_back(line(1, 1, -0.005, 0.999));
+      segments.push_back(line(-0.005, 0.999, 0, 0.9993));
+      segments.push_back(line(0, 0.9993, 0, 0));
+    }
+    else
+    {
+      segments.push_back(line(1, 1, 0, 1));
+      segments.push_back(line(0, 1, 0, 0));
+    }
+    TrimLoop loop;
+    loop.Face = 0;
+    loop.Outer = true;
+    loop.SegmentCount = static_cast<int>(segments.size());
+    for (const auto& c : segments)
+    {
+      TrimSegment t;
+      t.Face = 0;
+      t.Loop = 0;
+      t.ControlPoints = c;
+      m.TrimSegments.push_back(t);
+    }
+    m.Loops.push_back(loop);
+    return m;
+  };
+  EXPECT_LT(TrimLoopsCross(build(false), 0), 0.0);
+  const BRepModel m = build(true);
+  EXPECT_GE(TrimLoopsCross(m, 0), 0.0);
+  const SolverData data = PrepareSolver(m, SolverOptions());
+  ASSERT_EQ(data.FaceLoopsCross.size(), 1u);
+  EXPECT_GE(data.FaceLoopsCross[0], 0.0);
+  const NativeSolver native(m, data);
+  struct Probe
+  {
+    double u, v;
+    bool inside;
+  };
+  const Probe probes[] = { { 0.0, 1.0008, false }, { 0.0005, 1.0006, false },
+    { -0.02, 0.5, false }, { 0.5, 0.5, true }, { 0.01, 0.99, true } };
+  for (const Probe& p : probes)
+  {
+    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
+    bool inside = false;
+    int segment = -1;
+    double parameter = 0.0, distance = 0.0;
+    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
+    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
+                                << segment << " t " << parameter;
+  }
+  // The nearer curve's answer above the corner, which the parity replaces.
+  EXPECT_TRUE(ClassifyPoint(m, 0, 0.0, 1.0008).Inside);
+}
+
 TEST(TrimClassifier, NewtonProjectionOnCurvedSegment)
 {
   // Quarter circle of radius 1 as a cubic (standard kappa); projection of points on rays.
