@@ -285,6 +285,9 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
     (options.S1Spacing > 0.0 ? options.S1Spacing : data.Scale / 300.0) / 3.0;
   data.S1Spacing = spacing;
 
+  // The faces whose loops cross, before s1's trim tests, which take the parity there.
+  BuildLoopCrossings(model, data);
+
   // Patch grid breakpoints per face.
   for (size_t f = 0; f < model.Faces.size(); ++f)
   {
@@ -336,12 +339,15 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
     // near the trim comes near.
     const std::vector<TrimCandidate> near = TrimCandidatesFor(
       model, p.Face, { p.Domain[0], p.Domain[2], p.Domain[1], p.Domain[3] }, 2.0 * band);
+    const double loopsCross = data.FaceLoopsCross[static_cast<size_t>(p.Face)];
     auto wholly = [&](double ul, double uh, double vl, double vh) {
       for (const TrimCandidate& c : near)
         if (c.Box[0] - band <= uh && c.Box[2] + band >= ul && c.Box[1] - band <= vh &&
           c.Box[3] + band >= vl)
           return -1; // near the trim: each point tested
-      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near).Inside ? 1 : 0;
+      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near, loopsCross).Inside
+        ? 1
+        : 0;
     };
     auto at = [](int k, int count, double from, double to) { return from + (to - from) * (k + 0.5) / count; };
     constexpr int blockSize = 8;
@@ -368,7 +374,8 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         const size_t k = static_cast<size_t>((i / blockSize) * bv + j / blockSize);
         const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
         const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
-        if (decided[k] == 0 || (decided[k] < 0 && !ClassifyPointAmong(model, u, v, blockNear[k]).Inside))
+        if (decided[k] == 0 ||
+          (decided[k] < 0 && !ClassifyPointAmong(model, u, v, blockNear[k], loopsCross).Inside))
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
         perPatch[pi].push_back({ e.P, p.Face, false, u, v });
@@ -385,7 +392,6 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   BuildVertices(model, data);
   BuildPatchBoxes(model, data);
   BuildWallPartners(model, data);
-  BuildLoopCrossings(model, data);
   return data;
 }
 
@@ -418,7 +424,9 @@ void BuildWallPartners(const BRepModel& model, SolverData& data)
       {
         const double u = F.Domain[0] + (F.Domain[1] - F.Domain[0]) * (i + 0.5) / 4.0;
         const double v = F.Domain[2] + (F.Domain[3] - F.Domain[2]) * (j + 0.5) / 4.0;
-        if (!ClassifyPoint(model, face, u, v).Inside)
+        if (!ClassifyPoint(model, face, u, v,
+              data.FaceLoopsCross.size() == nf ? data.FaceLoopsCross[f] : -1.0)
+               .Inside)
           continue;
         const PatchEval e =
           EvaluatePatch(model.Patches[FindPatchFast(model, data, face, u, v)], u, v);
@@ -1225,7 +1233,11 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     {
       s.U = u0 + step * (cu - u0);
       s.V = v0 + step * (cv - v0);
-      inside = ClassifyPoint(model, s.Face, s.U, s.V).Inside;
+      inside = ClassifyPoint(model, s.Face, s.U, s.V,
+        data.FaceLoopsCross.size() == model.Faces.size()
+          ? data.FaceLoopsCross[static_cast<size_t>(s.Face)]
+          : -1.0)
+                 .Inside;
     }
     if (!inside)
     {

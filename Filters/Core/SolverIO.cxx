@@ -89,8 +89,8 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
   BuildS1Tree(m, d);
   BuildVertices(m, d);
   BuildPatchBoxes(m, d);
-  BuildWallPartners(m, d);
   BuildLoopCrossings(m, d);
+  BuildWallPartners(m, d);
   m.Stats.Faces = static_cast<int>(m.Faces.size());
   m.Stats.Patches = static_cast<int>(m.Patches.size());
 }

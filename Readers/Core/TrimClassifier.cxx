@@ -194,7 +194,7 @@ namespace
 {
 // ClassifyPoint over `candidates` (every segment of the face, or those TrimCandidatesFor kept).
 TrimProjection Classify(const BRepModel& model, double u, double v,
-  const TrimCandidate* candidates, size_t count)
+  const TrimCandidate* candidates, size_t count, double loopsCross)
 {
   TrimProjection res;
   res.Distance = std::numeric_limits<double>::max();
@@ -263,6 +263,18 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   if (res.Segment < 0)
   {
     return res; // no trimming curve: nothing is inside
+  }
+  // A face whose loops cross (TrimLoopsCross): the parity farther than four chords' errors from
+  // the trim (the kernel's classify, the same rule).
+  if (loopsCross >= 0.0)
+  {
+    const int face = model.TrimSegments[static_cast<size_t>(res.Segment)].Face;
+    const std::array<double, 4>& d = model.Faces[static_cast<size_t>(face)].Domain;
+    if (res.Distance > 4.0 * loopsCross + 1e-9 * (d[1] - d[0] + d[3] - d[2]))
+    {
+      res.Inside = InsideByCrossings(model, face, u, v);
+      return res;
+    }
   }
   const TrimLoop& loop = model.Loops[bestLoop];
   const auto& cp = model.TrimSegments[res.Segment].ControlPoints;
@@ -345,17 +357,18 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
 }
 } // namespace
 
-TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v)
+TrimProjection ClassifyPoint(
+  const BRepModel& model, int face, double u, double v, double loopsCross)
 {
   thread_local std::vector<TrimCandidate> all;
   FaceTrimCandidates(model, face, all);
-  return Classify(model, u, v, all.data(), all.size());
+  return Classify(model, u, v, all.data(), all.size(), loopsCross);
 }
 
 TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
-  const std::vector<TrimCandidate>& candidates)
+  const std::vector<TrimCandidate>& candidates, double loopsCross)
 {
-  return Classify(model, u, v, candidates.data(), candidates.size());
+  return Classify(model, u, v, candidates.data(), candidates.size(), loopsCross);
 }
 
 double TrimLoopsCross(const BRepModel& model, int face)

@@ -31,7 +31,12 @@ double ProjectOnSegment(const std::array<double, 8>& cp, double u, double v, dou
 /// point is the junction of two segments that are not tangent-continuous, the corner rule
 /// applies (a left turn is convex: outside; a right turn is concave: inside), but where the two
 /// tangents lie within 1e-3 rad of each other or of opposite (a cusp), InsideByCrossings decides.
-TrimProjection ClassifyPoint(const BRepModel& model, int face, double u, double v);
+///
+/// loopsCross: the face's TrimLoopsCross where known; where it is not negative (the face's loops
+/// cross), a point farther from the trim than four times it (and 1e-9 of the domain) takes
+/// InsideByCrossings' answer, as in the kernel's classify.
+TrimProjection ClassifyPoint(
+  const BRepModel& model, int face, double u, double v, double loopsCross = -1.0);
 
 /// A trimming segment of a face with its control box (SegmentBox), for ClassifyPoint over a
 /// part of the face's segments.
@@ -60,7 +65,7 @@ std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
 /// ClassifyPoint over the candidates TrimCandidatesFor gave for a UV box that holds (u, v): the
 /// same answer, without scanning the face's other segments.
 TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
-  const std::vector<TrimCandidate>& candidates);
+  const std::vector<TrimCandidate>& candidates, double loopsCross = -1.0);
 
 /// Independent point-in-face test by the parity of the crossings of a ray from (u,v) towards +u
 /// with the loops, each cubic segment flattened to 16 chords. Meant for points farther from the

@@ -333,8 +333,8 @@ TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
 /// domain's corner: 6 contacts at the corner above the hook, spheres of 2t 0.146 against the exact
 /// 0.234). Above the corner, (0, 1.0008), the nearest loop point is the hook's end, whose sides say
 /// inside. TrimLoopsCross finds the crossing (and none on the plain square), and the kernel's
-/// classify takes the crossing parity on such a face: outside. (The reader's ClassifyPoint keeps
-/// the nearer curve's answer: s1's points, docs/Solver.md, item 5.)
+/// classify, and the reader's ClassifyPoint given the face's TrimLoopsCross, take the crossing
+/// parity on such a face: outside.
 TEST(TrimClassifier, LoopThatCrossesItselfTakesTheCrossingParity)
 {
   auto line = [](double x0, double y0, double x1, double y1) {
@@ -416,7 +416,11 @@ TEST(TrimClassifier, LoopThatCrossesItselfTakesTheCrossingParity)
     EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
                                 << segment << " t " << parameter;
   }
-  // The nearer curve's answer above the corner, which the parity replaces.
+  // The reader's test with the face's TrimLoopsCross takes the parity too; without it, the nearer
+  // curve's answer above the corner, which the parity replaces.
+  for (const Probe& p : probes)
+    EXPECT_EQ(ClassifyPoint(m, 0, p.u, p.v, data.FaceLoopsCross[0]).Inside, p.inside)
+      << "ClassifyPoint (" << p.u << ", " << p.v << ")";
   EXPECT_TRUE(ClassifyPoint(m, 0, 0.0, 1.0008).Inside);
 }
 
