@@ -153,137 +153,30 @@ TEST(TrimClassifier, CuspTakesTheCrossingParity)
   EXPECT_TRUE(below.Corner);
 }
 
-/// Beside the tip of a sliver face, where its two edges run together: the tip of face 68 of the
-/// Ploopy headband (Headband-Triangle-SMALL, a rational B-spline face 8.8e-4 by 0.29 in its
-/// parameters, whose two edges lie within 3e-7 of each other and cross near the tip, so that its
-/// loop is a figure of eight there), its first segment down from the tip, a short closing segment,
-/// and its last segment back up to the tip, as the file's conversion gives them (to the last bit).
-/// At (2.96e-4, 0.289028), 2.1e-4 to the side of the tip, both edges' nearest points lie just
-/// below the tip at distances equal within 1.1e-9 (relative), and each edge's tangent puts the
-/// point on its own side: the nearer said inside, and a contact there, 0.27 mm outside the face,
-/// gave a sphere 2t = 0.547 where the exact is 0.696. The reader's ClassifyPoint and the kernel's
-/// classify must give the crossing parity's answer (outside) there.
-TEST(TrimClassifier, TiedEdgesBesideASliverTakeTheCrossingParity)
+/// A model of one face over `domain`, the plane z = 0 (one flat patch, ten times the domain's
+/// size: the kernel needs a patch per face), whose one outer loop is `segments`.
+BRepModel OneFaceModel(const std::array<double, 4>& domain,
+  const std::vector<std::array<double, 8>>& segments, double uvTolerance = 1e-9)
 {
   BRepModel m;
   m.Faces.resize(1);
   Face& F = m.Faces[0];
-  F.Domain = { 0.0, 1e-3, 0.0, 0.3 };
+  F.Domain = domain;
   F.PatchCount = 1;
   F.PatchesU = F.PatchesV = 1;
   F.LoopCount = 1;
-  F.UVTolerance = 4e-8;
-  BezierPatch patch; // the plane z = 0 over the domain (the kernel needs a patch per face)
-  patch.Face = 0;
-  patch.Domain = F.Domain;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-    {
-      patch.ControlPoints[(4 * i + j) * 3] = 100.0 * i / 3.0;
-      patch.ControlPoints[(4 * i + j) * 3 + 1] = 100.0 * j / 3.0;
-    }
-  m.Patches.push_back(patch);
-  const std::array<double, 8> down = { 8.8056931890676562e-05, 0.28902804582399244,
-    0.00010396923458925021, 0.28711742477597607, 0.00011979854110764232, 0.28506940260125591,
-    0.0001355369605204197, 0.28288861905085111 };
-  const std::array<double, 8> up = { 0.00013575764462472493, 0.28286013593856885,
-    0.00011995237339327605, 0.28505016667621208, 0.00010404967833121704, 0.28710773524542577,
-    8.8056931890676562e-05, 0.28902804582399244 };
-  std::array<double, 8> across{};
-  for (int k = 0; k < 4; ++k)
-  {
-    across[2 * k] = down[6] + (up[0] - down[6]) * k / 3.0;
-    across[2 * k + 1] = down[7] + (up[1] - down[7]) * k / 3.0;
-  }
-  TrimLoop loop;
-  loop.Face = 0;
-  loop.Outer = true;
-  loop.SegmentCount = 3;
-  for (const auto& c : { down, across, up })
-  {
-    TrimSegment s;
-    s.Face = 0;
-    s.Loop = 0;
-    s.ControlPoints = c;
-    m.TrimSegments.push_back(s);
-  }
-  m.Loops.push_back(loop);
-  const SolverData data = PrepareSolver(m, SolverOptions());
-  const NativeSolver native(m, data);
-  struct Probe
-  {
-    double u, v;
-    bool inside;
-  };
-  const Probe probes[] = { { 0.000296, 0.289028, false }, { 0.000296, 0.2889, false },
-    { 0.0002, 0.289028, false }, { 0.00012, 0.2855, false } };
-  // The case is a tie: at the first probe both edges lie as near within 1e-8, their nearest
-  // points inside the segments.
-  double dDown = 0.0, dUp = 0.0;
-  const double tDown = ProjectOnSegment(down, probes[0].u, probes[0].v, &dDown);
-  const double tUp = ProjectOnSegment(up, probes[0].u, probes[0].v, &dUp);
-  EXPECT_NEAR(dDown, dUp, 1e-8 * dDown);
-  EXPECT_GT(tDown, 0.0);
-  EXPECT_LT(tUp, 1.0);
-  for (const Probe& p : probes)
-  {
-    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v);
-    EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
-                                  << r.Segment << " t " << r.Parameter;
-    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
-    bool inside = false;
-    int segment = -1;
-    double parameter = 0.0, distance = 0.0;
-    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
-    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
-                                << segment << " t " << parameter;
-  }
-}
-
-/// A spike's tip whose sides are not next to each other on the loop: the triangle (0, 0),
-/// (10.3, 5), (-9.3, 9) traversed counter-clockwise, its tip rounded by a short fillet that turns
-/// right by 38 degrees (ending 1.4e-3 rad short of the way back), then a sliver 1e-4 long turning
-/// left, then the way back (the classic Ploopy trackball's secondary buttons, face 10, have such a
-/// tip). The loop turns left by 180.08 degrees at the tip, the fillet's end and the way back alone
-/// say right by 179.92: with the sliver left out as a side, the corner rule put points 5 away
-/// outside the spike's tip inside the face (37 spheres of that part too small, 2t 0.027 against
-/// the exact 2.0). There the crossing parity decides, in the reader and in the kernel.
-TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
-{
-  BRepModel m;
-  m.Faces.resize(1);
-  Face& F = m.Faces[0];
-  F.Domain = { -12.0, 14.0, -4.0, 12.0 };
-  F.PatchCount = 1;
-  F.PatchesU = F.PatchesV = 1;
-  F.LoopCount = 1;
-  F.UVTolerance = 1e-9;
+  F.UVTolerance = uvTolerance;
   BezierPatch patch;
   patch.Face = 0;
-  patch.Domain = F.Domain;
+  patch.Domain = domain;
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
     {
-      patch.ControlPoints[(4 * i + j) * 3] = -12.0 + 26.0 * i / 3.0;
-      patch.ControlPoints[(4 * i + j) * 3 + 1] = -4.0 + 16.0 * j / 3.0;
+      patch.ControlPoints[(4 * i + j) * 3] = 10.0 * (domain[0] + (domain[1] - domain[0]) * i / 3.0);
+      patch.ControlPoints[(4 * i + j) * 3 + 1] =
+        10.0 * (domain[2] + (domain[3] - domain[2]) * j / 3.0);
     }
   m.Patches.push_back(patch);
-  auto line = [](double x0, double y0, double x1, double y1) {
-    std::array<double, 8> c{};
-    for (int k = 0; k < 4; ++k)
-    {
-      c[2 * k] = x0 + (x1 - x0) * k / 3.0;
-      c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
-    }
-    return c;
-  };
-  // The way back: the fillet's end direction (0.98, -0.2) reversed, turned right by 1.4e-3 rad.
-  const double bx = -0.98 - 0.2 * 1.4e-3, by = 0.2 - 0.98 * 1.4e-3;
-  const double sx = 10.3 + 1e-4 * 0.2, sy = 5.0 + 1e-4 * 0.98; // the sliver's end
-  const double ex = sx + 20.0 * bx, ey = sy + 20.0 * by;
-  const std::vector<std::array<double, 8>> segments = { line(0, 0, 10, 5),
-    { 10, 5, 10.0894, 5.0447, 10.202, 5.02, 10.3, 5.0 }, // the fillet
-    line(10.3, 5.0, sx, sy), line(sx, sy, ex, ey), line(ex, ey, 0, 0) };
   TrimLoop loop;
   loop.Face = 0;
   loop.Outer = true;
@@ -297,22 +190,42 @@ TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
     m.TrimSegments.push_back(t);
   }
   m.Loops.push_back(loop);
-  const SolverData data = PrepareSolver(m, SolverOptions());
-  const NativeSolver native(m, data);
-  struct Probe
+  return m;
+}
+
+/// A straight segment from (x0, y0) to (x1, y1), its control points evenly spaced.
+std::array<double, 8> LineSegment(double x0, double y0, double x1, double y1)
+{
+  std::array<double, 8> c{};
+  for (int k = 0; k < 4; ++k)
   {
-    double u, v;
-    bool inside;
-  };
-  // Beyond the tip (its nearest loop point the fillet's end), and inside the triangle.
-  const Probe probes[] = { { 12.0, 0.0, false }, { 13.0, 2.0, false }, { 11.5, -2.0, false },
-    { 11.0, 3.0, false }, { 3.0, 4.0, true }, { 8.0, 5.0, true } };
+    c[2 * k] = x0 + (x1 - x0) * k / 3.0;
+    c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
+  }
+  return c;
+}
+
+struct Probe
+{
+  double u, v;
+  bool inside;
+};
+
+/// Each probe's side by the crossing parity, by the kernel's classify and by the reader's
+/// ClassifyPoint (given the face's TrimLoopsCross; with `loopsCross` false, as though its loops
+/// did not cross, so that the other rules decide alone).
+void ExpectSides(const BRepModel& m, const std::vector<Probe>& probes, bool loopsCross = true)
+{
+  SolverData data = PrepareSolver(m, SolverOptions());
+  if (!loopsCross)
+    data.FaceLoopsCross.assign(data.FaceLoopsCross.size(), -1.0);
+  const NativeSolver native(m, data);
   for (const Probe& p : probes)
   {
-    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v);
+    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
+    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v, data.FaceLoopsCross[0]);
     EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
                                   << r.Segment << " t " << r.Parameter << ", corner " << r.Corner;
-    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
     bool inside = false;
     int segment = -1;
     double parameter = 0.0, distance = 0.0;
@@ -320,8 +233,68 @@ TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
     EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
                                 << segment << " t " << parameter;
   }
+}
+
+/// Beside the tip of a sliver face, where its two edges run together: the tip of face 68 of the
+/// Ploopy headband (Headband-Triangle-SMALL, a rational B-spline face 8.8e-4 by 0.29 in its
+/// parameters, whose two edges lie within 3e-7 of each other and cross near the tip, so that its
+/// loop is a figure of eight there), its first segment down from the tip, a short closing segment,
+/// and its last segment back up to the tip, as the file's conversion gives them (to the last bit).
+/// At (2.96e-4, 0.289028), 2.1e-4 to the side of the tip, both edges' nearest points lie just
+/// below the tip at distances equal within 1.1e-9 (relative), and each edge's tangent puts the
+/// point on its own side: the nearer said inside, and a contact there, 0.27 mm outside the face,
+/// gave a sphere 2t = 0.547 where the exact is 0.696. The reader's ClassifyPoint and the kernel's
+/// classify must give the crossing parity's answer (outside) there.
+TEST(TrimClassifier, TiedEdgesBesideASliverTakeTheCrossingParity)
+{
+  const std::array<double, 8> down = { 8.8056931890676562e-05, 0.28902804582399244,
+    0.00010396923458925021, 0.28711742477597607, 0.00011979854110764232, 0.28506940260125591,
+    0.0001355369605204197, 0.28288861905085111 };
+  const std::array<double, 8> up = { 0.00013575764462472493, 0.28286013593856885,
+    0.00011995237339327605, 0.28505016667621208, 0.00010404967833121704, 0.28710773524542577,
+    8.8056931890676562e-05, 0.28902804582399244 };
+  const BRepModel m = OneFaceModel({ 0.0, 1e-3, 0.0, 0.3 },
+    { down, LineSegment(down[6], down[7], up[0], up[1]), up }, 4e-8);
+  const std::vector<Probe> probes = { { 0.000296, 0.289028, false }, { 0.000296, 0.2889, false },
+    { 0.0002, 0.289028, false }, { 0.00012, 0.2855, false } };
+  // The case is a tie: at the first probe both edges lie as near within 1e-8, their nearest
+  // points inside the segments.
+  double dDown = 0.0, dUp = 0.0;
+  const double tDown = ProjectOnSegment(down, probes[0].u, probes[0].v, &dDown);
+  const double tUp = ProjectOnSegment(up, probes[0].u, probes[0].v, &dUp);
+  EXPECT_NEAR(dDown, dUp, 1e-8 * dDown);
+  EXPECT_GT(tDown, 0.0);
+  EXPECT_LT(tUp, 1.0);
+  // The two edges cross near the tip (TrimLoopsCross), which alone would take the parity there
+  // too: the tie's rule is tested as though they did not, and then with it.
+  EXPECT_GE(TrimLoopsCross(m, 0), 0.0);
+  ExpectSides(m, probes, false);
+  ExpectSides(m, probes);
+}
+
+/// A spike's tip whose sides are not next to each other on the loop: the triangle (0, 0),
+/// (10.3, 5), (-9.3, 9) traversed counter-clockwise, its tip rounded by a short fillet that turns
+/// right by 38 degrees (ending 1.4e-3 rad short of the way back), then a sliver 1e-4 long turning
+/// left, then the way back (the classic Ploopy trackball's secondary buttons, face 10, have such a
+/// tip). The loop turns left by 180.08 degrees at the tip, the fillet's end and the way back alone
+/// say right by 179.92: with the sliver left out as a side, the corner rule put points 5 away
+/// outside the spike's tip inside the face (37 spheres of that part too small, 2t 0.027 against
+/// the exact 2.0). There the crossing parity decides, in the reader and in the kernel.
+TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
+{
+  // The way back: the fillet's end direction (0.98, -0.2) reversed, turned right by 1.4e-3 rad.
+  const double bx = -0.98 - 0.2 * 1.4e-3, by = 0.2 - 0.98 * 1.4e-3;
+  const double sx = 10.3 + 1e-4 * 0.2, sy = 5.0 + 1e-4 * 0.98; // the sliver's end
+  const double ex = sx + 20.0 * bx, ey = sy + 20.0 * by;
+  const BRepModel m = OneFaceModel({ -12.0, 14.0, -4.0, 12.0 },
+    { LineSegment(0, 0, 10, 5), { 10, 5, 10.0894, 5.0447, 10.202, 5.02, 10.3, 5.0 }, // fillet
+      LineSegment(10.3, 5.0, sx, sy), LineSegment(sx, sy, ex, ey), LineSegment(ex, ey, 0, 0) });
+  EXPECT_LT(TrimLoopsCross(m, 0), 0.0); // the corner's rule alone decides
+  // Beyond the tip (its nearest loop point the fillet's end), and inside the triangle.
+  ExpectSides(m, { { 12.0, 0.0, false }, { 13.0, 2.0, false }, { 11.5, -2.0, false },
+                   { 11.0, 3.0, false }, { 3.0, 4.0, true }, { 8.0, 5.0, true } });
   // The first probe's nearest loop point is the fillet's end, and the sliver is left out there.
-  const TrimProjection tip = ClassifyPoint(m, 0, probes[0].u, probes[0].v);
+  const TrimProjection tip = ClassifyPoint(m, 0, 12.0, 0.0);
   EXPECT_TRUE(tip.Corner);
   EXPECT_TRUE(tip.Segment == 1 || tip.Segment == 2) << tip.Segment;
 }
@@ -337,90 +310,18 @@ TEST(TrimClassifier, CornerAcrossASliverTakesTheCrossingParity)
 /// parity on such a face: outside.
 TEST(TrimClassifier, LoopThatCrossesItselfTakesTheCrossingParity)
 {
-  auto line = [](double x0, double y0, double x1, double y1) {
-    std::array<double, 8> c{};
-    for (int k = 0; k < 4; ++k)
-    {
-      c[2 * k] = x0 + (x1 - x0) * k / 3.0;
-      c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
-    }
-    return c;
-  };
-  auto build = [&](bool hook) {
-    BRepModel m;
-    m.Faces.resize(1);
-    Face& F = m.Faces[0];
-    F.Domain = { -0.1, 1.1, -0.1, 1.1 };
-    F.PatchCount = 1;
-    F.PatchesU = F.PatchesV = 1;
-    F.LoopCount = 1;
-    F.UVTolerance = 1e-9;
-    BezierPatch patch;
-    patch.Face = 0;
-    patch.Domain = F.Domain;
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j)
-      {
-        patch.ControlPoints[(4 * i + j) * 3] = 10.0 * (-0.1 + 1.2 * i / 3.0);
-        patch.ControlPoints[(4 * i + j) * 3 + 1] = 10.0 * (-0.1 + 1.2 * j / 3.0);
-      }
-    m.Patches.push_back(patch);
-    std::vector<std::array<double, 8>> segments = { line(0, 0, 1, 0), line(1, 0, 1, 1) };
-    if (hook)
-    {
-      segments.push_back(line(1, 1, -0.005, 0.999));
-      segments.push_back(line(-0.005, 0.999, 0, 0.9993));
-      segments.push_back(line(0, 0.9993, 0, 0));
-    }
-    else
-    {
-      segments.push_back(line(1, 1, 0, 1));
-      segments.push_back(line(0, 1, 0, 0));
-    }
-    TrimLoop loop;
-    loop.Face = 0;
-    loop.Outer = true;
-    loop.SegmentCount = static_cast<int>(segments.size());
-    for (const auto& c : segments)
-    {
-      TrimSegment t;
-      t.Face = 0;
-      t.Loop = 0;
-      t.ControlPoints = c;
-      m.TrimSegments.push_back(t);
-    }
-    m.Loops.push_back(loop);
-    return m;
-  };
-  EXPECT_LT(TrimLoopsCross(build(false), 0), 0.0);
-  const BRepModel m = build(true);
+  const std::array<double, 4> domain = { -0.1, 1.1, -0.1, 1.1 };
+  const BRepModel square = OneFaceModel(domain, { LineSegment(0, 0, 1, 0),
+    LineSegment(1, 0, 1, 1), LineSegment(1, 1, 0, 1), LineSegment(0, 1, 0, 0) });
+  EXPECT_LT(TrimLoopsCross(square, 0), 0.0);
+  const BRepModel m = OneFaceModel(domain, { LineSegment(0, 0, 1, 0), LineSegment(1, 0, 1, 1),
+    LineSegment(1, 1, -0.005, 0.999), LineSegment(-0.005, 0.999, 0, 0.9993),
+    LineSegment(0, 0.9993, 0, 0) });
   EXPECT_GE(TrimLoopsCross(m, 0), 0.0);
-  const SolverData data = PrepareSolver(m, SolverOptions());
-  ASSERT_EQ(data.FaceLoopsCross.size(), 1u);
-  EXPECT_GE(data.FaceLoopsCross[0], 0.0);
-  const NativeSolver native(m, data);
-  struct Probe
-  {
-    double u, v;
-    bool inside;
-  };
-  const Probe probes[] = { { 0.0, 1.0008, false }, { 0.0005, 1.0006, false },
-    { -0.02, 0.5, false }, { 0.5, 0.5, true }, { 0.01, 0.99, true } };
-  for (const Probe& p : probes)
-  {
-    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
-    bool inside = false;
-    int segment = -1;
-    double parameter = 0.0, distance = 0.0;
-    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
-    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
-                                << segment << " t " << parameter;
-  }
-  // The reader's test with the face's TrimLoopsCross takes the parity too; without it, the nearer
-  // curve's answer above the corner, which the parity replaces.
-  for (const Probe& p : probes)
-    EXPECT_EQ(ClassifyPoint(m, 0, p.u, p.v, data.FaceLoopsCross[0]).Inside, p.inside)
-      << "ClassifyPoint (" << p.u << ", " << p.v << ")";
+  ExpectSides(m, { { 0.0, 1.0008, false }, { 0.0005, 1.0006, false }, { -0.02, 0.5, false },
+                   { 0.5, 0.5, true }, { 0.01, 0.99, true } });
+  // Without the face's TrimLoopsCross, the reader's test keeps the nearer curve's answer above
+  // the corner, which the parity replaces.
   EXPECT_TRUE(ClassifyPoint(m, 0, 0.0, 1.0008).Inside);
 }
 
