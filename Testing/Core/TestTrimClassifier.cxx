@@ -23,6 +23,88 @@ namespace
 {
 using namespace brt;
 
+/// A model of one face over `domain`, the plane z = 0 (one flat patch, ten times the domain's
+/// size: the kernel needs a patch per face), whose one outer loop is `segments`.
+BRepModel OneFaceModel(const std::array<double, 4>& domain,
+  const std::vector<std::array<double, 8>>& segments, double uvTolerance = 1e-9)
+{
+  BRepModel m;
+  m.Faces.resize(1);
+  Face& F = m.Faces[0];
+  F.Domain = domain;
+  F.PatchCount = 1;
+  F.PatchesU = F.PatchesV = 1;
+  F.LoopCount = 1;
+  F.UVTolerance = uvTolerance;
+  BezierPatch patch;
+  patch.Face = 0;
+  patch.Domain = domain;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+    {
+      patch.ControlPoints[(4 * i + j) * 3] = 10.0 * (domain[0] + (domain[1] - domain[0]) * i / 3.0);
+      patch.ControlPoints[(4 * i + j) * 3 + 1] =
+        10.0 * (domain[2] + (domain[3] - domain[2]) * j / 3.0);
+    }
+  m.Patches.push_back(patch);
+  TrimLoop loop;
+  loop.Face = 0;
+  loop.Outer = true;
+  loop.SegmentCount = static_cast<int>(segments.size());
+  for (const auto& c : segments)
+  {
+    TrimSegment t;
+    t.Face = 0;
+    t.Loop = 0;
+    t.ControlPoints = c;
+    m.TrimSegments.push_back(t);
+  }
+  m.Loops.push_back(loop);
+  return m;
+}
+
+/// A straight segment from (x0, y0) to (x1, y1), its control points evenly spaced.
+std::array<double, 8> LineSegment(double x0, double y0, double x1, double y1)
+{
+  std::array<double, 8> c{};
+  for (int k = 0; k < 4; ++k)
+  {
+    c[2 * k] = x0 + (x1 - x0) * k / 3.0;
+    c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
+  }
+  return c;
+}
+
+struct Probe
+{
+  double u, v;
+  bool inside;
+};
+
+/// Each probe's side by the crossing parity, by the kernel's classify and by the reader's
+/// ClassifyPoint (given the face's TrimLoopsCross; with `loopsCross` false, as though its loops
+/// did not cross, so that the other rules decide alone).
+void ExpectSides(const BRepModel& m, const std::vector<Probe>& probes, bool loopsCross = true)
+{
+  SolverData data = PrepareSolver(m, SolverOptions());
+  if (!loopsCross)
+    data.FaceLoopsCross.assign(data.FaceLoopsCross.size(), -1.0);
+  const NativeSolver native(m, data);
+  for (const Probe& p : probes)
+  {
+    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
+    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v, data.FaceLoopsCross[0]);
+    EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
+                                  << r.Segment << " t " << r.Parameter << ", corner " << r.Corner;
+    bool inside = false;
+    int segment = -1;
+    double parameter = 0.0, distance = 0.0;
+    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
+    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
+                                << segment << " t " << parameter;
+  }
+}
+
 /// Adds a closed polygon loop (straight cubic segments) to face 0 of `m`.
 void AddPolygon(BRepModel& m, const std::vector<std::array<double, 2>>& pts, bool outer)
 {
@@ -111,128 +193,18 @@ TEST(TrimClassifier, CornerRuleConcaveInsideConvexOutside)
 /// tangent's answer inside the spike.
 TEST(TrimClassifier, CuspTakesTheCrossingParity)
 {
-  BRepModel m;
-  m.Faces.resize(1);
-  m.Faces[0].Domain = { 0.0, 10.0, 0.0, 10.0 };
   const double eps = 1e-6;
-  const std::vector<std::array<double, 8>> segments = {
-    { 3, 10, 3.5, 6, 5 + eps, 4, 5, 2 }, // down to the tip, from the left
-    { 5, 2, 5, 4, 6.5, 6, 7, 10 },       // back up, to the right
-    { 7, 10, 17.0 / 3, 10, 13.0 / 3, 10, 3, 10 } };
-  TrimLoop loop;
-  loop.Face = 0;
-  loop.Outer = true;
-  loop.SegmentCount = 3;
-  for (const auto& c : segments)
-  {
-    TrimSegment s;
-    s.Face = 0;
-    s.Loop = 0;
-    s.ControlPoints = c;
-    m.TrimSegments.push_back(s);
-  }
-  m.Loops.push_back(loop);
-  m.Faces[0].LoopCount = 1;
+  const BRepModel m = OneFaceModel({ 0.0, 10.0, 0.0, 10.0 },
+    { { 3, 10, 3.5, 6, 5 + eps, 4, 5, 2 }, // down to the tip, from the left
+      { 5, 2, 5, 4, 6.5, 6, 7, 10 },       // back up, to the right
+      { 7, 10, 17.0 / 3, 10, 13.0 / 3, 10, 3, 10 } });
   // The tangents at the tip: (-eps, -2) in, (0, 2) out; their turn -2 eps says "concave".
-  struct Probe
-  {
-    double u, v;
-    bool inside;
-  };
-  const Probe probes[] = { { 5.01, 1.9, false }, { 4.99, 1.95, false }, { 5.3, 1.0, false },
-    { 4.6, 1.2, false }, { 5.0, 2.3, true }, { 5.0, 6.0, true } };
-  for (const Probe& p : probes)
-  {
-    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v);
-    EXPECT_EQ(r.Inside, p.inside) << "(" << p.u << ", " << p.v << "): segment " << r.Segment
-                                  << " t " << r.Parameter << ", corner " << r.Corner;
-    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
-  }
+  EXPECT_LT(TrimLoopsCross(m, 0), 0.0); // the cusp's rule alone decides
+  ExpectSides(m, { { 5.01, 1.9, false }, { 4.99, 1.95, false }, { 5.3, 1.0, false },
+                   { 4.6, 1.2, false }, { 5.0, 2.3, true }, { 5.0, 6.0, true } });
   // Below the tip the nearest point is the tip, decided as a corner.
   const TrimProjection below = ClassifyPoint(m, 0, 5.01, 1.9);
   EXPECT_TRUE(below.Corner);
-}
-
-/// A model of one face over `domain`, the plane z = 0 (one flat patch, ten times the domain's
-/// size: the kernel needs a patch per face), whose one outer loop is `segments`.
-BRepModel OneFaceModel(const std::array<double, 4>& domain,
-  const std::vector<std::array<double, 8>>& segments, double uvTolerance = 1e-9)
-{
-  BRepModel m;
-  m.Faces.resize(1);
-  Face& F = m.Faces[0];
-  F.Domain = domain;
-  F.PatchCount = 1;
-  F.PatchesU = F.PatchesV = 1;
-  F.LoopCount = 1;
-  F.UVTolerance = uvTolerance;
-  BezierPatch patch;
-  patch.Face = 0;
-  patch.Domain = domain;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-    {
-      patch.ControlPoints[(4 * i + j) * 3] = 10.0 * (domain[0] + (domain[1] - domain[0]) * i / 3.0);
-      patch.ControlPoints[(4 * i + j) * 3 + 1] =
-        10.0 * (domain[2] + (domain[3] - domain[2]) * j / 3.0);
-    }
-  m.Patches.push_back(patch);
-  TrimLoop loop;
-  loop.Face = 0;
-  loop.Outer = true;
-  loop.SegmentCount = static_cast<int>(segments.size());
-  for (const auto& c : segments)
-  {
-    TrimSegment t;
-    t.Face = 0;
-    t.Loop = 0;
-    t.ControlPoints = c;
-    m.TrimSegments.push_back(t);
-  }
-  m.Loops.push_back(loop);
-  return m;
-}
-
-/// A straight segment from (x0, y0) to (x1, y1), its control points evenly spaced.
-std::array<double, 8> LineSegment(double x0, double y0, double x1, double y1)
-{
-  std::array<double, 8> c{};
-  for (int k = 0; k < 4; ++k)
-  {
-    c[2 * k] = x0 + (x1 - x0) * k / 3.0;
-    c[2 * k + 1] = y0 + (y1 - y0) * k / 3.0;
-  }
-  return c;
-}
-
-struct Probe
-{
-  double u, v;
-  bool inside;
-};
-
-/// Each probe's side by the crossing parity, by the kernel's classify and by the reader's
-/// ClassifyPoint (given the face's TrimLoopsCross; with `loopsCross` false, as though its loops
-/// did not cross, so that the other rules decide alone).
-void ExpectSides(const BRepModel& m, const std::vector<Probe>& probes, bool loopsCross = true)
-{
-  SolverData data = PrepareSolver(m, SolverOptions());
-  if (!loopsCross)
-    data.FaceLoopsCross.assign(data.FaceLoopsCross.size(), -1.0);
-  const NativeSolver native(m, data);
-  for (const Probe& p : probes)
-  {
-    EXPECT_EQ(InsideByCrossings(m, 0, p.u, p.v), p.inside) << "(" << p.u << ", " << p.v << ")";
-    const TrimProjection r = ClassifyPoint(m, 0, p.u, p.v, data.FaceLoopsCross[0]);
-    EXPECT_EQ(r.Inside, p.inside) << "ClassifyPoint (" << p.u << ", " << p.v << "): segment "
-                                  << r.Segment << " t " << r.Parameter << ", corner " << r.Corner;
-    bool inside = false;
-    int segment = -1;
-    double parameter = 0.0, distance = 0.0;
-    native.Classify(0, p.u, p.v, inside, segment, parameter, distance);
-    EXPECT_EQ(inside, p.inside) << "kernel classify (" << p.u << ", " << p.v << "): segment "
-                                << segment << " t " << parameter;
-  }
 }
 
 /// Beside the tip of a sliver face, where its two edges run together: the tip of face 68 of the
