@@ -24,7 +24,8 @@
 // exact faces enters deeper than the clearance, by bisection on t with the same two distances
 // from the centre to the solid's faces (Testing/Core/TestSolverRims.cxx uses BRepExtrema), reported as
 // eq. 1's radius through the exact foot point; printed: the share of them within 1e-4 relative
-// of ours, and the largest differences. With --indices, a failed sample gets its exact thickness
+// of ours, how many of the others are edge zones (brt::IsEdgeZone: the map's class a user does
+// not read as thin), and the largest differences. With --indices, a failed sample gets its exact thickness
 // too (what it should have been). With --gap the same for the exterior gap (the sphere from
 // the outward normal, in the air; --all-solids: bounded by every solid's faces): the overlap is
 // measured against the faces that bound it, --thickness M checks M gaps by the same bisection,
@@ -34,6 +35,7 @@
 #include "ExactDistance.h"
 #include "ResultCheck.h"
 #include "Solver.h"
+#include "Statistics.h"
 #ifdef BRT_HAVE_OPENCL
 #include "OpenCLSolver.h"
 #endif
@@ -84,7 +86,8 @@ const char* const Usage =
   "where that is nearer, and with --grid N the nearest point on the face of an N x N grid over\n"
   "each such face's parameters, refined three times: a third opinion, slow, off by default).\n"
   "Prints solved, failed (per reason, flagged as the filter flags them: samples on open shells\n"
-  "and non-manifold solids fail) and overlapping shares (overlap beyond the clearance plus\n"
+  "and non-manifold solids fail; also over every sample of the part, with the first few that\n"
+  "the checks after the solve flag) and overlapping shares (overlap beyond the clearance plus\n"
   "the conversion tolerance and 1e-4 t), the largest overlap and the K worst samples (--list),\n"
   "and the solved samples whose sphere's centre lies outside their solid (OpenCASCADE's\n"
   "classifier, confirmed by most of seven rays from it): a sphere in the air touches the\n"
@@ -93,7 +96,9 @@ const char* const Usage =
   "by more than the tolerance (OpenCASCADE's face classifier and distance, confirmed by its 2D\n"
   "classifier).\n"
   "--thickness M: the first M solved samples against an exact thickness (bisection on t with\n"
-  "OpenCASCADE's distance), the share within 1e-4 relative and the largest differences.\n"
+  "OpenCASCADE's distance), the share within 1e-4 relative, how many of the others lie in edge\n"
+  "zones (a corner bounds the sphere: the map's class left out of the thin share by default),\n"
+  "and the largest differences.\n"
   "--gap: the exterior gap instead (--all-solids: every solid's walls bound it); samples with an\n"
   "infinite gap are checked to face nothing up to a radius of the bounding-box diagonal.\n"
   "--indices I,J,...: those samples (indices into every mesh vertex, as brt_thickness_bench\n"
@@ -281,6 +286,35 @@ int main(int argc, char** argv)
       std::fprintf(stderr, "error: built without OpenCL\n");
       return 2;
 #endif
+    }
+    // Every sample flagged as the filter flags it: the failed share a user sees over the part.
+    std::string everyLine;
+    if (!solveDrawn)
+    {
+      std::vector<brt::SampleResult> every = res;
+      brt::CheckResults(m, all, every);
+      std::map<std::string, size_t> why;
+      size_t failedAll = 0;
+      std::string newly; // flagged here, solved by the solver: the first few, with their 2t
+      int shown = 0;
+      for (size_t i = 0; i < every.size(); ++i)
+      {
+        const brt::SampleResult& r = every[i];
+        if (r.Type != brt::ContactType::Failed)
+          continue;
+        ++failedAll;
+        ++why[brt::FailReasonName(r.Reason)];
+        if (res[i].Type != brt::ContactType::Failed && shown++ < 6)
+          newly += (newly.empty() ? "" : ", ") + std::to_string(i) + " (2t " +
+            std::to_string(res[i].Thickness) + ")";
+      }
+      everyLine = "    every sample, flagged as the filter flags them: " + std::to_string(failedAll) +
+        " of " + std::to_string(every.size()) + " failed";
+      for (const auto& w : why)
+        everyLine += "; " + w.first + " " + std::to_string(w.second);
+      if (!newly.empty())
+        everyLine += "; flagged after the solve, first: " + newly;
+      everyLine += "\n";
     }
     if (!solveDrawn)
     {
@@ -483,6 +517,7 @@ int main(int argc, char** argv)
     std::printf("%-34s %7zu %8zu %8zu %9zu %9.2f%% %9.3g  %s\n", name.c_str(), samples.size(),
       solved, failed, overlapping, 100.0 * overlapping / std::max<size_t>(solved, 1), largest,
       why.c_str());
+    std::fputs(everyLine.c_str(), stdout);
     std::fputs(otherSolidLine, stdout);
     std::printf("    second distance (every extremum on the faces and edges near the centre%s): "
                 "nearer than BRepExtrema's on %zu solved samples; overlaps it alone finds: %zu "
@@ -655,7 +690,7 @@ int main(int argc, char** argv)
       size_t checked = 0, agree = 0;
       std::vector<std::pair<double, size_t>> diffs;
       std::vector<double> clearanceValue(samples.size(), 0.0); // before the shrinking ball
-      size_t agreeClearance = 0, agreeStrict = 0;
+      size_t agreeClearance = 0, agreeStrict = 0, missEdgeZone = 0;
       for (size_t k = 0; k < samples.size() && checked < exactCount; ++k)
       {
         const brt::SampleResult& r = res[k];
@@ -730,21 +765,28 @@ int main(int argc, char** argv)
         agreeClearance += relC <= 1e-4;
         agreeStrict += relS <= 1e-4;
         agree += relC <= 1e-4 || relS <= 1e-4;
+        // A miss whose sphere a corner bounds (an edge zone: the map's own class, left out of the
+        // thin share by default) is one a user does not read as a thin wall.
+        if (!(relC <= 1e-4 || relS <= 1e-4))
+          missEdgeZone += brt::IsEdgeZone(samples[k].Point.data(), r);
         const double nearer = relC < relS ? clearanceValue[k] : exact;
         diffs.emplace_back(r.Thickness - nearer, k);
       }
       std::sort(diffs.begin(), diffs.end(),
         [](const auto& x, const auto& y) { return std::fabs(x.first) > std::fabs(y.first); });
       std::printf("    exact thickness on %zu solved samples: %zu within 1e-4 relative (%.1f%%) of "
-                  "the clearance's or the strict sphere (%zu and %zu of each)\n",
-        checked, agree, 100.0 * agree / std::max<size_t>(checked, 1), agreeClearance, agreeStrict);
+                  "the clearance's or the strict sphere (%zu and %zu of each); of the others, %zu "
+                  "in edge zones\n",
+        checked, agree, 100.0 * agree / std::max<size_t>(checked, 1), agreeClearance, agreeStrict,
+        missEdgeZone);
       for (size_t w = 0; w < diffs.size() && static_cast<int>(w) < list; ++w)
       {
         const size_t k = diffs[w].second;
         std::printf("    sample %zu (face %d): ours 2t = %.6g, exact %.6g (%s; clearance's "
-                    "sphere %.6g)\n",
+                    "sphere %.6g%s)\n",
           pick[k], samples[k].Face, res[k].Thickness, res[k].Thickness - diffs[w].first,
-          brt::ContactTypeName(res[k].Type), clearanceValue[k]);
+          brt::ContactTypeName(res[k].Type), clearanceValue[k],
+          brt::IsEdgeZone(samples[k].Point.data(), res[k]) ? "; edge zone" : "");
       }
     }
     if (gap)
