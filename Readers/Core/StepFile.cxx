@@ -1,4 +1,5 @@
 #include "StepFile.h"
+#include "StepScan.h"
 
 #include <APIHeaderSection_MakeHeader.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -47,6 +48,99 @@ std::string Upper(std::string s)
 {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
   return s;
+}
+
+std::string Count(long n, const char* one, const char* many)
+{
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+/// The STEP files that a file names as the sources of its parts (an assembly of external
+/// references: EXTERNAL_SOURCE(IDENTIFIER('part.stp')), DOCUMENT_FILE('part.stp', ...)): names
+/// ending in .stp or .step, each once, in the file's order. Read from the text only where the
+/// scan met such an entity.
+std::vector<std::string> ExternalStepFiles(const std::string& path, const StepScanResult& scan)
+{
+  std::vector<std::string> names;
+  bool any = false;
+  for (const auto& entry : scan.TypeNames)
+    any = any || entry.second == "EXTERNAL_SOURCE" || entry.second == "DOCUMENT_FILE";
+  if (!any)
+    return names;
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string upper = Upper(text);
+  std::vector<std::pair<size_t, std::string>> found;
+  for (const std::string key : { "EXTERNAL_SOURCE", "DOCUMENT_FILE" })
+  {
+    for (size_t at = upper.find(key); at != std::string::npos; at = upper.find(key, at + 1))
+    {
+      // The first quoted string after the name, within the entity (IDENTIFIER('...') for a
+      // source, the document's id for a file).
+      const size_t q = text.find('\'', at);
+      const size_t stop = text.find(';', at);
+      if (q == std::string::npos || (stop != std::string::npos && q > stop) || q - at > 64)
+        continue;
+      const size_t end = text.find('\'', q + 1);
+      if (end == std::string::npos || end - q > 256)
+        continue;
+      const std::string name = text.substr(q + 1, end - q - 1);
+      const std::string un = Upper(name);
+      const bool stepName = (un.size() > 4 && un.compare(un.size() - 4, 4, ".STP") == 0) ||
+        (un.size() > 5 && un.compare(un.size() - 5, 5, ".STEP") == 0);
+      if (stepName)
+        found.emplace_back(at, name);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  for (const auto& f : found)
+    if (std::find(names.begin(), names.end(), f.second) == names.end())
+      names.push_back(f.second);
+  return names;
+}
+
+std::string NameList(const std::vector<std::string>& names)
+{
+  std::string list;
+  for (size_t i = 0; i < names.size() && i < 3; ++i)
+    list += (i ? ", " : "") + names[i];
+  if (names.size() > 3)
+    list += " and " + std::to_string(names.size() - 3) + " more";
+  return list;
+}
+
+/// Why a file that OpenCASCADE read gave no B-Rep face, where the file says: its shapes are
+/// triangles only (AP242's tessellated geometry: a mesh, not the exact faces this tool measures),
+/// or its parts lie in other files that it names (an assembly of external references). Empty
+/// where neither.
+std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
+{
+  if (scan.DeclaredFaces > 0)
+    return std::string();
+  long triangulated = 0, tessellated = 0;
+  for (const auto& entry : scan.TypeNames)
+  {
+    const std::string& t = entry.second;
+    if (t == "TRIANGULATED_FACE" || t == "COMPLEX_TRIANGULATED_FACE" ||
+      t == "TRIANGULATED_SURFACE_SET" || t == "COMPLEX_TRIANGULATED_SURFACE_SET")
+      ++triangulated;
+    else if (t == "TESSELLATED_SOLID" || t == "TESSELLATED_SHELL")
+      ++tessellated;
+  }
+  if (triangulated > 0)
+    return "holds only tessellated geometry (" +
+      Count(triangulated, "triangulated face", "triangulated faces") +
+      (tessellated > 0
+          ? " in " + Count(tessellated, "tessellated solid or shell", "tessellated solids or shells")
+          : std::string()) +
+      ", AP242's meshes) and no B-Rep faces: the thickness is measured on the exact faces; "
+      "export the model with its B-Rep solids (AP203, AP214, or AP242 with B-Rep)";
+  const std::vector<std::string> names = ExternalStepFiles(path, scan);
+  if (!names.empty())
+    return "is an assembly whose parts lie in other files that it names (" + NameList(names) +
+      ") and holds no B-Rep faces itself: open each part's own file, or export the assembly as "
+      "one file";
+  return std::string();
 }
 
 /// Silences OpenCASCADE's default console printers while alive (the STEP parser prints every
@@ -328,11 +422,15 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     }
     else if (result.Roots == 0)
     {
-      Fail(path, "holds no shape that can be transferred (no product, solid, shell or face)");
+      const std::string why = WhyNoBRep(path, result.Scan);
+      Fail(path, why.empty()
+          ? "holds no shape that can be transferred (no product, solid, shell or face)"
+          : why);
     }
     if (reader.NbShapes() == 0)
     {
-      Fail(path, "holds no geometry that OpenCASCADE could transfer");
+      const std::string why = WhyNoBRep(path, result.Scan);
+      Fail(path, why.empty() ? "holds no geometry that OpenCASCADE could transfer" : why);
     }
     shape = reader.OneShape();
     int regrouped = 0;
@@ -349,6 +447,9 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   }
   if (shape.IsNull() || !TopExp_Explorer(shape, TopAbs_FACE).More())
   {
+    const std::string why = WhyNoBRep(path, result.Scan);
+    if (!why.empty())
+      Fail(path, why);
     Fail(path, "holds no solid, shell or face (only curves, points or nothing): there is no "
                "wall to measure");
   }
@@ -372,6 +473,13 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   {
     result.Warnings.push_back("the file declares " + std::to_string(scan.DeclaredSolids) +
       " solids but only " + std::to_string(solids.Extent()) + " were transferred");
+  }
+  // Parts the file leaves to other files (an assembly of external references): not read.
+  const std::vector<std::string> external = ExternalStepFiles(path, scan);
+  if (!external.empty())
+  {
+    result.Warnings.push_back("the file names other STEP files as the sources of parts (" +
+      NameList(external) + "): those parts are not read, only the geometry in this file");
   }
   if (scan.SurfaceModels > 0)
   {

@@ -95,6 +95,101 @@ TEST(BadInput, CurvesButNoSolidOrFace)
   ExpectError(p.string(), "no solid, shell or face");
 }
 
+// An AP242 file whose part is a mesh only (a TESSELLATED_SOLID of TRIANGULATED_FACEs, as CATIA and
+// NIST's test cases write them): OpenCASCADE 7.6 transfers nothing, and the error says why.
+const char* const TessellatedOnly = R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION((''),'2;1');
+FILE_NAME('tessellated.step','2026-12-05T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
+ENDSEC;
+DATA;
+#1=APPLICATION_CONTEXT('managed model based 3d engineering');
+#2=PRODUCT_CONTEXT('',#1,'mechanical');
+#3=PRODUCT('tet','tet','',(#2));
+#4=PRODUCT_DEFINITION_FORMATION('','',#3);
+#5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
+#6=PRODUCT_DEFINITION('design','',#4,#5);
+#7=PRODUCT_DEFINITION_SHAPE('','',#6);
+#8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
+#9=TESSELLATED_SHAPE_REPRESENTATION('',(#10),#20);
+#10=TESSELLATED_SOLID('',(#11),$);
+#11=TRIANGULATED_FACE('',#12,4,((0.,0.,-1.)),$,(1,2,3,4),((1,3,2),(1,2,4),(2,3,4),(3,1,4)));
+#12=COORDINATES_LIST('',4,((0.,0.,0.),(10.,0.,0.),(0.,10.,0.),(0.,0.,10.)));
+#20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
+#21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
+#22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
+#23=(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT());
+#24=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#21,'distance_accuracy_value','');
+ENDSEC;
+END-ISO-10303-21;
+)";
+
+TEST(BadInput, TessellatedGeometryOnly)
+{
+  const fs::path p = TempDir() / "tessellated-only.step";
+  Write(p, TessellatedOnly);
+  ExpectError(p.string(), "holds only tessellated geometry (1 triangulated face in 1 tessellated "
+                          "solid or shell, AP242's meshes) and no B-Rep faces");
+}
+
+// An assembly whose parts lie in other files (EXTERNAL_SOURCE names them, as CAx-IF's external
+// reference test files do): an error naming them where the file holds no face itself, a warning
+// where it holds some.
+TEST(BadInput, AssemblyOfExternalFiles)
+{
+  std::string assembly = R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION((''),'2;1');
+FILE_NAME('assembly.step','2026-12-05T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
+ENDSEC;
+DATA;
+#1=APPLICATION_CONTEXT('managed model based 3d engineering');
+#2=PRODUCT_CONTEXT('',#1,'mechanical');
+#3=PRODUCT('tet','tet','',(#2));
+#4=PRODUCT_DEFINITION_FORMATION('','',#3);
+#5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
+#6=PRODUCT_DEFINITION('design','',#4,#5);
+#7=PRODUCT_DEFINITION_SHAPE('','',#6);
+#8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
+#9=SHAPE_REPRESENTATION('',(#13),#20);
+#13=AXIS2_PLACEMENT_3D('',#14,#15,#16);
+#14=CARTESIAN_POINT('',(0.,0.,0.));
+#15=DIRECTION('',(0.,0.,1.));
+#16=DIRECTION('',(1.,0.,0.));
+#30=EXTERNAL_SOURCE(IDENTIFIER('bracket.stp'));
+#31=EXTERNAL_SOURCE(IDENTIFIER('bolt.step'));
+#20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
+#21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
+#22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
+#23=(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT());
+#24=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#21,'distance_accuracy_value','');
+ENDSEC;
+END-ISO-10303-21;
+)";
+  const fs::path p = TempDir() / "external-assembly.step";
+  Write(p, assembly);
+  ExpectError(p.string(), "is an assembly whose parts lie in other files that it names "
+                          "(bracket.stp, bolt.step) and holds no B-Rep faces itself");
+  // A part with geometry of its own that also names another file: read, with a warning.
+  std::string bracket = ReadAll(test::DataFile("l_bracket.step"));
+  const size_t end = bracket.rfind("ENDSEC;");
+  ASSERT_NE(end, std::string::npos);
+  bracket.insert(end, "#99990=EXTERNAL_SOURCE(IDENTIFIER('washer.stp'));\n");
+  const fs::path q = TempDir() / "bracket-naming-a-washer.step";
+  Write(q, bracket);
+  const BRepModel m = ConvertStepFile(q.string(), ConversionOptions());
+  int named = 0;
+  for (const std::string& w : m.Stats.Warnings)
+    named += w.find("names other STEP files as the sources of parts (washer.stp)") != std::string::npos;
+  EXPECT_EQ(named, 1);
+  EXPECT_GT(m.Faces.size(), 0u);
+  const BRepModel plain = ConvertStepFile(test::DataFile("l_bracket.step"), ConversionOptions());
+  for (const std::string& w : plain.Stats.Warnings)
+    EXPECT_EQ(w.find("names other STEP files"), std::string::npos) << w;
+}
+
 TEST(BadInput, Directory)
 {
   ExpectError(TempDir().string(), "is a directory");
