@@ -1693,6 +1693,18 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     if (surface->IsVPeriodic() && std::fabs((v1 - v0) - surface->VPeriod()) < 1e-9 * surface->VPeriod())
       F.Period[1] = surface->VPeriod();
     const std::string where = "face " + std::to_string(fi) + " (" + SurfaceKindName(F.Kind) + ")";
+    // A face whose trim spans no width in one parameter (its wire lies on one parameter line:
+    // a face of no area, as in one of OpenCASCADE's own test files, where a plane's loop runs
+    // out and back along a line): nothing to measure on it, and a patch of no width is no patch.
+    // Kept without patches or loops, so that its edges still close the solid.
+    if (!(u0 < u1) || !(v0 < v1))
+    {
+      warn(where + ": its trim spans no area (parameters " + std::to_string(u0) + " to " +
+        std::to_string(u1) + " by " + std::to_string(v0) + " to " + std::to_string(v1) +
+        "): kept without patches");
+      F.Domain = { 0.0, 0.0, 0.0, 0.0 };
+      continue;
+    }
 
     // The patches, made in parallel before this loop (FacePatches).
     FacePatches& made = facePatches[static_cast<size_t>(fi)];

@@ -26,6 +26,15 @@
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <BRep_Builder.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom_Plane.hxx>
+#include <gp_Pln.hxx>
+#include <gp_Pnt2d.hxx>
+#include <gp_Dir2d.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Wire.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Controller.hxx>
@@ -296,6 +305,51 @@ TEST(Robustness, NegativeRadius)
   ExpectIsolatedError(Mutated("spherical_shell.step", "negative-radius.step",
                         R"(SPHERICAL_SURFACE\('',#35,20\.\))", "SPHERICAL_SURFACE('',#35,-20.)"),
     "SPHERICAL_SURFACE has a negative radius (-20)");
+}
+
+TEST(Robustness, FaceOfNoAreaIsKeptWithoutPatches)
+{
+  // A face whose loop runs out and back along one line (a plane's trim of no width, as in one of
+  // OpenCASCADE's own test files): its parameter domain is empty in one direction. Refused before
+  // the forty-third session as "the conversion produced an unusable model (... face N: parameter
+  // domain)"; now kept without patches, with a warning, and the rest is read.
+  BRep_Builder B;
+  TopoDS_Face flat;
+  B.MakeFace(flat, new Geom_Plane(gp_Pln(gp_Pnt(0, 0, 20), gp_Dir(0, 0, 1))), 1e-7);
+  const TopoDS_Vertex a = BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, 20));
+  const TopoDS_Vertex b = BRepBuilderAPI_MakeVertex(gp_Pnt(5, 0, 20));
+  TopoDS_Edge out = BRepBuilderAPI_MakeEdge(a, b), back = BRepBuilderAPI_MakeEdge(b, a);
+  B.UpdateEdge(out, new Geom2d_Line(gp_Pnt2d(0, 0), gp_Dir2d(1, 0)), flat, 1e-7);
+  B.UpdateEdge(back, new Geom2d_Line(gp_Pnt2d(5, 0), gp_Dir2d(-1, 0)), flat, 1e-7);
+  TopoDS_Wire w;
+  B.MakeWire(w);
+  B.Add(w, out);
+  B.Add(w, back);
+  B.Add(flat, w);
+  TopoDS_Compound both;
+  B.MakeCompound(both);
+  B.Add(both, BRepPrimAPI_MakeBox(100, 100, 10).Solid());
+  B.Add(both, flat);
+  const BRepModel m = ConvertShape(both, ConversionOptions());
+  EXPECT_NO_THROW(ValidateModel(m)); // as a STEP file's model is checked (CheckConvertedModel)
+  int warned = 0, empty = 0;
+  for (const std::string& w2 : m.Stats.Warnings)
+    warned += w2.find("its trim spans no area") != std::string::npos;
+  for (const Face& f : m.Faces)
+    empty += f.PatchCount == 0;
+  EXPECT_EQ(warned, 1);
+  EXPECT_EQ(empty, 1);
+  EXPECT_EQ(m.Faces.size(), 7u);
+  // The slab is measured as ever: 2t = 10 across it away from its rims, no sample failed.
+  Solved solved = SolveAll(m);
+  size_t ten = 0, failed = 0;
+  for (size_t i = 0; i < solved.Results.size(); ++i)
+  {
+    failed += solved.Results[i].Type == ContactType::Failed;
+    ten += std::fabs(solved.Results[i].Thickness - 10.0) < 1e-9;
+  }
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(ten, solved.Results.size() / 2);
 }
 
 TEST(Robustness, ConeSemiAngleOutOfRange)
