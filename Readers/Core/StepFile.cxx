@@ -75,21 +75,24 @@ std::vector<std::string> ExternalStepFiles(const std::string& path, const StepSc
   {
     for (size_t at = upper.find(key); at != std::string::npos; at = upper.find(key, at + 1))
     {
-      // The first quoted string after the name, within the entity (IDENTIFIER('...') for a
-      // source, the document's id for a file).
-      const size_t q = text.find('\'', at);
-      const size_t stop = text.find(';', at);
-      if (q == std::string::npos || (stop != std::string::npos && q > stop) || q - at > 64)
-        continue;
-      const size_t end = text.find('\'', q + 1);
-      if (end == std::string::npos || end - q > 256)
-        continue;
-      const std::string name = text.substr(q + 1, end - q - 1);
-      const std::string un = Upper(name);
-      const bool stepName = (un.size() > 4 && un.compare(un.size() - 4, 4, ".STP") == 0) ||
-        (un.size() > 5 && un.compare(un.size() - 5, 5, ".STEP") == 0);
-      if (stepName)
-        found.emplace_back(at, name);
+      // The quoted strings of the entity (up to its ';') that name STEP files: an
+      // IDENTIFIER('...') for a source, the id or the name of a document file (CAx-IF's files
+      // write it third: DOCUMENT_FILE('','','part.stp',...)).
+      const size_t stop = std::min(text.find(';', at), at + 4096);
+      for (size_t q = text.find('\'', at); q != std::string::npos && q < stop;)
+      {
+        const size_t end = text.find('\'', q + 1);
+        if (end == std::string::npos || end > stop)
+          break;
+        const std::string name = text.substr(q + 1, end - q - 1);
+        const std::string un = Upper(name);
+        const bool stepName = name.size() <= 256 &&
+          ((un.size() > 4 && un.compare(un.size() - 4, 4, ".STP") == 0) ||
+            (un.size() > 5 && un.compare(un.size() - 5, 5, ".STEP") == 0));
+        if (stepName)
+          found.emplace_back(at, name);
+        q = text.find('\'', end + 1);
+      }
     }
   }
   std::sort(found.begin(), found.end());

@@ -133,9 +133,9 @@ TEST(BadInput, TessellatedGeometryOnly)
                           "solid or shell, AP242's meshes) and no B-Rep faces");
 }
 
-// An assembly whose parts lie in other files (EXTERNAL_SOURCE names them, as CAx-IF's external
-// reference test files do): an error naming them where the file holds no face itself, a warning
-// where it holds some.
+// An assembly whose parts lie in other files (EXTERNAL_SOURCE or DOCUMENT_FILE names them, as
+// CAx-IF's external reference test files do; a document's file name may come third): an error
+// naming them where the file holds no face itself, a warning where it holds some.
 TEST(BadInput, AssemblyOfExternalFiles)
 {
   std::string assembly = R"(ISO-10303-21;
@@ -160,6 +160,7 @@ DATA;
 #16=DIRECTION('',(1.,0.,0.));
 #30=EXTERNAL_SOURCE(IDENTIFIER('bracket.stp'));
 #31=EXTERNAL_SOURCE(IDENTIFIER('bolt.step'));
+#32=DOCUMENT_FILE('','','nut_prt.stp','nut',$,$);
 #20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
 #21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
 #22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
@@ -171,7 +172,7 @@ END-ISO-10303-21;
   const fs::path p = TempDir() / "external-assembly.step";
   Write(p, assembly);
   ExpectError(p.string(), "is an assembly whose parts lie in other files that it names "
-                          "(bracket.stp, bolt.step) and holds no B-Rep faces itself");
+                          "(bracket.stp, bolt.step, nut_prt.stp) and holds no B-Rep faces itself");
   // A part with geometry of its own that also names another file: read, with a warning.
   std::string bracket = ReadAll(test::DataFile("l_bracket.step"));
   const size_t end = bracket.rfind("ENDSEC;");
