@@ -143,6 +143,10 @@ std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
     return "is an assembly whose parts lie in other files that it names (" + NameList(names) +
       ") and holds no B-Rep faces itself: open each part's own file, or export the assembly as "
       "one file";
+  for (const auto& entry : scan.TypeNames)
+    if (entry.second == "DRAUGHTING_MODEL")
+      return "holds a drawing (a draughting model of 2D views) and no B-Rep faces: nothing to "
+        "measure; export the 3D model";
   return std::string();
 }
 
@@ -378,6 +382,11 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
           const std::string name = t != result.Scan.TypeNames.end() ? t->second : "?";
           return "#" + std::to_string(e) + (name[0] == '(' ? " " + name : " (" + name + ")");
         };
+        // A file with no face to measure says what it holds instead (a drawing's 2D views are
+        // what OpenCASCADE fails on in CAx-IF's drawing files).
+        const std::string why = WhyNoBRep(path, result.Scan);
+        if (!why.empty())
+          Fail(path, why);
         Fail(path, "entity " + typeOf(id) + " is damaged or of a type OpenCASCADE does not "
           "read, and " + typeOf(target->second) + " refers to it");
       }

@@ -191,6 +191,40 @@ END-ISO-10303-21;
     EXPECT_EQ(w.find("names other STEP files"), std::string::npos) << w;
 }
 
+// A drawing (a DRAUGHTING_MODEL of 2D views, as CAx-IF's drawing test files hold) and no face.
+TEST(BadInput, DrawingOnly)
+{
+  const fs::path p = TempDir() / "drawing-only.step";
+  Write(p, R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION((''),'2;1');
+FILE_NAME('drawing.step','2026-12-05T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
+ENDSEC;
+DATA;
+#1=APPLICATION_CONTEXT('managed model based 3d engineering');
+#2=PRODUCT_CONTEXT('',#1,'mechanical');
+#3=PRODUCT('tet','tet','',(#2));
+#4=PRODUCT_DEFINITION_FORMATION('','',#3);
+#5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
+#6=PRODUCT_DEFINITION('design','',#4,#5);
+#7=PRODUCT_DEFINITION_SHAPE('','',#6);
+#8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
+#9=DRAUGHTING_MODEL('sheet 1',(#13),#20);
+#13=AXIS2_PLACEMENT_2D('',#14,#15);
+#14=CARTESIAN_POINT('',(0.,0.));
+#15=DIRECTION('',(1.,0.));
+#20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
+#21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
+#22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
+#23=(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT());
+#24=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#21,'distance_accuracy_value','');
+ENDSEC;
+END-ISO-10303-21;
+)");
+  ExpectError(p.string(), "holds a drawing (a draughting model of 2D views) and no B-Rep faces");
+}
+
 TEST(BadInput, Directory)
 {
   ExpectError(TempDir().string(), "is a directory");
