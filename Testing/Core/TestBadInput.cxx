@@ -95,27 +95,26 @@ TEST(BadInput, CurvesButNoSolidOrFace)
   ExpectError(p.string(), "no solid, shell or face");
 }
 
-// An AP242 file whose part is a mesh only (a TESSELLATED_SOLID of TRIANGULATED_FACEs, as CATIA and
-// NIST's test cases write them): OpenCASCADE 7.6 transfers nothing, and the error says why.
-const char* const TessellatedOnly = R"(ISO-10303-21;
+/// A small AP242 file of one product whose shape is `representation` (entity #9, with any other
+/// entities it needs), in millimetres.
+std::string OnePartFile(const std::string& representation)
+{
+  return R"(ISO-10303-21;
 HEADER;
 FILE_DESCRIPTION((''),'2;1');
-FILE_NAME('tessellated.step','2026-12-05T00:00:00',(''),(''),'','','');
+FILE_NAME('part.step','2026-12-05T00:00:00',(''),(''),'','','');
 FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
 ENDSEC;
 DATA;
 #1=APPLICATION_CONTEXT('managed model based 3d engineering');
 #2=PRODUCT_CONTEXT('',#1,'mechanical');
-#3=PRODUCT('tet','tet','',(#2));
+#3=PRODUCT('part','part','',(#2));
 #4=PRODUCT_DEFINITION_FORMATION('','',#3);
 #5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
 #6=PRODUCT_DEFINITION('design','',#4,#5);
 #7=PRODUCT_DEFINITION_SHAPE('','',#6);
 #8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
-#9=TESSELLATED_SHAPE_REPRESENTATION('',(#10),#20);
-#10=TESSELLATED_SOLID('',(#11),$);
-#11=TRIANGULATED_FACE('',#12,4,((0.,0.,-1.)),$,(1,2,3,4),((1,3,2),(1,2,4),(2,3,4),(3,1,4)));
-#12=COORDINATES_LIST('',4,((0.,0.,0.),(10.,0.,0.),(0.,10.,0.),(0.,0.,10.)));
+)" + representation + R"(
 #20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
 #21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
 #22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
@@ -124,11 +123,17 @@ DATA;
 ENDSEC;
 END-ISO-10303-21;
 )";
+}
 
+// A part that is a mesh only (a TESSELLATED_SOLID of TRIANGULATED_FACEs, as CATIA and NIST's test
+// cases write them): OpenCASCADE 7.6 transfers nothing, and the error says why.
 TEST(BadInput, TessellatedGeometryOnly)
 {
   const fs::path p = TempDir() / "tessellated-only.step";
-  Write(p, TessellatedOnly);
+  Write(p, OnePartFile(R"(#9=TESSELLATED_SHAPE_REPRESENTATION('',(#10),#20);
+#10=TESSELLATED_SOLID('',(#11),$);
+#11=TRIANGULATED_FACE('',#12,4,((0.,0.,-1.)),$,(1,2,3,4),((1,3,2),(1,2,4),(2,3,4),(3,1,4)));
+#12=COORDINATES_LIST('',4,((0.,0.,0.),(10.,0.,0.),(0.,10.,0.),(0.,0.,10.)));)"));
   ExpectError(p.string(), "holds only tessellated geometry (1 triangulated face in 1 tessellated "
                           "solid or shell, AP242's meshes) and no B-Rep faces");
 }
@@ -138,39 +143,15 @@ TEST(BadInput, TessellatedGeometryOnly)
 // naming them where the file holds no face itself, a warning where it holds some.
 TEST(BadInput, AssemblyOfExternalFiles)
 {
-  std::string assembly = R"(ISO-10303-21;
-HEADER;
-FILE_DESCRIPTION((''),'2;1');
-FILE_NAME('assembly.step','2026-12-05T00:00:00',(''),(''),'','','');
-FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
-ENDSEC;
-DATA;
-#1=APPLICATION_CONTEXT('managed model based 3d engineering');
-#2=PRODUCT_CONTEXT('',#1,'mechanical');
-#3=PRODUCT('tet','tet','',(#2));
-#4=PRODUCT_DEFINITION_FORMATION('','',#3);
-#5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
-#6=PRODUCT_DEFINITION('design','',#4,#5);
-#7=PRODUCT_DEFINITION_SHAPE('','',#6);
-#8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
-#9=SHAPE_REPRESENTATION('',(#13),#20);
+  const fs::path p = TempDir() / "external-assembly.step";
+  Write(p, OnePartFile(R"(#9=SHAPE_REPRESENTATION('',(#13),#20);
 #13=AXIS2_PLACEMENT_3D('',#14,#15,#16);
 #14=CARTESIAN_POINT('',(0.,0.,0.));
 #15=DIRECTION('',(0.,0.,1.));
 #16=DIRECTION('',(1.,0.,0.));
 #30=EXTERNAL_SOURCE(IDENTIFIER('bracket.stp'));
 #31=EXTERNAL_SOURCE(IDENTIFIER('bolt.step'));
-#32=DOCUMENT_FILE('','','nut_prt.stp','nut',$,$);
-#20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
-#21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
-#22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
-#23=(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT());
-#24=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#21,'distance_accuracy_value','');
-ENDSEC;
-END-ISO-10303-21;
-)";
-  const fs::path p = TempDir() / "external-assembly.step";
-  Write(p, assembly);
+#32=DOCUMENT_FILE('','','nut_prt.stp','nut',$,$);)"));
   ExpectError(p.string(), "is an assembly whose parts lie in other files that it names "
                           "(bracket.stp, bolt.step, nut_prt.stp) and holds no B-Rep faces itself");
   // A part with geometry of its own that also names another file: read, with a warning.
@@ -195,33 +176,10 @@ END-ISO-10303-21;
 TEST(BadInput, DrawingOnly)
 {
   const fs::path p = TempDir() / "drawing-only.step";
-  Write(p, R"(ISO-10303-21;
-HEADER;
-FILE_DESCRIPTION((''),'2;1');
-FILE_NAME('drawing.step','2026-12-05T00:00:00',(''),(''),'','','');
-FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }'));
-ENDSEC;
-DATA;
-#1=APPLICATION_CONTEXT('managed model based 3d engineering');
-#2=PRODUCT_CONTEXT('',#1,'mechanical');
-#3=PRODUCT('tet','tet','',(#2));
-#4=PRODUCT_DEFINITION_FORMATION('','',#3);
-#5=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');
-#6=PRODUCT_DEFINITION('design','',#4,#5);
-#7=PRODUCT_DEFINITION_SHAPE('','',#6);
-#8=SHAPE_DEFINITION_REPRESENTATION(#7,#9);
-#9=DRAUGHTING_MODEL('sheet 1',(#13),#20);
+  Write(p, OnePartFile(R"(#9=DRAUGHTING_MODEL('sheet 1',(#13),#20);
 #13=AXIS2_PLACEMENT_2D('',#14,#15);
 #14=CARTESIAN_POINT('',(0.,0.));
-#15=DIRECTION('',(1.,0.));
-#20=(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#24)) GLOBAL_UNIT_ASSIGNED_CONTEXT((#21,#22,#23)) REPRESENTATION_CONTEXT('',''));
-#21=(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.));
-#22=(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.));
-#23=(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT());
-#24=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#21,'distance_accuracy_value','');
-ENDSEC;
-END-ISO-10303-21;
-)");
+#15=DIRECTION('',(1.,0.));)"));
   ExpectError(p.string(), "holds a drawing (a draughting model of 2D views) and no B-Rep faces");
 }
 
