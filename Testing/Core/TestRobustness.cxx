@@ -307,6 +307,27 @@ TEST(Robustness, NegativeRadius)
     "SPHERICAL_SURFACE has a negative radius (-20)");
 }
 
+TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
+{
+  // A SEAM_CURVE whose two pcurves are one entity listed twice (a 1997 Euclid-Quantum export,
+  // OpenCASCADE's own ec_exhaust-A sample): OpenCASCADE's check calls it "Seam Curve with twice
+  // the same geom", and the reader refused the file as damaged before the forty-third session.
+  // It reads as written and the healing gives the seam its second pcurve: the tube (outer radius
+  // 20, inner 15) measures its wall, 2t = 5, as the file as written does.
+  const std::string p = Mutated("tube.step", "tube-seam-one-pcurve.step",
+    R"(SEAM_CURVE\('',#59,\(#63,#70\))", "SEAM_CURVE('',#59,(#63,#63)");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  Solved solved = SolveAll(m);
+  size_t wall = 0, failed = 0;
+  for (const SampleResult& r : solved.Results)
+  {
+    failed += r.Type == ContactType::Failed;
+    wall += std::fabs(r.Thickness - 5.0) < 1e-6;
+  }
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(wall, solved.Results.size() / 2);
+}
+
 TEST(Robustness, FaceOfNoAreaIsKeptWithoutPatches)
 {
   // A face whose loop runs out and back along one line (a plane's trim of no width, as in one of
