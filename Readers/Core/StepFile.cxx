@@ -112,6 +112,40 @@ std::string NameList(const std::vector<std::string>& names)
   return list;
 }
 
+/// The entity numbers that entity `id`'s parameters refer to, in order, from the file's text
+/// (`text` is read on first use and kept): "#552=REPRESENTATION_MAP(#551,#548)" gives 551, 548.
+std::vector<long> ReferencesOf(const std::string& path, std::string& text, long id)
+{
+  if (text.empty())
+  {
+    std::ifstream in(path, std::ios::binary);
+    text.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  std::vector<long> refs;
+  const std::string key = "#" + std::to_string(id);
+  for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1))
+  {
+    // The definition: the number at a line's start (after spaces), then '='.
+    size_t b = at;
+    while (b > 0 && (text[b - 1] == ' ' || text[b - 1] == '\t'))
+      --b;
+    if (b > 0 && text[b - 1] != '\n' && text[b - 1] != '\r' && text[b - 1] != ';')
+      continue;
+    size_t e = at + key.size();
+    if (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e])))
+      continue;
+    while (e < text.size() && std::isspace(static_cast<unsigned char>(text[e])))
+      ++e;
+    if (e >= text.size() || text[e] != '=')
+      continue;
+    const size_t stop = text.find(';', e);
+    for (size_t h = text.find('#', e); h != std::string::npos && h < stop; h = text.find('#', h + 1))
+      refs.push_back(std::strtol(text.c_str() + h + 1, nullptr, 10));
+    break;
+  }
+  return refs;
+}
+
 /// Why a file that OpenCASCADE read gave no B-Rep face, where the file says: its shapes are
 /// triangles only (AP242's tessellated geometry: a mesh, not the exact faces this tool measures),
 /// or its parts lie in other files that it names (an assembly of external references). Empty
@@ -327,6 +361,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   const auto t0 = std::chrono::steady_clock::now();
   CheckStepFile(path);
   StepReadResult result;
+  int drawingViews = 0; // a drawing's 2D views OpenCASCADE does not read, passed (below)
   result.Scan = ScanStepFile(path);
   QuietMessenger quiet;
   STEPControl_Reader reader;
@@ -343,6 +378,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     {
       // An entity OpenCASCADE could not read (a type it does not know, damaged parameters)
       // that the geometry refers to: its transfer would dereference nothing.
+      std::string text; // the file's, read where a drawing's view needs it (ReferencesOf)
       for (int i = 1; i <= model->NbEntities(); ++i)
       {
         if (!model->IsErrorEntity(i) && !model->IsUnknownEntity(i))
@@ -377,6 +413,26 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
           }
         }
         const long id = model->IdentLabel(model->Value(i));
+        // A drawing's view: a REPRESENTATION_MAP whose mapped representation is a 2D one that
+        // OpenCASCADE does not read (CAx-IF's drawing files map their
+        // GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATIONs into draughting models beside the
+        // part's solid). No 3D geometry hangs on it: passed, and the views warned of.
+        {
+          const auto type = result.Scan.TypeNames.find(id);
+          if (type != result.Scan.TypeNames.end() && type->second == "REPRESENTATION_MAP")
+          {
+            const std::vector<long> refs = ReferencesOf(path, text, id);
+            const auto mapped = refs.size() >= 2 ? result.Scan.TypeNames.find(refs[1])
+                                                 : result.Scan.TypeNames.end();
+            if (mapped != result.Scan.TypeNames.end() &&
+              mapped->second.find("2D") != std::string::npos &&
+              mapped->second.find("REPRESENTATION") != std::string::npos)
+            {
+              ++drawingViews;
+              continue;
+            }
+          }
+        }
         const auto target = result.Scan.GeometryTargets.find(id);
         if (target == result.Scan.GeometryTargets.end())
         {
@@ -490,6 +546,11 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   {
     result.Warnings.push_back("the file declares " + std::to_string(scan.DeclaredSolids) +
       " solids but only " + std::to_string(solids.Extent()) + " were transferred");
+  }
+  if (drawingViews > 0)
+  {
+    result.Warnings.push_back("the file holds a drawing (" + std::to_string(drawingViews) +
+      " 2D view(s) in draughting models) that is not read: only its 3D geometry is measured");
   }
   // Parts the file leaves to other files (an assembly of external references): not read.
   const std::vector<std::string> external = ExternalStepFiles(path, scan);

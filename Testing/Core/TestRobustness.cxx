@@ -307,6 +307,35 @@ TEST(Robustness, NegativeRadius)
     "SPHERICAL_SURFACE has a negative radius (-20)");
 }
 
+TEST(Robustness, DrawingBesideASolidReads)
+{
+  // A drawing's 2D view beside the part's solid (CAx-IF's drawing files: a
+  // GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATION, which OpenCASCADE does not read, mapped into
+  // a draughting model): refused before the forty-third session as "entity ...
+  // (REPRESENTATION_MAP) is damaged or of a type OpenCASCADE does not read". No 3D geometry hangs
+  // on it: the L-bracket with such a view reads as the file as written does, with a warning.
+  const std::string p = Mutated("l_bracket.step", "bracket-with-drawing.step",
+    R"(ENDSEC;\s*END-ISO-10303-21;)",
+    "#99901=CARTESIAN_POINT('',(0.,0.));\n"
+    "#99902=DIRECTION('',(1.,0.));\n"
+    "#99903=AXIS2_PLACEMENT_2D('',#99901,#99902);\n"
+    "#99904=(GEOMETRIC_REPRESENTATION_CONTEXT(2) REPRESENTATION_CONTEXT('2D','DRAW'));\n"
+    "#99905=GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATION('view',(#99903),#99904);\n"
+    "#99906=REPRESENTATION_MAP(#99903,#99905);\n"
+    "#99907=MAPPED_ITEM('view',#99906,#99903);\n"
+    "#99908=DRAUGHTING_MODEL('sheet',(#99907),#99904);\n"
+    "ENDSEC;\nEND-ISO-10303-21;\n");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  const BRepModel plain = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+  int warned = 0;
+  for (const std::string& w : m.Stats.Warnings)
+    warned += w.find("the file holds a drawing (1 2D view(s) in draughting models) that is not "
+                     "read") != std::string::npos;
+  EXPECT_EQ(warned, 1);
+}
+
 TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
 {
   // A SEAM_CURVE whose two pcurves are one entity listed twice (a 1997 Euclid-Quantum export,
