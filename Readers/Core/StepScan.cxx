@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -631,7 +632,12 @@ StepScanResult Scanner::Run()
       if (end != token.c_str() + token.size() || token.find_first_of("0123456789") ==
           std::string::npos)
         this->Fail("'" + token + "' is not a number");
-      if (errno == ERANGE || !std::isfinite(v))
+      // A number below the smallest normal double reads as the subnormal it rounds to (an
+      // exporter's 8.54E-316 for a centre's 0, CAx-IF's s1 by one system); one whose exponent
+      // takes it below every double (it reads as 0), or above, is refused: OpenCASCADE's parser
+      // hung on 1E-99999.
+      const bool subnormal = errno == ERANGE && v != 0.0 && std::fabs(v) < DBL_MIN;
+      if ((errno == ERANGE && !subnormal) || !std::isfinite(v))
         this->Fail("the number " + token + " is out of the range of a double");
       if (inData && depth == 0)
         this->Fail("a number outside an entity's parameters");

@@ -242,6 +242,22 @@ TEST(Robustness, NonFiniteAndAbsurdNumbers)
   }
 }
 
+TEST(Robustness, SubnormalNumberReads)
+{
+  // A coordinate below the smallest normal double (CAx-IF's s1 written by one system has
+  // centres at 8.54108969515884E-316 for 0): refused before the forty-third session as "out of
+  // the range of a double", which it is not. It reads as the subnormal; the plate is the plate.
+  // A number beyond every double stays refused (NonFiniteAndAbsurdNumbers: 1.E99999, -1.E-99999).
+  const std::string p = Mutated("plate.step", "number-subnormal.step",
+    R"(#25 = CARTESIAN_POINT\('',\(0\.,0\.,5\.\)\))",
+    "#25 = CARTESIAN_POINT('',(8.54108969515884E-316,0.,5.))");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  const BRepModel plain = ConvertStepFileIsolated(test::DataFile("plate.step"), ConversionOptions());
+  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+  EXPECT_EQ(m.Mesh.NumberOfPoints(), plain.Mesh.NumberOfPoints());
+}
+
 TEST(Robustness, WorkerCrashAndTimeLimitAreErrors)
 {
   // Stand-in workers: one that crashes, one that never ends. The caller gets an error naming the
