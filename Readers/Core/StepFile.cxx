@@ -152,6 +152,13 @@ std::vector<long> ReferencesOf(const std::string& path, std::string& text, long 
 /// where neither.
 std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
 {
+  // Constructive solid geometry, whatever faces the file also declares: none was transferred.
+  for (const char* csg : { "CSG_SOLID", "BOOLEAN_RESULT", "CSG_SHAPE_REPRESENTATION" })
+    for (const auto& entry : scan.TypeNames)
+      if (entry.second == csg)
+        return std::string("holds constructive solid geometry (") + csg + ": Booleans of "
+          "primitives, which OpenCASCADE does not read) and no B-Rep faces it could transfer: "
+          "export the model as a B-Rep";
   if (scan.DeclaredFaces > 0)
     return std::string();
   long triangulated = 0, tessellated = 0;
@@ -181,6 +188,7 @@ std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
     if (entry.second == "DRAUGHTING_MODEL")
       return "holds a drawing (a draughting model of 2D views) and no B-Rep faces: nothing to "
         "measure; export the 3D model";
+
   return std::string();
 }
 

@@ -155,8 +155,11 @@ const Positive Positives[] = {
 /// were refused for it (docs/Robustness.md).
 bool IsGeometric(const std::string& type)
 {
+  // Nor are constructive solids and their features (BOOLEAN_RESULT, CSG_SOLID,
+  // EDGE_BLEND_FILLET_FIXED_RADIUS: CAx-IF's ch1 files write a blend of a Boolean beside the
+  // B-Rep): the B-Rep's transfer never reads them either.
   static const char* const presentation[] = { "STYLE", "COLOUR", "PRESENTATION", "DRAUGHTING",
-    "ANNOTATION" };
+    "ANNOTATION", "BLEND", "BOOLEAN", "CSG" };
   for (const char* w : presentation)
     if (type.find(w) != std::string::npos)
       return false;

@@ -183,6 +183,23 @@ TEST(BadInput, DrawingOnly)
   ExpectError(p.string(), "holds a drawing (a draughting model of 2D views) and no B-Rep faces");
 }
 
+// Constructive solid geometry only (a CSG_SOLID of a Boolean of blocks): OpenCASCADE reads no
+// CSG, and the error says so.
+TEST(BadInput, ConstructiveSolidOnly)
+{
+  const fs::path p = TempDir() / "csg-only.step";
+  Write(p, OnePartFile(R"(#9=CSG_SHAPE_REPRESENTATION('',(#10),#20);
+#10=CSG_SOLID('',#11);
+#11=BOOLEAN_RESULT('',.DIFFERENCE.,#12,#13);
+#12=BLOCK('',#14,10.,10.,10.);
+#13=BLOCK('',#14,5.,5.,20.);
+#14=AXIS2_PLACEMENT_3D('',#15,#16,#17);
+#15=CARTESIAN_POINT('',(0.,0.,0.));
+#16=DIRECTION('',(0.,0.,1.));
+#17=DIRECTION('',(1.,0.,0.));)"));
+  ExpectError(p.string(), "holds constructive solid geometry (");
+}
+
 TEST(BadInput, Directory)
 {
   ExpectError(TempDir().string(), "is a directory");

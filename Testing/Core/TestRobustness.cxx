@@ -352,6 +352,30 @@ TEST(Robustness, DrawingBesideASolidReads)
   EXPECT_EQ(warned, 1);
 }
 
+TEST(Robustness, ConstructiveSolidBesideABRepReads)
+{
+  // A Boolean of CSG primitives and a blend feature on it beside the part's B-Rep (CAx-IF's ch1
+  // files): OpenCASCADE reads no CSG, and the reader refused the file before the forty-third
+  // session as "entity ... (BOOLEAN_RESULT) is damaged ..., and ... (EDGE_BLEND_FILLET_FIXED_
+  // RADIUS) refers to it", a feature's reference that the B-Rep's transfer never follows. The
+  // L-bracket with such a feature reads as the file as written does.
+  const std::string p = Mutated("l_bracket.step", "bracket-with-csg.step",
+    R"(ENDSEC;\s*END-ISO-10303-21;)",
+    "#99901=CARTESIAN_POINT('',(0.,0.,0.));\n"
+    "#99902=DIRECTION('',(0.,0.,1.));\n"
+    "#99903=DIRECTION('',(1.,0.,0.));\n"
+    "#99904=AXIS2_PLACEMENT_3D('',#99901,#99902,#99903);\n"
+    "#99905=BLOCK('',#99904,10.,10.,10.);\n"
+    "#99906=BLOCK('',#99904,5.,5.,20.);\n"
+    "#99907=BOOLEAN_RESULT('',.UNION.,#99905,#99906);\n"
+    "#99908=EDGE_BLEND_FILLET_FIXED_RADIUS('',#99907,1.);\n"
+    "ENDSEC;\nEND-ISO-10303-21;\n");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  const BRepModel plain = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+}
+
 TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
 {
   // A SEAM_CURVE whose two pcurves are one entity listed twice (a 1997 Euclid-Quantum export,
