@@ -17,6 +17,10 @@
 #include <ShapeAnalysis_Surface.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepTools_ReShape.hxx>
 #include <BRep_Builder.hxx>
 #include <IMeshTools_Parameters.hxx>
 #include <BRepLib.hxx>
@@ -1389,6 +1393,105 @@ private:
   std::shared_ptr<BRepTopAdaptor_FClass2d> Classifier;
 };
 
+/// Solids, and shells outside solids (a surface model's), that are open only where two of their
+/// faces' edges run together without being one edge (an unsewn seam: I-DEAS's exports of
+/// CAx-IF's k1 part, a shell of 46 faces with two coincident edges 2.59 mm long, each bounding
+/// one face): sewn within `tol` where that leaves no free edge, no edge of more than two faces
+/// and one closed shell (a solid's: a valid solid), and replaced; left as they are otherwise
+/// (the closure check then refuses them). A warning for each one sewn.
+TopoDS_Shape SewNearlyClosedShells(const TopoDS_Shape& shape, double tol,
+  std::vector<std::string>& warnings)
+{
+  BRepTools_ReShape reshape;
+  bool any = false;
+  auto freeEdges = [](const TopoDS_Shape& s) {
+    TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+    TopExp::MapShapesAndUniqueAncestors(s, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+    int free = 0;
+    for (int i = 1; i <= edgeFaces.Extent(); ++i)
+    {
+      const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
+      if (!BRep_Tool::Degenerated(e) && edgeFaces(i).Extent() == 1 &&
+        !BRep_Tool::IsClosed(e, TopoDS::Face(edgeFaces(i).First()))) // not a seam
+        ++free;
+    }
+    return free;
+  };
+  // The closed shell sewn from the faces of `s`; null where the sewing leaves it open.
+  auto sew = [&](const TopoDS_Shape& s) {
+    TopoDS_Shell none;
+    BRepBuilderAPI_Sewing sewing(tol);
+    for (TopExp_Explorer fx(s, TopAbs_FACE); fx.More(); fx.Next())
+      sewing.Add(fx.Current());
+    sewing.Perform();
+    if (sewing.NbFreeEdges() != 0 || sewing.NbMultipleEdges() != 0)
+      return none;
+    TopExp_Explorer hx(sewing.SewedShape(), TopAbs_SHELL);
+    if (!hx.More())
+      return none;
+    const TopoDS_Shell shell = TopoDS::Shell(hx.Current());
+    hx.Next();
+    if (hx.More() || !BRep_Tool::IsClosed(shell) || freeEdges(shell) != 0)
+      return none;
+    return shell;
+  };
+  auto note = [&](const char* what, int index, int free) {
+    std::ostringstream w;
+    w << what << " " << index << " was open along " << free
+      << " edge(s) that run together with others within " << tol
+      << " mm without being one edge; sewn, it is closed";
+    warnings.push_back(w.str());
+  };
+  int index = 0;
+  for (TopExp_Explorer sx(shape, TopAbs_SOLID); sx.More(); sx.Next(), ++index)
+  {
+    const int free = freeEdges(sx.Current());
+    if (free == 0)
+      continue;
+    try
+    {
+      const TopoDS_Shell shell = sew(sx.Current());
+      if (shell.IsNull())
+        continue;
+      BRepBuilderAPI_MakeSolid make(shell);
+      if (!make.IsDone())
+        continue;
+      TopoDS_Solid sewn = make.Solid();
+      BRepLib::OrientClosedSolid(sewn);
+      if (!BRepCheck_Analyzer(sewn).IsValid())
+        continue;
+      reshape.Replace(sx.Current(), sewn);
+      any = true;
+      note("solid", index, free);
+    }
+    catch (const Standard_Failure&)
+    {
+      continue; // left open: the closure check refuses it
+    }
+  }
+  index = 0;
+  for (TopExp_Explorer hx(shape, TopAbs_SHELL, TopAbs_SOLID); hx.More(); hx.Next(), ++index)
+  {
+    const int free = freeEdges(hx.Current());
+    if (free == 0)
+      continue;
+    try
+    {
+      const TopoDS_Shell shell = sew(hx.Current());
+      if (shell.IsNull() || !BRepCheck_Analyzer(shell).IsValid())
+        continue;
+      reshape.Replace(hx.Current(), shell);
+      any = true;
+      note("shell (outside the solids)", index, free);
+    }
+    catch (const Standard_Failure&)
+    {
+      continue;
+    }
+  }
+  return any ? reshape.Apply(shape) : shape;
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -1420,6 +1523,19 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     warn(std::string("looking for bodies touching face to face failed: ") +
       e.GetMessageString());
     shape = input;
+  }
+  // Shells open only along unsewn seams, sewn: before the healing, which may split such a
+  // solid's faces apart.
+  if (options.Heal)
+  {
+    try
+    {
+      shape = SewNearlyClosedShells(shape, options.Tolerance, stats.Warnings);
+    }
+    catch (const Standard_Failure& e)
+    {
+      warn(std::string("sewing open shells failed: ") + e.GetMessageString());
+    }
   }
   if (options.Heal)
   {

@@ -26,6 +26,7 @@
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <BRep_Builder.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom_Plane.hxx>
@@ -374,6 +375,45 @@ TEST(Robustness, ConstructiveSolidBesideABRepReads)
   const BRepModel plain = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
   EXPECT_EQ(m.Faces.size(), plain.Faces.size());
   EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+}
+
+TEST(Robustness, UnsewnSeamIsSewn)
+{
+  // A solid whose shell is open only where a face's edges run together with its neighbours'
+  // without being theirs (I-DEAS's exports of CAx-IF's k1 part: two coincident edges, each
+  // bounding one face). Refused as open before the forty-third session; now sewn within the
+  // tolerance, with a warning, and measured: a slab with one face copied (its 4 edges its own,
+  // so they and their 4 neighbours bound one face each) reads closed and 2t = 10 across it.
+  BRep_Builder B;
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(100, 100, 10).Shape();
+  TopoDS_Shell shell;
+  B.MakeShell(shell);
+  bool first = true;
+  for (TopExp_Explorer fx(box, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    B.Add(shell, first ? BRepBuilderAPI_Copy(fx.Current()).Shape() : fx.Current());
+    first = false;
+  }
+  TopoDS_Solid open;
+  B.MakeSolid(open);
+  B.Add(open, shell);
+  const BRepModel m = ConvertShape(open, ConversionOptions());
+  int warned = 0;
+  for (const std::string& w : m.Stats.Warnings)
+    warned += w.find("was open along 8 edge(s) that run together with others") != std::string::npos;
+  EXPECT_EQ(warned, 1);
+  const std::vector<SolidCheck> solids = CheckSolids(m);
+  ASSERT_EQ(solids.size(), 1u);
+  EXPECT_EQ(solids[0].FreeEdges, 0);
+  Solved solved = SolveAll(m);
+  size_t ten = 0, failed = 0;
+  for (const SampleResult& r : solved.Results)
+  {
+    failed += r.Type == ContactType::Failed;
+    ten += std::fabs(r.Thickness - 10.0) < 1e-9;
+  }
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(ten, solved.Results.size() / 2);
 }
 
 TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
