@@ -324,6 +324,21 @@ TEST(Robustness, NegativeRadius)
     "SPHERICAL_SURFACE has a negative radius (-20)");
 }
 
+/// Data/'s L-bracket with `entities` (STEP text) added at the end of its data section: the
+/// model read from it (the reader's path), which must have the faces and patches of the file as
+/// written.
+BRepModel BracketWith(const std::string& name, const std::string& entities)
+{
+  const std::string p = Mutated("l_bracket.step", name, R"(ENDSEC;\s*END-ISO-10303-21;)",
+    entities + "ENDSEC;\nEND-ISO-10303-21;\n");
+  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
+  const BRepModel plain =
+    ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+  return m;
+}
+
 TEST(Robustness, DrawingBesideASolidReads)
 {
   // A drawing's 2D view beside the part's solid (CAx-IF's drawing files: a
@@ -331,21 +346,15 @@ TEST(Robustness, DrawingBesideASolidReads)
   // a draughting model): refused before the forty-third session as "entity ...
   // (REPRESENTATION_MAP) is damaged or of a type OpenCASCADE does not read". No 3D geometry hangs
   // on it: the L-bracket with such a view reads as the file as written does, with a warning.
-  const std::string p = Mutated("l_bracket.step", "bracket-with-drawing.step",
-    R"(ENDSEC;\s*END-ISO-10303-21;)",
-    "#99901=CARTESIAN_POINT('',(0.,0.));\n"
-    "#99902=DIRECTION('',(1.,0.));\n"
-    "#99903=AXIS2_PLACEMENT_2D('',#99901,#99902);\n"
-    "#99904=(GEOMETRIC_REPRESENTATION_CONTEXT(2) REPRESENTATION_CONTEXT('2D','DRAW'));\n"
-    "#99905=GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATION('view',(#99903),#99904);\n"
-    "#99906=REPRESENTATION_MAP(#99903,#99905);\n"
-    "#99907=MAPPED_ITEM('view',#99906,#99903);\n"
-    "#99908=DRAUGHTING_MODEL('sheet',(#99907),#99904);\n"
-    "ENDSEC;\nEND-ISO-10303-21;\n");
-  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
-  const BRepModel plain = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
-  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
-  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+  const BRepModel m = BracketWith("bracket-with-drawing.step", R"(#99901=CARTESIAN_POINT('',(0.,0.));
+#99902=DIRECTION('',(1.,0.));
+#99903=AXIS2_PLACEMENT_2D('',#99901,#99902);
+#99904=(GEOMETRIC_REPRESENTATION_CONTEXT(2) REPRESENTATION_CONTEXT('2D','DRAW'));
+#99905=GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATION('view',(#99903),#99904);
+#99906=REPRESENTATION_MAP(#99903,#99905);
+#99907=MAPPED_ITEM('view',#99906,#99903);
+#99908=DRAUGHTING_MODEL('sheet',(#99907),#99904);
+)");
   int warned = 0;
   for (const std::string& w : m.Stats.Warnings)
     warned += w.find("the file holds a drawing (1 2D view(s) in draughting models) that is not "
@@ -360,21 +369,30 @@ TEST(Robustness, ConstructiveSolidBesideABRepReads)
   // session as "entity ... (BOOLEAN_RESULT) is damaged ..., and ... (EDGE_BLEND_FILLET_FIXED_
   // RADIUS) refers to it", a feature's reference that the B-Rep's transfer never follows. The
   // L-bracket with such a feature reads as the file as written does.
-  const std::string p = Mutated("l_bracket.step", "bracket-with-csg.step",
-    R"(ENDSEC;\s*END-ISO-10303-21;)",
-    "#99901=CARTESIAN_POINT('',(0.,0.,0.));\n"
-    "#99902=DIRECTION('',(0.,0.,1.));\n"
-    "#99903=DIRECTION('',(1.,0.,0.));\n"
-    "#99904=AXIS2_PLACEMENT_3D('',#99901,#99902,#99903);\n"
-    "#99905=BLOCK('',#99904,10.,10.,10.);\n"
-    "#99906=BLOCK('',#99904,5.,5.,20.);\n"
-    "#99907=BOOLEAN_RESULT('',.UNION.,#99905,#99906);\n"
-    "#99908=EDGE_BLEND_FILLET_FIXED_RADIUS('',#99907,1.);\n"
-    "ENDSEC;\nEND-ISO-10303-21;\n");
-  const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
-  const BRepModel plain = ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
-  EXPECT_EQ(m.Faces.size(), plain.Faces.size());
-  EXPECT_EQ(m.Patches.size(), plain.Patches.size());
+  (void)BracketWith("bracket-with-csg.step", R"(#99901=CARTESIAN_POINT('',(0.,0.,0.));
+#99902=DIRECTION('',(0.,0.,1.));
+#99903=DIRECTION('',(1.,0.,0.));
+#99904=AXIS2_PLACEMENT_3D('',#99901,#99902,#99903);
+#99905=BLOCK('',#99904,10.,10.,10.);
+#99906=BLOCK('',#99904,5.,5.,20.);
+#99907=BOOLEAN_RESULT('',.UNION.,#99905,#99906);
+#99908=EDGE_BLEND_FILLET_FIXED_RADIUS('',#99907,1.);
+)");
+}
+
+/// Solves every sample of `m`: none fails, and more than half read the wall's 2t within `tol`
+/// (a slab's or a tube's, away from its rims).
+void ExpectWallMeasured(const BRepModel& m, double twoT, double tol)
+{
+  Solved solved = SolveAll(m);
+  size_t wall = 0, failed = 0;
+  for (const SampleResult& r : solved.Results)
+  {
+    failed += r.Type == ContactType::Failed;
+    wall += std::fabs(r.Thickness - twoT) < tol;
+  }
+  EXPECT_EQ(failed, 0u);
+  EXPECT_GT(wall, solved.Results.size() / 2);
 }
 
 TEST(Robustness, UnsewnSeamIsSewn)
@@ -405,15 +423,7 @@ TEST(Robustness, UnsewnSeamIsSewn)
   const std::vector<SolidCheck> solids = CheckSolids(m);
   ASSERT_EQ(solids.size(), 1u);
   EXPECT_EQ(solids[0].FreeEdges, 0);
-  Solved solved = SolveAll(m);
-  size_t ten = 0, failed = 0;
-  for (const SampleResult& r : solved.Results)
-  {
-    failed += r.Type == ContactType::Failed;
-    ten += std::fabs(r.Thickness - 10.0) < 1e-9;
-  }
-  EXPECT_EQ(failed, 0u);
-  EXPECT_GT(ten, solved.Results.size() / 2);
+  ExpectWallMeasured(m, 10.0, 1e-9);
 }
 
 TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
@@ -426,15 +436,7 @@ TEST(Robustness, SeamCurveListingOnePcurveTwiceReads)
   const std::string p = Mutated("tube.step", "tube-seam-one-pcurve.step",
     R"(SEAM_CURVE\('',#59,\(#63,#70\))", "SEAM_CURVE('',#59,(#63,#63)");
   const BRepModel m = ConvertStepFileIsolated(p, ConversionOptions());
-  Solved solved = SolveAll(m);
-  size_t wall = 0, failed = 0;
-  for (const SampleResult& r : solved.Results)
-  {
-    failed += r.Type == ContactType::Failed;
-    wall += std::fabs(r.Thickness - 5.0) < 1e-6;
-  }
-  EXPECT_EQ(failed, 0u);
-  EXPECT_GT(wall, solved.Results.size() / 2);
+  ExpectWallMeasured(m, 5.0, 1e-6);
 }
 
 TEST(Robustness, FaceOfNoAreaIsKeptWithoutPatches)
@@ -471,15 +473,7 @@ TEST(Robustness, FaceOfNoAreaIsKeptWithoutPatches)
   EXPECT_EQ(empty, 1);
   EXPECT_EQ(m.Faces.size(), 7u);
   // The slab is measured as ever: 2t = 10 across it away from its rims, no sample failed.
-  Solved solved = SolveAll(m);
-  size_t ten = 0, failed = 0;
-  for (size_t i = 0; i < solved.Results.size(); ++i)
-  {
-    failed += solved.Results[i].Type == ContactType::Failed;
-    ten += std::fabs(solved.Results[i].Thickness - 10.0) < 1e-9;
-  }
-  EXPECT_EQ(failed, 0u);
-  EXPECT_GT(ten, solved.Results.size() / 2);
+  ExpectWallMeasured(m, 10.0, 1e-9);
 }
 
 TEST(Robustness, ConeSemiAngleOutOfRange)
