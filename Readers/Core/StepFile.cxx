@@ -55,53 +55,6 @@ std::string Count(long n, const char* one, const char* many)
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
-/// The STEP files that a file names as the sources of its parts (an assembly of external
-/// references: EXTERNAL_SOURCE(IDENTIFIER('part.stp')), DOCUMENT_FILE('part.stp', ...)): names
-/// ending in .stp or .step, each once, in the file's order. Read from the text only where the
-/// scan met such an entity.
-std::vector<std::string> ExternalStepFiles(const std::string& path, const StepScanResult& scan)
-{
-  std::vector<std::string> names;
-  bool any = false;
-  for (const auto& entry : scan.TypeNames)
-    any = any || entry.second == "EXTERNAL_SOURCE" || entry.second == "DOCUMENT_FILE";
-  if (!any)
-    return names;
-  std::ifstream in(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string upper = Upper(text);
-  std::vector<std::pair<size_t, std::string>> found;
-  for (const std::string key : { "EXTERNAL_SOURCE", "DOCUMENT_FILE" })
-  {
-    for (size_t at = upper.find(key); at != std::string::npos; at = upper.find(key, at + 1))
-    {
-      // The quoted strings of the entity (up to its ';') that name STEP files: an
-      // IDENTIFIER('...') for a source, the id or the name of a document file (CAx-IF's files
-      // write it third: DOCUMENT_FILE('','','part.stp',...)).
-      const size_t stop = std::min(text.find(';', at), at + 4096);
-      for (size_t q = text.find('\'', at); q != std::string::npos && q < stop;)
-      {
-        const size_t end = text.find('\'', q + 1);
-        if (end == std::string::npos || end > stop)
-          break;
-        const std::string name = text.substr(q + 1, end - q - 1);
-        const std::string un = Upper(name);
-        const bool stepName = name.size() <= 256 &&
-          ((un.size() > 4 && un.compare(un.size() - 4, 4, ".STP") == 0) ||
-            (un.size() > 5 && un.compare(un.size() - 5, 5, ".STEP") == 0));
-        if (stepName)
-          found.emplace_back(at, name);
-        q = text.find('\'', end + 1);
-      }
-    }
-  }
-  std::sort(found.begin(), found.end());
-  for (const auto& f : found)
-    if (std::find(names.begin(), names.end(), f.second) == names.end())
-      names.push_back(f.second);
-  return names;
-}
-
 std::string NameList(const std::vector<std::string>& names)
 {
   std::string list;
@@ -112,45 +65,11 @@ std::string NameList(const std::vector<std::string>& names)
   return list;
 }
 
-/// The entity numbers that entity `id`'s parameters refer to, in order, from the file's text
-/// (`text` is read on first use and kept): "#552=REPRESENTATION_MAP(#551,#548)" gives 551, 548.
-std::vector<long> ReferencesOf(const std::string& path, std::string& text, long id)
-{
-  if (text.empty())
-  {
-    std::ifstream in(path, std::ios::binary);
-    text.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
-  std::vector<long> refs;
-  const std::string key = "#" + std::to_string(id);
-  for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1))
-  {
-    // The definition: the number at a line's start (after spaces), then '='.
-    size_t b = at;
-    while (b > 0 && (text[b - 1] == ' ' || text[b - 1] == '\t'))
-      --b;
-    if (b > 0 && text[b - 1] != '\n' && text[b - 1] != '\r' && text[b - 1] != ';')
-      continue;
-    size_t e = at + key.size();
-    if (e < text.size() && std::isdigit(static_cast<unsigned char>(text[e])))
-      continue;
-    while (e < text.size() && std::isspace(static_cast<unsigned char>(text[e])))
-      ++e;
-    if (e >= text.size() || text[e] != '=')
-      continue;
-    const size_t stop = text.find(';', e);
-    for (size_t h = text.find('#', e); h != std::string::npos && h < stop; h = text.find('#', h + 1))
-      refs.push_back(std::strtol(text.c_str() + h + 1, nullptr, 10));
-    break;
-  }
-  return refs;
-}
-
 /// Why a file that OpenCASCADE read gave no B-Rep face, where the file says: its shapes are
 /// triangles only (AP242's tessellated geometry: a mesh, not the exact faces this tool measures),
 /// or its parts lie in other files that it names (an assembly of external references). Empty
 /// where neither.
-std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
+std::string WhyNoBRep(const StepScanResult& scan)
 {
   // Constructive solid geometry, whatever faces the file also declares: none was transferred.
   for (const char* csg : { "CSG_SOLID", "BOOLEAN_RESULT", "CSG_SHAPE_REPRESENTATION" })
@@ -179,9 +98,9 @@ std::string WhyNoBRep(const std::string& path, const StepScanResult& scan)
           : std::string()) +
       ", AP242's meshes) and no B-Rep faces: the thickness is measured on the exact faces; "
       "export the model with its B-Rep solids (AP203, AP214, or AP242 with B-Rep)";
-  const std::vector<std::string> names = ExternalStepFiles(path, scan);
-  if (!names.empty())
-    return "is an assembly whose parts lie in other files that it names (" + NameList(names) +
+  if (!scan.ExternalFiles.empty())
+    return "is an assembly whose parts lie in other files that it names (" +
+      NameList(scan.ExternalFiles) +
       ") and holds no B-Rep faces itself: open each part's own file, or export the assembly as "
       "one file";
   for (const auto& entry : scan.TypeNames)
@@ -386,7 +305,6 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     {
       // An entity OpenCASCADE could not read (a type it does not know, damaged parameters)
       // that the geometry refers to: its transfer would dereference nothing.
-      std::string text; // the file's, read where a drawing's view needs it (ReferencesOf)
       for (int i = 1; i <= model->NbEntities(); ++i)
       {
         if (!model->IsErrorEntity(i) && !model->IsUnknownEntity(i))
@@ -426,19 +344,16 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
         // GEOMETRICALLY_BOUNDED_2D_WIREFRAME_REPRESENTATIONs into draughting models beside the
         // part's solid). No 3D geometry hangs on it: passed, and the views warned of.
         {
-          const auto type = result.Scan.TypeNames.find(id);
-          if (type != result.Scan.TypeNames.end() && type->second == "REPRESENTATION_MAP")
+          const auto map = result.Scan.MappedRepresentations.find(id);
+          const auto mapped = map != result.Scan.MappedRepresentations.end()
+            ? result.Scan.TypeNames.find(map->second)
+            : result.Scan.TypeNames.end();
+          if (mapped != result.Scan.TypeNames.end() &&
+            mapped->second.find("2D") != std::string::npos &&
+            mapped->second.find("REPRESENTATION") != std::string::npos)
           {
-            const std::vector<long> refs = ReferencesOf(path, text, id);
-            const auto mapped = refs.size() >= 2 ? result.Scan.TypeNames.find(refs[1])
-                                                 : result.Scan.TypeNames.end();
-            if (mapped != result.Scan.TypeNames.end() &&
-              mapped->second.find("2D") != std::string::npos &&
-              mapped->second.find("REPRESENTATION") != std::string::npos)
-            {
-              ++drawingViews;
-              continue;
-            }
+            ++drawingViews;
+            continue;
           }
         }
         const auto target = result.Scan.GeometryTargets.find(id);
@@ -453,7 +368,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
         };
         // A file with no face to measure says what it holds instead (a drawing's 2D views are
         // what OpenCASCADE fails on in CAx-IF's drawing files).
-        const std::string why = WhyNoBRep(path, result.Scan);
+        const std::string why = WhyNoBRep(result.Scan);
         if (!why.empty())
           Fail(path, why);
         Fail(path, "entity " + typeOf(id) + " is damaged or of a type OpenCASCADE does not "
@@ -503,14 +418,14 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     }
     else if (result.Roots == 0)
     {
-      const std::string why = WhyNoBRep(path, result.Scan);
+      const std::string why = WhyNoBRep(result.Scan);
       Fail(path, why.empty()
           ? "holds no shape that can be transferred (no product, solid, shell or face)"
           : why);
     }
     if (reader.NbShapes() == 0)
     {
-      const std::string why = WhyNoBRep(path, result.Scan);
+      const std::string why = WhyNoBRep(result.Scan);
       Fail(path, why.empty() ? "holds no geometry that OpenCASCADE could transfer" : why);
     }
     shape = reader.OneShape();
@@ -528,7 +443,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   }
   if (shape.IsNull() || !TopExp_Explorer(shape, TopAbs_FACE).More())
   {
-    const std::string why = WhyNoBRep(path, result.Scan);
+    const std::string why = WhyNoBRep(result.Scan);
     if (!why.empty())
       Fail(path, why);
     Fail(path, "holds no solid, shell or face (only curves, points or nothing): there is no "
@@ -561,11 +476,10 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
       " 2D view(s) in draughting models) that is not read: only its 3D geometry is measured");
   }
   // Parts the file leaves to other files (an assembly of external references): not read.
-  const std::vector<std::string> external = ExternalStepFiles(path, scan);
-  if (!external.empty())
+  if (!scan.ExternalFiles.empty())
   {
     result.Warnings.push_back("the file names other STEP files as the sources of parts (" +
-      NameList(external) + "): those parts are not read, only the geometry in this file");
+      NameList(scan.ExternalFiles) + "): those parts are not read, only the geometry in this file");
   }
   if (scan.SurfaceModels > 0)
   {

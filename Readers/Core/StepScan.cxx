@@ -450,6 +450,22 @@ StepScanResult Scanner::Run()
       }
       if (inData && depth == 0)
         this->Fail("a string outside an entity's parameters");
+      // A file an assembly names as a part's source (StepScanResult::ExternalFiles).
+      if (inData && (this->CurrentType == "EXTERNAL_SOURCE" || this->CurrentType == "DOCUMENT_FILE") &&
+        j - i - 1 <= 256 && this->Result.ExternalFiles.size() < 1000)
+      {
+        std::string name = t.substr(i + 1, j - i - 1), upper = name;
+        std::transform(upper.begin(), upper.end(), upper.begin(),
+          [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+        auto ends = [&](const char* x) {
+          const size_t k = std::strlen(x);
+          return upper.size() > k && upper.compare(upper.size() - k, k, x) == 0;
+        };
+        auto& files = this->Result.ExternalFiles;
+        if ((ends(".STP") || ends(".STEP")) &&
+          std::find(files.begin(), files.end(), name) == files.end())
+          files.push_back(name);
+      }
       value();
       if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
         this->Params.resize(static_cast<size_t>(param) + 1);
@@ -726,11 +742,17 @@ StepScanResult Scanner::Run()
   // elsewhere (styles, notes, PMI) OpenCASCADE drops the reference, and it is a warning.
   for (const auto& e : this->Entities)
     this->Result.TypeNames.emplace(e.first, this->TypeText(e.second));
+  std::unordered_map<long, int> mapRefs; // references seen so far of each REPRESENTATION_MAP
   for (const auto& r : this->Refs)
   {
     const auto from = this->Entities.find(r.first);
-    if (from != this->Entities.end() && IsGeometric(this->TypeText(from->second)))
+    if (from == this->Entities.end())
+      continue;
+    const std::string type = this->TypeText(from->second);
+    if (IsGeometric(type))
       this->Result.GeometryTargets.emplace(r.second, r.first);
+    if (type == "REPRESENTATION_MAP" && ++mapRefs[r.first] == 2)
+      this->Result.MappedRepresentations.emplace(r.first, r.second);
   }
   long dangling = 0;
   std::string firstDangling;

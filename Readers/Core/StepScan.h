@@ -33,6 +33,11 @@ struct StepScanResult
   std::unordered_map<long, long> GeometryTargets;
   /// Type name of each entity (a complex one's as "(A B C)").
   std::unordered_map<long, std::string> TypeNames;
+  /// The STEP files an assembly names as the sources of its parts (an EXTERNAL_SOURCE's or a
+  /// DOCUMENT_FILE's strings ending in .stp or .step), each once, in the file's order.
+  std::vector<std::string> ExternalFiles;
+  /// Each REPRESENTATION_MAP's mapped representation (its second reference).
+  std::unordered_map<long, long> MappedRepresentations;
 };
 
 /// Largest coordinate or radius accepted, in millimetres (1,000 km).
