@@ -91,6 +91,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <memory>
 #include <numeric>
 #include <queue>
@@ -1492,6 +1493,162 @@ TopoDS_Shape SewNearlyClosedShells(const TopoDS_Shape& shape, double tol,
   return any ? reshape.Apply(shape) : shape;
 }
 
+/// A face that a solid or shell bounds besides the one it was given to first (ConvertShapeImpl's
+/// faceSolid): the model face it is, that solid, and the face's orientation there.
+struct SharedFaceUse
+{
+  int Face = -1, Solid = -1;
+  bool Reversed = false;
+};
+
+/// Appends, for each use, a copy of its face for that solid: the face (oriented as that solid
+/// holds it), its patches, loops and trimming segments (on the same edges), its exact surface,
+/// and its display mesh (normals and triangles turned where the orientation differs). Each copy
+/// gets its own samples, measured in its own solid.
+void AddSharedFaceCopies(BRepModel& m, const std::vector<SharedFaceUse>& uses)
+{
+  if (uses.empty())
+    return;
+  DisplayMesh& M = m.Mesh;
+  const size_t faces = m.Faces.size();
+  std::vector<std::vector<int>> vertices(faces), triangles(faces);
+  for (size_t v = 0; v < M.FaceIds.size(); ++v)
+    if (M.FaceIds[v] >= 0 && static_cast<size_t>(M.FaceIds[v]) < faces)
+      vertices[static_cast<size_t>(M.FaceIds[v])].push_back(static_cast<int>(v));
+  for (size_t t = 0; t < M.TriangleFace.size(); ++t)
+    if (M.TriangleFace[t] >= 0 && static_cast<size_t>(M.TriangleFace[t]) < faces)
+      triangles[static_cast<size_t>(M.TriangleFace[t])].push_back(static_cast<int>(t));
+  for (const SharedFaceUse& u : uses)
+  {
+    const size_t f = static_cast<size_t>(u.Face);
+    const int copy = static_cast<int>(m.Faces.size());
+    Face F = m.Faces[f];
+    const bool turned = F.Reversed != u.Reversed;
+    F.Solid = u.Solid;
+    F.Reversed = u.Reversed;
+    F.FirstPatch = static_cast<int>(m.Patches.size());
+    for (int p = m.Faces[f].FirstPatch; p < m.Faces[f].FirstPatch + m.Faces[f].PatchCount; ++p)
+    {
+      BezierPatch P = m.Patches[static_cast<size_t>(p)];
+      P.Face = copy;
+      m.Patches.push_back(P);
+    }
+    // (The loops run with the material on their left whatever the face's orientation.)
+    F.FirstLoop = static_cast<int>(m.Loops.size());
+    for (int l = m.Faces[f].FirstLoop; l < m.Faces[f].FirstLoop + m.Faces[f].LoopCount; ++l)
+    {
+      TrimLoop L = m.Loops[static_cast<size_t>(l)];
+      const int first = L.FirstSegment;
+      L.Face = copy;
+      L.FirstSegment = static_cast<int>(m.TrimSegments.size());
+      for (int k = first; k < first + L.SegmentCount; ++k)
+      {
+        TrimSegment T = m.TrimSegments[static_cast<size_t>(k)];
+        T.Face = copy;
+        T.Loop = static_cast<int>(m.Loops.size());
+        m.TrimSegments.push_back(T);
+      }
+      m.Loops.push_back(L);
+    }
+    m.Faces.push_back(F);
+    if (m.FaceExact.size() + 1 == m.Faces.size())
+      m.FaceExact.push_back(m.FaceExact[f]);
+    const double sign = turned ? -1.0 : 1.0;
+    const bool withUV = M.UV.size() == 2 * M.FaceIds.size();
+    std::map<int, int> renumbered;
+    for (const int v : vertices[f])
+    {
+      renumbered[v] = static_cast<int>(M.FaceIds.size());
+      for (int k = 0; k < 3; ++k)
+      {
+        M.Points.push_back(M.Points[3 * static_cast<size_t>(v) + static_cast<size_t>(k)]);
+        M.Normals.push_back(sign * M.Normals[3 * static_cast<size_t>(v) + static_cast<size_t>(k)]);
+      }
+      for (int k = 0; k < 2 && withUV; ++k)
+        M.UV.push_back(M.UV[2 * static_cast<size_t>(v) + static_cast<size_t>(k)]);
+      M.FaceIds.push_back(copy);
+    }
+    for (const int t : triangles[f])
+    {
+      const int* a = &M.Triangles[3 * static_cast<size_t>(t)];
+      const int t0 = renumbered[a[0]], t1 = renumbered[a[1]], t2 = renumbered[a[2]];
+      if (turned)
+        M.Triangles.insert(M.Triangles.end(), { t0, t2, t1 });
+      else
+        M.Triangles.insert(M.Triangles.end(), { t0, t1, t2 });
+      M.TriangleFace.push_back(copy);
+    }
+    if (std::find(m.LooseFaces.begin(), m.LooseFaces.end(), u.Face) != m.LooseFaces.end())
+      m.LooseFaces.push_back(copy);
+  }
+}
+
+/// Gives each solid its own copy of an edge whose faces (by the trimming segments along it) lie
+/// in several solids, with that solid's faces, so that an edge bounds the faces of one solid:
+/// the closure check, the edges' own splitting (SplitNonManifoldEdges) and the solver's scope
+/// (a solid's certification searches the edges of its own faces) then see each solid whole.
+/// Returns the number of edges split.
+int SplitEdgesAcrossSolids(BRepModel& m)
+{
+  std::vector<std::vector<int>> along(m.Edges.size());
+  for (size_t s = 0; s < m.TrimSegments.size(); ++s)
+  {
+    const int e = m.TrimSegments[s].Edge;
+    if (e >= 0 && static_cast<size_t>(e) < m.Edges.size())
+      along[static_cast<size_t>(e)].push_back(static_cast<int>(s));
+  }
+  int split = 0;
+  const size_t edges = m.Edges.size();
+  for (size_t e = 0; e < edges; ++e)
+  {
+    std::vector<int> solids;
+    for (const int s : along[e])
+    {
+      const int solid = m.Faces[static_cast<size_t>(m.TrimSegments[static_cast<size_t>(s)].Face)].Solid;
+      if (std::find(solids.begin(), solids.end(), solid) == solids.end())
+        solids.push_back(solid);
+    }
+    if (solids.size() < 2)
+      continue;
+    ++split;
+    const Edge E = m.Edges[e];
+    for (size_t k = 0; k < solids.size(); ++k)
+    {
+      int target = static_cast<int>(e);
+      if (k > 0)
+      {
+        target = static_cast<int>(m.Edges.size());
+        Edge copy = E;
+        copy.FirstSegment = static_cast<int>(m.EdgeSegments.size());
+        for (int j = E.FirstSegment; j < E.FirstSegment + E.SegmentCount; ++j)
+        {
+          EdgeSegment seg = m.EdgeSegments[static_cast<size_t>(j)];
+          seg.Edge = target;
+          m.EdgeSegments.push_back(seg);
+        }
+        m.Edges.push_back(copy);
+      }
+      std::vector<int> faces;
+      for (const int s : along[e])
+      {
+        TrimSegment& ts = m.TrimSegments[static_cast<size_t>(s)];
+        if (m.Faces[static_cast<size_t>(ts.Face)].Solid != solids[k])
+          continue;
+        ts.Edge = target;
+        if (std::find(faces.begin(), faces.end(), ts.Face) == faces.end())
+          faces.push_back(ts.Face);
+      }
+      Edge& to = m.Edges[static_cast<size_t>(target)];
+      to.FaceCount = static_cast<int>(faces.size());
+      if (to.Seam && faces.size() == 1)
+        to.Faces = { faces[0], faces[0] };
+      else
+        to.Faces = { faces[0], faces.size() > 1 ? faces[1] : -1 };
+    }
+  }
+  return split;
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -1560,13 +1717,58 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   t0 = Clock::now();
   TopTools_IndexedMapOfShape faceMap;
   std::vector<int> faceSolid;
+  // A face that bounds several solids or shells (a compound solid's, or a surface model's shells
+  // written with the faces where their bodies meet shared): each after the first it bounds gets
+  // a copy of its own (SharedFaceUse, AddSharedFaceCopies), so that every solid keeps all its
+  // faces. A solid or shell whose faces are all, and only, those of one read before it is that
+  // body again (a file that lists one body twice: OpenCASCADE's AP209 samples) and gets none.
+  std::vector<SharedFaceUse> sharedUses;
+  auto addBody = [&](const TopoDS_Shape& body, int solidIndex) {
+    std::vector<TopoDS_Shape> faces;
+    for (TopExp_Explorer fx(body, TopAbs_FACE); fx.More(); fx.Next())
+      faces.push_back(fx.Current());
+    // Every face of this body already read, and all of one body read before: the same again.
+    bool allSeen = !faces.empty();
+    std::set<int> indices;
+    for (const TopoDS_Shape& f : faces)
+    {
+      const int index = faceMap.FindIndex(f);
+      if (index == 0)
+      {
+        allSeen = false;
+        break;
+      }
+      indices.insert(index - 1);
+    }
+    if (allSeen)
+    {
+      std::map<int, std::set<int>> ownedBy; // solid -> its faces
+      for (size_t i = 0; i < faceSolid.size(); ++i)
+        ownedBy[faceSolid[i]].insert(static_cast<int>(i));
+      for (const SharedFaceUse& u : sharedUses)
+        ownedBy[u.Solid].insert(u.Face);
+      for (const auto& o : ownedBy)
+        if (o.second == indices)
+          return; // the same body again
+    }
+    for (const TopoDS_Shape& f : faces)
+    {
+      const int index = faceMap.Add(f);
+      if (index > static_cast<int>(faceSolid.size()))
+      {
+        faceSolid.push_back(solidIndex);
+        continue;
+      }
+      bool seen = faceSolid[static_cast<size_t>(index - 1)] == solidIndex;
+      for (const SharedFaceUse& u : sharedUses)
+        seen = seen || (u.Face == index - 1 && u.Solid == solidIndex);
+      if (!seen)
+        sharedUses.push_back({ index - 1, solidIndex, f.Orientation() == TopAbs_REVERSED });
+    }
+  };
   int solid = 0;
   for (TopExp_Explorer sx(shape, TopAbs_SOLID); sx.More(); sx.Next(), ++solid)
-  {
-    for (TopExp_Explorer fx(sx.Current(), TopAbs_FACE); fx.More(); fx.Next())
-      if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
-        faceSolid.push_back(solid);
-  }
+    addBody(sx.Current(), solid);
   // Shells outside solids: a surface model's (SHELL_BASED_SURFACE_MODEL; FreeCAD writes a shape
   // that is a shell so), each given a SolidId of its own. A closed one bounds a volume and is
   // measured as a solid; an open one is flagged by the closure check (CheckSolids).
@@ -1577,9 +1779,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       ++closedLooseShells;
     else
       ++looseShells;
-    for (TopExp_Explorer fx(hx.Current(), TopAbs_FACE); fx.More(); fx.Next())
-      if (faceMap.Add(fx.Current()) > static_cast<int>(faceSolid.size()))
-        faceSolid.push_back(solid);
+    addBody(hx.Current(), solid);
   }
   int looseFaces = 0;
   for (TopExp_Explorer fx(shape, TopAbs_FACE, TopAbs_SHELL); fx.More(); fx.Next())
@@ -2314,11 +2514,40 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   }
   stats.MeshSeconds = Since(t0);
 
+  // Faces that bound several solids or shells: a copy for each (sharedUses), and each edge then
+  // given to one solid.
+  AddSharedFaceCopies(model, sharedUses);
+  if (!sharedUses.empty())
+  {
+    SplitEdgesAcrossSolids(model);
+    // Where: a display vertex of the first such face (else its first patch's corner).
+    const int first = sharedUses[0].Face;
+    std::array<double, 3> at{};
+    const auto& ids = model.Mesh.FaceIds;
+    const auto hit = std::find(ids.begin(), ids.end(), first);
+    if (hit != ids.end())
+      for (int k = 0; k < 3; ++k)
+        at[static_cast<size_t>(k)] =
+          model.Mesh.Points[3 * static_cast<size_t>(hit - ids.begin()) + static_cast<size_t>(k)];
+    else if (model.Faces[static_cast<size_t>(first)].PatchCount > 0)
+      for (int k = 0; k < 3; ++k)
+        at[static_cast<size_t>(k)] =
+          model.Patches[static_cast<size_t>(model.Faces[static_cast<size_t>(first)].FirstPatch)]
+            .ControlPoints[static_cast<size_t>(k)];
+    std::ostringstream w;
+    w << sharedUses.size() << " face(s) bound more than one solid or shell (bodies written with "
+      << "the faces where they meet shared, the first at (" << at[0] << ", " << at[1] << ", "
+      << at[2] << ")): each body has a copy of its own, measured in that body";
+    warn(w.str());
+  }
   if (faces)
   {
     faces->clear();
     for (int i = 1; i <= faceMap.Extent(); ++i)
       faces->push_back(TopoDS::Face(faceMap(i)));
+    for (const SharedFaceUse& u : sharedUses)
+      faces->push_back(TopoDS::Face(
+        faceMap(u.Face + 1).Oriented(u.Reversed ? TopAbs_REVERSED : TopAbs_FORWARD)));
   }
   stats.Faces = static_cast<int>(model.Faces.size());
   stats.Patches = static_cast<int>(model.Patches.size());

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <stdexcept>
 
 namespace brt
@@ -282,8 +283,20 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
     c.FreeEdges += free ? 1 : 0;
     c.NonManifoldEdges += nonManifold ? 1 : 0;
   };
-  for (const Edge& e : m.Edges)
+  // The faces of an edge of more than two faces (Edge::Faces holds two): from the trimming
+  // segments that run along it.
+  std::vector<std::vector<int>> manyFaces(m.Edges.size());
+  for (const TrimSegment& ts : m.TrimSegments)
+    if (ts.Edge >= 0 && static_cast<size_t>(ts.Edge) < m.Edges.size() &&
+      m.Edges[static_cast<size_t>(ts.Edge)].FaceCount > 2)
+    {
+      std::vector<int>& f = manyFaces[static_cast<size_t>(ts.Edge)];
+      if (std::find(f.begin(), f.end(), ts.Face) == f.end())
+        f.push_back(ts.Face);
+    }
+  for (size_t i = 0; i < m.Edges.size(); ++i)
   {
+    const Edge& e = m.Edges[i];
     const int s0 = solidOf(e.Faces[0]);
     if (e.FaceCount == 2 && !e.Seam && s0 != solidOf(e.Faces[1]))
     {
@@ -291,6 +304,19 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
       // each solid has one face there, so the edge is free in both.
       count(s0, e, true, false);
       count(solidOf(e.Faces[1]), e, true, false);
+      continue;
+    }
+    if (e.FaceCount > 2 && static_cast<int>(manyFaces[i].size()) == e.FaceCount)
+    {
+      // Counted per solid (where the trimming segments name every face of the edge): an edge
+      // that two faces of one solid share and a third face of another solid touches leaves that
+      // other solid open along it (a surface model's shell that lacks a face another shell
+      // holds), not this one non-manifold.
+      std::map<int, int> perSolid;
+      for (const int f : manyFaces[i])
+        ++perSolid[solidOf(f)];
+      for (const auto& s : perSolid)
+        count(s.first, e, s.second == 1 && !e.Seam, s.second > 2);
       continue;
     }
     count(s0, e, e.FaceCount == 1 && !e.Seam, e.FaceCount > 2);
