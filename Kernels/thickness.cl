@@ -2479,7 +2479,14 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
   // Newton stops where it no longer gets nearer by a thousandth of the slack (a flat minimum: O's
   // own round, which the sphere touches along the arc, took all 8 steps on most of its patches);
   // the nearest of its points is kept.
-  real last = REAL_MAX, nearU = u, nearV = v;
+  // A step that lands farther than the point it left overshot (a patch that bends much within
+  // the step: Newton's quadratic model holds only near the minimum) and is halved back towards
+  // that point, up to four times, before Newton gives up there. Stopping at the first such step
+  // kept the grid's point: on a Charybdis keyboard case (a ruled B-spline wall whose section
+  // bulges 2.5 mm) the wall 0.99 mm inside a sphere of radius 1 went unseen, and the sphere
+  // stood, 58 times the exact thickness.
+  real last = REAL_MAX, nearU = u, nearV = v, fromU = u, fromV = v;
+  int halvings = 0;
   for (int it = 0;; ++it)
   {
     const PatchEval e = eval_patch(m, p, u, v);
@@ -2490,9 +2497,21 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
       nearU = u;
       nearV = v;
     }
-    if (it == 8 || !(last - dist > (real)1e-3 * m->slack)) // 8 steps, the last one measured
+    if (it == 8 + halvings) // 8 steps, the last one measured
       break;
+    if (!(last - dist > (real)1e-3 * m->slack))
+    {
+      // (Farther by rounding only: converged.)
+      if (!(dist - last > (real)1e-3 * m->slack) || halvings == 4)
+        break;
+      ++halvings;
+      u = (real)0.5 * (fromU + u);
+      v = (real)0.5 * (fromV + v);
+      continue;
+    }
     last = dist;
+    fromU = u;
+    fromV = v;
     const real g0 = dot(e.Du, w), g1 = dot(e.Dv, w);
     real h00 = dot(e.Du, e.Du) + dot(e.Duu, w), h01 = dot(e.Du, e.Dv) + dot(e.Duv, w),
          h11 = dot(e.Dv, e.Dv) + dot(e.Dvv, w);
