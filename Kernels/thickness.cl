@@ -2634,9 +2634,16 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // osculates the sphere and the patches' error decides: counted from a tenth of the radius on,
   // the unseen cover's extruded face 24 gave points 3.8e-4 deep 0.098 from O where OpenCASCADE
   // has none, and ten exact spheres failed NotMaximal.
+  // Another face's patch with no exact surface gets the finer grid too where Newton ends on the
+  // patch's border at the sphere (forty-fourth session): a bend of Bastardkb's charybdisnano case,
+  // one patch 18 mm wide, touched a sphere of radius 2 where Newton ended and dipped 0.086 mm into
+  // it in its other valley, between the grid's points (2t = 4 stood where the exact thickness is
+  // 3.909). Its points count from O on (the grid's exclusion is for O's own face).
   const real dn = length(wn - mr);
-  const real nearO = (real)0.09 * reach * reach; // (0.3 of the radius)^2
-  if (face == ownFace && dn < reach * (real)1.001 && extent > reach)
+  const real nearO = face == ownFace ? (real)0.09 * reach * reach : (real)-1; // (0.3 of the radius)^2
+  const int onBorder = !(nearU > pd[0] && nearU < pd[1] && nearV > pd[2] && nearV < pd[3]);
+  if ((face == ownFace || (onBorder && m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE)) &&
+    dn < reach * (real)1.001 && extent > reach)
   {
     const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)8);
     real fu = nearU, fv = nearV, fd = REAL_MAX;

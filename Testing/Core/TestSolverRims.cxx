@@ -12,6 +12,8 @@
 #include <Bnd_Box.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
+#include <gp_Pln.hxx>
+#include <gp_Ax3.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shape.hxx>
@@ -730,6 +732,64 @@ TEST(SolverExact, BulgingWallBeyondNewtonsFirstStep)
   std::printf("[bulging wall] the face %.3g deep in the sphere (OpenCASCADE), the certification "
               "says %s\n", depth, holds ? "not empty" : "empty");
   EXPECT_GT(depth, 0.9);
+  EXPECT_TRUE(holds);
+}
+
+/// A patch with two valleys towards the centre: one bicubic B-spline patch of Bastardkb's
+/// charybdisnano case (a bend 18 mm wide, its 16 control points as the file's), and the sphere
+/// of radius 2 that a chained start gave the sample beside it (its centre 2 along the normal of
+/// the plane the sample lies on, a 1 mm square here). Newton from the nearest of the 5 x 5 grid's
+/// points ends on the patch's border where the sphere touches it; the patch dips 0.086 mm into
+/// the sphere in its other valley, between the grid's points. Only O's own face had the finer
+/// grid for such a patch; a face without an exact surface whose Newton ends on the patch's border
+/// at the sphere now has it too (`brt_exact_check`: 2t = 4 where the exact thickness is 3.909).
+TEST(SolverExact, SecondValleyOfALargePatch)
+{
+  const double c[16][3] = { { -14.7648872, 0, -66.4798388 }, { -14.7648872, 0.722161458, -66.4798388 },
+    { -14.519712, 3.38632298, -64.5645013 }, { -14.0295401, 5.07948446, -60.7422724 },
+    { -20.6355724, 0, -67.0432485 }, { -20.6355724, 0.722161458, -67.0432485 },
+    { -20.3612879, 4.08293819, -65.0861025 }, { -19.8997125, 6.12440729, -60.7670029 },
+    { -26.5062576, 0, -67.6066583 }, { -26.5062576, 0.722161458, -67.6066583 },
+    { -26.2617485, 4.77955341, -65.3300205 }, { -25.7698848, 7.16933011, -60.7917334 },
+    { -32.3769429, 0, -68.170068 }, { -32.3769429, 0.722161458, -68.170068 },
+    { -32.1313143, 5.47616862, -65.7188666 }, { -31.6400572, 8.21425293, -60.816464 } };
+  TColgp_Array2OfPnt poles(1, 4, 1, 4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      poles.SetValue(i + 1, j + 1, gp_Pnt(c[4 * i + j][0], c[4 * i + j][1], c[4 * i + j][2]));
+  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
+  const TopoDS_Face bend = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  // The sample's own face: a 1 mm square of the plane through O normal to d.
+  const gp_Pnt O(-30.240738737, -0.00333333333333, -63.9466781852);
+  const gp_Dir d(0.0955310864584, 0.0, -0.995426447067);
+  const TopoDS_Face square =
+    BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
+  TopoDS_Compound both;
+  BRep_Builder b;
+  b.MakeCompound(both);
+  b.Add(both, square);
+  b.Add(both, bend);
+  ConversionOptions conversion;
+  conversion.MaxPatchSize = 100.0;
+  const BRepModel model = ConvertShape(both, conversion);
+  const SolverData data = PrepareSolver(model, SolverOptions());
+  ASSERT_EQ(model.Faces.size(), 2u);
+  ASSERT_EQ(model.Faces[1].PatchCount, 1);
+  Sample o;
+  o.Face = 0;
+  o.Point = { O.X(), O.Y(), O.Z() };
+  o.Direction = { d.X(), d.Y(), d.Z() };
+  SampleResult sphere;
+  sphere.Type = ContactType::SurfaceSurface;
+  sphere.Radius = 2.0;
+  sphere.Thickness = 4.0;
+  for (int k = 0; k < 3; ++k)
+    sphere.Center[k] = o.Point[k] + 2.0 * o.Direction[k];
+  const double depth = 2.0 - BoundaryDistance(bend, sphere.Center);
+  const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
+  std::printf("[second valley] the bend %.3g deep in the sphere (OpenCASCADE), the certification "
+              "says %s\n", depth, holds ? "not empty" : "empty");
+  EXPECT_GT(depth, 0.08);
   EXPECT_TRUE(holds);
 }
 
