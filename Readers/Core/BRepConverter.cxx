@@ -1611,23 +1611,9 @@ int SplitEdgesAcrossSolids(BRepModel& m)
     if (solids.size() < 2)
       continue;
     ++split;
-    const Edge E = m.Edges[e];
     for (size_t k = 0; k < solids.size(); ++k)
     {
-      int target = static_cast<int>(e);
-      if (k > 0)
-      {
-        target = static_cast<int>(m.Edges.size());
-        Edge copy = E;
-        copy.FirstSegment = static_cast<int>(m.EdgeSegments.size());
-        for (int j = E.FirstSegment; j < E.FirstSegment + E.SegmentCount; ++j)
-        {
-          EdgeSegment seg = m.EdgeSegments[static_cast<size_t>(j)];
-          seg.Edge = target;
-          m.EdgeSegments.push_back(seg);
-        }
-        m.Edges.push_back(copy);
-      }
+      const int target = k == 0 ? static_cast<int>(e) : CopyEdge(m, static_cast<int>(e));
       std::vector<int> faces;
       for (const int s : along[e])
       {

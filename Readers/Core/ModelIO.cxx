@@ -337,6 +337,22 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
   return checks;
 }
 
+int CopyEdge(BRepModel& m, int e)
+{
+  const int target = static_cast<int>(m.Edges.size());
+  Edge copy = m.Edges[static_cast<size_t>(e)];
+  const int first = copy.FirstSegment;
+  copy.FirstSegment = static_cast<int>(m.EdgeSegments.size());
+  for (int k = first; k < first + copy.SegmentCount; ++k)
+  {
+    EdgeSegment seg = m.EdgeSegments[static_cast<size_t>(k)];
+    seg.Edge = target;
+    m.EdgeSegments.push_back(seg);
+  }
+  m.Edges.push_back(copy);
+  return target;
+}
+
 std::vector<int> SplitNonManifoldEdges(BRepModel& m, const std::vector<SolidCheck>& checks)
 {
   using V3 = std::array<double, 3>;
@@ -454,16 +470,7 @@ std::vector<int> SplitNonManifoldEdges(BRepModel& m, const std::vector<SolidChec
       }
       else
       {
-        target = static_cast<int>(m.Edges.size());
-        Edge copy = E;
-        copy.FirstSegment = static_cast<int>(m.EdgeSegments.size());
-        for (int k = E.FirstSegment; k < E.FirstSegment + E.SegmentCount; ++k)
-        {
-          EdgeSegment seg = m.EdgeSegments[static_cast<size_t>(k)];
-          seg.Edge = target;
-          m.EdgeSegments.push_back(seg);
-        }
-        m.Edges.push_back(copy);
+        target = CopyEdge(m, static_cast<int>(e));
         for (const int s : onEdge[e])
         {
           TrimSegment& ts = m.TrimSegments[static_cast<size_t>(s)];

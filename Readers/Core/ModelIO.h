@@ -65,6 +65,10 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& model, bool volumes = true)
 /// solid stays non-manifold). Returns the edges split.
 std::vector<int> SplitNonManifoldEdges(BRepModel& model, const std::vector<SolidCheck>& checks);
 
+/// Appends a copy of edge e (its segments copied too, numbered for the copy) and returns the
+/// copy's index; the trimming segments still name e (the caller moves those that go to the copy).
+int CopyEdge(BRepModel& model, int e);
+
 /// Reverses every closed solid whose display mesh encloses a negative volume (its faces'
 /// normals pointed inwards): Face::Reversed, the mesh normals and the triangles' winding.
 /// Returns the indices of the solids reversed.

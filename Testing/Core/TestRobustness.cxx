@@ -1276,6 +1276,22 @@ TEST(Robustness, BodyInAnotherBoreIsNotACavity)
   // A true cavity stays one: a block with a spherical void (BREP_WITH_VOIDS) keeps its 5 mm
   // walls, in Robustness.SolidWithACavity.
 }
+/// A 10 mm box with a fin (10 x 14.1) sewn along its edge x = y = 10, in one shell.
+TopoDS_Shape BoxWithAFin()
+{
+  BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
+  sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape());
+  BRepBuilderAPI_MakePolygon fin;
+  fin.Add(gp_Pnt(10, 10, 0));
+  fin.Add(gp_Pnt(20, 20, 0));
+  fin.Add(gp_Pnt(20, 20, 10));
+  fin.Add(gp_Pnt(10, 10, 10));
+  fin.Close();
+  sew.Add(BRepBuilderAPI_MakeFace(fin.Wire()).Shape());
+  sew.Perform();
+  return sew.SewedShape();
+}
+
 /// The box is measured (2t = min(10, twice the distance to the nearest side) on its top and
 /// bottom), and every sample on the fin is flagged as on an open shell
 /// (FinSewnToABoxIsFlaggedAndTheBoxMeasured).
@@ -1315,17 +1331,7 @@ TEST(Robustness, FinSewnToABoxIsFlaggedAndTheBoxMeasured)
   // sharing the edge (read from STEP the same). Each is a body of its own: the closure, counted
   // per body since the forty-fourth session, finds the box closed and the fin open. Before, the
   // edge's three faces counted against the box, and the file was refused as non-manifold.
-  BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
-  sew.Add(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape());
-  BRepBuilderAPI_MakePolygon fin;
-  fin.Add(gp_Pnt(10, 10, 0));
-  fin.Add(gp_Pnt(20, 20, 0));
-  fin.Add(gp_Pnt(20, 20, 10));
-  fin.Add(gp_Pnt(10, 10, 10));
-  fin.Close();
-  sew.Add(BRepBuilderAPI_MakeFace(fin.Wire()).Shape());
-  sew.Perform();
-  const TopoDS_Shape finned = sew.SewedShape();
+  const TopoDS_Shape finned = BoxWithAFin();
   int shells = 0;
   for (TopExp_Explorer hx(finned, TopAbs_SHELL); hx.More(); hx.Next())
     ++shells;
@@ -1345,20 +1351,9 @@ TEST(Robustness, FinInTheSolidsShellStaysNonManifold)
 {
   // Three faces of one body at an edge, which pair into no wedges: a box whose shell holds a
   // fin along an edge, built unhealed (the healing would split it off): non-manifold, refused.
-  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
-  BRepBuilderAPI_Sewing sew(1e-6, true, true, true, true);
-  sew.Add(box);
-  BRepBuilderAPI_MakePolygon fin;
-  fin.Add(gp_Pnt(10, 10, 0));
-  fin.Add(gp_Pnt(20, 20, 0));
-  fin.Add(gp_Pnt(20, 20, 10));
-  fin.Add(gp_Pnt(10, 10, 10));
-  fin.Close();
-  sew.Add(BRepBuilderAPI_MakeFace(fin.Wire()).Shape());
-  sew.Perform();
   ConversionOptions unhealed;
   unhealed.Heal = false;
-  BRepModel m = ConvertShape(sew.SewedShape(), unhealed);
+  BRepModel m = ConvertShape(BoxWithAFin(), unhealed);
   try
   {
     CheckConvertedModel("fin", m);

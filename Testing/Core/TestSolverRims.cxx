@@ -691,6 +691,26 @@ TEST(SolverExact, GrazingOwnFaceNextToO)
   }
 }
 
+/// The certification, given the sphere of `radius` tangent at o, finds the boundary that
+/// OpenCASCADE puts more than minDepth inside it (`face`, whose model is `model`).
+void ExpectCertificationFinds(const char* name, const TopoDS_Face& face, const BRepModel& model,
+  const Sample& o, double radius, double minDepth)
+{
+  const SolverData data = PrepareSolver(model, SolverOptions());
+  SampleResult sphere;
+  sphere.Type = ContactType::SurfaceSurface;
+  sphere.Radius = radius;
+  sphere.Thickness = 2.0 * radius;
+  for (int k = 0; k < 3; ++k)
+    sphere.Center[k] = o.Point[k] + radius * o.Direction[k];
+  const double depth = radius - BoundaryDistance(face, sphere.Center);
+  const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
+  std::printf("[%s] the face %.3g deep in the sphere (OpenCASCADE), the certification says %s\n",
+    name, depth, holds ? "not empty" : "empty");
+  EXPECT_GT(depth, minDepth);
+  EXPECT_TRUE(holds);
+}
+
 /// A wall whose section bends much within one patch: a ruled cubic face, x(u), z(u) with
 /// control points (0, 0), (-2.5, 2.55) twice and (-0.25, 10.55), straight along y over 2 (the
 /// side wall of Bastardkb's Charybdis Mini case, a single B-spline patch there). A sphere of
@@ -713,26 +733,15 @@ TEST(SolverExact, BulgingWallBeyondNewtonsFirstStep)
   ConversionOptions conversion;
   conversion.MaxPatchSize = 20.0;
   const BRepModel model = ConvertShape(face, conversion);
-  const SolverData data = PrepareSolver(model, SolverOptions());
   ASSERT_EQ(model.Patches.size(), 1u);
   // The centre where the Charybdis sample's sphere had it: 1.8055 and 4.5248 from the wall's
-  // first corner, half way along y; O one radius above it along y.
-  SampleResult sphere;
-  sphere.Type = ContactType::SurfaceSurface;
-  sphere.Radius = 1.0;
-  sphere.Thickness = 2.0;
-  sphere.Center = { -1.80552, -1.0, 4.52476 };
+  // first corner, half way along y; O one radius above it along y. OpenCASCADE puts the wall
+  // 0.99 into the sphere.
   Sample o;
   o.Face = 0;
-  o.Point = { sphere.Center[0], 0.0, sphere.Center[2] };
+  o.Point = { -1.80552, 0.0, 4.52476 };
   o.Direction = { 0.0, -1.0, 0.0 };
-  // The premise, by OpenCASCADE: the wall reaches 0.99 into the sphere.
-  const double depth = 1.0 - BoundaryDistance(face, sphere.Center);
-  const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
-  std::printf("[bulging wall] the face %.3g deep in the sphere (OpenCASCADE), the certification "
-              "says %s\n", depth, holds ? "not empty" : "empty");
-  EXPECT_GT(depth, 0.9);
-  EXPECT_TRUE(holds);
+  ExpectCertificationFinds("bulging wall", face, model, o, 1.0, 0.9);
 }
 
 /// A patch with two valleys towards the centre: one bicubic B-spline patch of Bastardkb's
@@ -772,25 +781,13 @@ TEST(SolverExact, SecondValleyOfALargePatch)
   ConversionOptions conversion;
   conversion.MaxPatchSize = 100.0;
   const BRepModel model = ConvertShape(both, conversion);
-  const SolverData data = PrepareSolver(model, SolverOptions());
   ASSERT_EQ(model.Faces.size(), 2u);
   ASSERT_EQ(model.Faces[1].PatchCount, 1);
   Sample o;
   o.Face = 0;
   o.Point = { O.X(), O.Y(), O.Z() };
   o.Direction = { d.X(), d.Y(), d.Z() };
-  SampleResult sphere;
-  sphere.Type = ContactType::SurfaceSurface;
-  sphere.Radius = 2.0;
-  sphere.Thickness = 4.0;
-  for (int k = 0; k < 3; ++k)
-    sphere.Center[k] = o.Point[k] + 2.0 * o.Direction[k];
-  const double depth = 2.0 - BoundaryDistance(bend, sphere.Center);
-  const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
-  std::printf("[second valley] the bend %.3g deep in the sphere (OpenCASCADE), the certification "
-              "says %s\n", depth, holds ? "not empty" : "empty");
-  EXPECT_GT(depth, 0.08);
-  EXPECT_TRUE(holds);
+  ExpectCertificationFinds("second valley", bend, model, o, 2.0, 0.08);
 }
 
 /// A blind drilled hole whose 118 degree point ends h above the floor of a block: at a sample O
