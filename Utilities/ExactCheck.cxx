@@ -419,19 +419,21 @@ int main(int argc, char** argv)
       }
       ++solved;
       const TopoDS_Shape& own = bounding(samples[k]);
-      BRepExtrema_DistShapeShape dist(
-        BRepBuilderAPI_MakeVertex(gp_Pnt(r.Center[0], r.Center[1], r.Center[2])).Vertex(), own,
-        Extrema_ExtFlag_MIN);
-      if (!dist.IsDone())
-        continue;
-      double overlap = r.Radius - dist.Value();
-      // The second distance, where it finds a point nearer than BRepExtrema's.
+      // BRepExtrema's distance, its in-face points checked by the face classifiers
+      // (CheckedDistance).
       const gp_Pnt centre(r.Center[0], r.Center[1], r.Center[2]);
+      gp_Pnt firstAt;
+      TopoDS_Face firstFace;
+      const double first = brt::exact::CheckedDistance(own, centre, grid, &firstAt, &firstFace);
+      if (first < 0.0)
+        continue;
+      double overlap = r.Radius - first;
+      // The second distance, where it finds a point nearer than BRepExtrema's.
       gp_Pnt secondAt;
       int secondFace = -1;
       const double second = secondDistance(samples[k], centre, r.Radius, secondAt, secondFace);
       const gp_Pnt O(samples[k].Point[0], samples[k].Point[1], samples[k].Point[2]);
-      if (second < dist.Value() - 1e-9 * (1.0 + r.Radius))
+      if (second < first - 1e-9 * (1.0 + r.Radius))
       {
         ++secondNearer;
         if (r.Radius - second > allowed && r.Radius - second > 1e-4 * r.Radius &&
@@ -442,13 +444,13 @@ int main(int argc, char** argv)
         deepestFace[k] = secondFace;
         deepestAt[k] = secondAt;
       }
-      else if (dist.NbSolution() > 0)
+      else
       {
-        deepestFromO[k] = dist.PointOnShape2(1).Distance(O);
-        deepestAt[k] = dist.PointOnShape2(1);
-        if (dist.SupportTypeShape2(1) == BRepExtrema_IsInFace)
+        deepestFromO[k] = firstAt.Distance(O);
+        deepestAt[k] = firstAt;
+        if (!firstFace.IsNull())
           for (size_t f = 0; f < faces.size(); ++f)
-            if (faces[f].IsSame(dist.SupportOnShape2(1)))
+            if (faces[f].IsSame(firstFace))
               deepestFace[k] = static_cast<int>(f);
       }
       if (overlap > allowed && overlap > 1e-4 * r.Radius)
@@ -669,12 +671,10 @@ int main(int argc, char** argv)
       auto nearest = [&](const TopoDS_Shape& own, const brt::Sample& s, double t, gp_Pnt* foot) {
         const gp_Pnt X(s.Point[0] + t * s.Direction[0], s.Point[1] + t * s.Direction[1],
           s.Point[2] + t * s.Direction[2]);
-        BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(X).Vertex(), own,
-          Extrema_ExtFlag_MIN);
-        if (!dist.IsDone() || dist.NbSolution() == 0)
+        gp_Pnt at;
+        double value = brt::exact::CheckedDistance(own, X, grid, &at);
+        if (value < 0.0)
           return -1.0;
-        gp_Pnt at = dist.PointOnShape2(1);
-        double value = dist.Value();
         gp_Pnt secondAt;
         int secondFace = -1;
         const double second = secondDistance(s, X, value, secondAt, secondFace);
@@ -808,11 +808,9 @@ int main(int argc, char** argv)
         for (double t = far; t <= far && empty; t *= 2.0)
         {
           const brt::Sample& s = samples[k];
-          BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(s.Point[0] +
-                                            t * s.Direction[0], s.Point[1] + t * s.Direction[1],
-                                            s.Point[2] + t * s.Direction[2])).Vertex(),
-            bounding(s), Extrema_ExtFlag_MIN);
-          empty = dist.IsDone() && dist.Value() >= t - delta;
+          const double dist = brt::exact::CheckedDistance(bounding(s), gp_Pnt(s.Point[0] +
+            t * s.Direction[0], s.Point[1] + t * s.Direction[1], s.Point[2] + t * s.Direction[2]));
+          empty = dist >= t - delta;
         }
         confirmed += empty;
         if (!empty && list > 0)

@@ -1,7 +1,13 @@
 #include "ExactDistance.h"
 
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass_FaceClassifier.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRep_Builder.hxx>
+#include <TopTools_DataMapOfShapeInteger.hxx>
+#include <TopTools_MapOfShape.hxx>
+#include <TopoDS_Compound.hxx>
 #include <BRepTools.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
@@ -15,6 +21,7 @@
 #include <gp_Pnt2d.hxx>
 
 #include <algorithm>
+#include <memory>
 #include <limits>
 #include <utility>
 
@@ -22,6 +29,34 @@ namespace brt
 {
 namespace exact
 {
+namespace
+{
+// Each face's polygon classifier, built once (building it polygonises the face's wires): the
+// faces stay alive with the map, so none is mistaken for another.
+BRepTopAdaptor_FClass2d& Polygon(const TopoDS_Face& F)
+{
+  static TopTools_DataMapOfShapeInteger index;
+  static std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> polygons;
+  if (const int* i = index.Seek(F))
+    return *polygons[static_cast<size_t>(*i)];
+  polygons.push_back(std::make_unique<BRepTopAdaptor_FClass2d>(F, BRep_Tool::Tolerance(F)));
+  index.Bind(F, static_cast<int>(polygons.size() - 1));
+  return *polygons.back();
+}
+
+// On the face by both of OpenCASCADE's classifiers at the face's tolerance: where they differ,
+// BRepClass_FaceClassifier was the one wrong in each case seen (a plane's corner, a sliver's).
+bool OnFace(const TopoDS_Face& F, double u, double v)
+{
+  const TopAbs_State a =
+    BRepClass_FaceClassifier(F, gp_Pnt2d(u, v), BRep_Tool::Tolerance(F)).State();
+  if (a != TopAbs_IN && a != TopAbs_ON)
+    return false;
+  const TopAbs_State b = Polygon(F).Perform(gp_Pnt2d(u, v));
+  return b == TopAbs_IN || b == TopAbs_ON;
+}
+} // namespace
+
 std::vector<Bnd_Box> FaceBoxes(const std::vector<TopoDS_Face>& faces)
 {
   std::vector<Bnd_Box> boxes(faces.size());
@@ -131,8 +166,7 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
       {
         double u, v;
         proj.Parameters(i, u, v);
-        const BRepClass_FaceClassifier in(F, gp_Pnt2d(u, v), BRep_Tool::Tolerance(F));
-        if (in.State() == TopAbs_IN || in.State() == TopAbs_ON)
+        if (OnFace(F, u, v))
           keep(proj.Distance(i), proj.Point(i), static_cast<int>(f));
       }
     }
@@ -150,6 +184,100 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
         keep(proj.Distance(i), proj.Point(i), -1);
     }
   }
+  return best;
+}
+double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid, gp_Pnt* at,
+  TopoDS_Face* onFace)
+{
+  const TopoDS_Vertex V = BRepBuilderAPI_MakeVertex(X).Vertex();
+  TopTools_MapOfShape dropped;
+  std::vector<TopoDS_Face> droppedFaces;
+  TopoDS_Shape rest = shape;
+  double best = std::numeric_limits<double>::max();
+  gp_Pnt bestAt;
+  TopoDS_Face bestFace;
+  for (int round = 0; round <= 8; ++round)
+  {
+    BRepExtrema_DistShapeShape dist(V, rest, Extrema_ExtFlag_MIN);
+    if (!dist.IsDone())
+      return -1.0;
+    if (dist.NbSolution() == 0)
+      break;
+    // The solutions all lie at the distance found: one that is really on its face (or an edge or
+    // vertex) settles it; the faces whose solutions are off them are dropped.
+    bool trusted = false;
+    std::vector<TopoDS_Face> off;
+    for (int i = 1; i <= dist.NbSolution() && !trusted; ++i)
+    {
+      if (dist.SupportTypeShape2(i) != BRepExtrema_IsInFace)
+      {
+        trusted = true;
+        if (dist.Value() < best)
+        {
+          best = dist.Value();
+          bestAt = dist.PointOnShape2(i);
+          bestFace = TopoDS_Face();
+        }
+        break;
+      }
+      const TopoDS_Face F = TopoDS::Face(dist.SupportOnShape2(i));
+      double u, v;
+      dist.ParOnFaceS2(i, u, v);
+      const bool on = OnFace(F, u, v);
+      if (on)
+      {
+        trusted = true;
+        if (dist.Value() < best)
+        {
+          best = dist.Value();
+          bestAt = dist.PointOnShape2(i);
+          bestFace = F;
+        }
+      }
+      else
+        off.push_back(F);
+    }
+    if (trusted || off.empty())
+      break;
+    if (round == 8)
+      return -1.0; // (not seen)
+    for (const TopoDS_Face& F : off)
+      if (dropped.Add(F))
+        droppedFaces.push_back(F);
+    BRep_Builder b;
+    TopoDS_Compound c;
+    b.MakeCompound(c);
+    int kept = 0;
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next())
+      if (!dropped.Contains(ex.Current()))
+      {
+        b.Add(c, ex.Current());
+        ++kept;
+      }
+    if (kept == 0)
+      break;
+    rest = c;
+  }
+  // The dropped faces, each measured by the extremum searches and the grid.
+  if (!droppedFaces.empty())
+  {
+    gp_Pnt P;
+    int f = -1;
+    const double d = ExtremaDistance(droppedFaces, FaceBoxes(droppedFaces), X,
+      std::numeric_limits<double>::max(), {}, &P, &f, grid);
+    if (d < best)
+    {
+      best = d;
+      bestAt = P;
+      bestFace = f >= 0 ? droppedFaces[static_cast<size_t>(f)] : TopoDS_Face();
+    }
+  }
+  if (!(best < std::numeric_limits<double>::max()))
+    return -1.0;
+  if (at)
+    *at = bestAt;
+  if (onFace)
+    *onFace = bestFace;
   return best;
 }
 } // namespace exact

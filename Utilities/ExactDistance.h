@@ -5,6 +5,7 @@
 // 14). Shared by brt_exact_check and the tests that measure spheres against the exact B-Rep.
 #include <Bnd_Box.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
 #include <gp_Pnt.hxx>
 
 #include <functional>
@@ -33,6 +34,18 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
 /// samples"). An upper bound of the face's distance (the largest double where no grid point lies
 /// on the face); *at gets the point.
 double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at = nullptr);
+
+/// BRepExtrema_DistShapeShape's distance from X to the faces of `shape`, its in-face solutions
+/// checked: one whose (u, v) either face classifier puts off its face (BRepClass_FaceClassifier
+/// and BRepTopAdaptor_FClass2d, at the face's tolerance) is not taken; that face is measured by
+/// ExtremaDistance instead (grid as there) and the other faces by BRepExtrema again, up to eight
+/// such faces. BRepExtrema returned the corner of a sliver face's parameter box, 0.3 mm off the
+/// face, as its nearest point (Bastardkb's Charybdis3 case, face 271: a sphere "0.13 into the
+/// faces" that our solver has clear; BRepClass_FaceClassifier, on which BRepExtrema relies, has
+/// the corner in, the polygon classifier out). Returns -1 where
+/// BRepExtrema fails; *at gets the point and *onFace its face (null on an edge or vertex).
+double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid = 0,
+  gp_Pnt* at = nullptr, TopoDS_Face* onFace = nullptr);
 
 /// The faces' boxes for ExtremaDistance.
 std::vector<Bnd_Box> FaceBoxes(const std::vector<TopoDS_Face>& faces);
