@@ -2470,8 +2470,9 @@ BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, rea
 // The nearest point of patch p to the centre: a 5x5 grid (its points inside the trim are
 // candidates themselves), then Newton on |S - M|^2 / 2 in (u, v), clamped to the patch.
 // Newton on |S - M|^2 / 2 over patch p from (u0, v0), clamped to the patch (certify_patch): the
-// nearest of its points in (*nu, *nv).
-void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0, real v0,
+// nearest of its points in (*nu, *nv). Returns 1 where it converged, 0 where it stopped at its
+// cap of steps (or a singular step) still getting nearer.
+int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0, real v0,
   real* outU, real* outV)
 {
   __global const real* pd = m->patchDomain + 4 * p;
@@ -2486,7 +2487,7 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
   // bulges 2.5 mm) the wall 0.99 mm inside a sphere of radius 1 went unseen, and the sphere
   // stood, 58 times the exact thickness.
   real last = REAL_MAX, nearU = u, nearV = v, fromU = u, fromV = v;
-  int halvings = 0;
+  int halvings = 0, converged = 0;
   for (int it = 0;; ++it)
   {
     const PatchEval e = eval_patch(m, p, u, v);
@@ -2502,7 +2503,8 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
     if (!(last - dist > (real)1e-3 * m->slack))
     {
       // (Farther by rounding only: converged.)
-      if (!(dist - last > (real)1e-3 * m->slack) || halvings == 4)
+      converged = !(dist - last > (real)1e-3 * m->slack);
+      if (converged || halvings == 4)
         break;
       ++halvings;
       u = (real)0.5 * (fromU + u);
@@ -2555,11 +2557,13 @@ void patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0
     {
       nearU = u;
       nearV = v;
+      converged = 1;
       break;
     }
   }
   *outU = nearU;
   *outV = nearV;
+  return converged;
 }
 
 BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
@@ -2619,7 +2623,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   }
   const real extent = length(hi - lo);
   real nearU, nearV;
-  patch_nearest_newton(m, p, anchor, mr, bu, bv, &nearU, &nearV);
+  const int converged = patch_nearest_newton(m, p, anchor, mr, bu, bv, &nearU, &nearV);
   const real3 wn = anchor + eval_patch_point(m, p, nearU, nearV);
   consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
   // A face that grazes the sphere along a valley of a patch much larger than the sphere: Newton
@@ -2639,10 +2643,16 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // one patch 18 mm wide, touched a sphere of radius 2 where Newton ended and dipped 0.086 mm into
   // it in its other valley, between the grid's points (2t = 4 stood where the exact thickness is
   // 3.909). Its points count from O on (the grid's exclusion is for O's own face).
+  // So does one whose Newton stopped at its cap still getting nearer (forty-fifth session): on a
+  // B-spline fillet of Bastardkb's Charybdis3 case, narrow across and flat along, Newton's first
+  // step jumped past the valley's deepest point to the patch's border, and each step from there
+  // crept back by 0.002 of the patch until the cap, 0.001 outside the sphere, where the valley
+  // dips 0.0011 into it (2t = 4.00872 where the exact thickness is 4.00309).
   const real dn = length(wn - mr);
   const real nearO = face == ownFace ? (real)0.09 * reach * reach : (real)-1; // (0.3 of the radius)^2
   const int onBorder = !(nearU > pd[0] && nearU < pd[1] && nearV > pd[2] && nearV < pd[3]);
-  if ((face == ownFace || (onBorder && m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE)) &&
+  if ((face == ownFace ||
+        ((onBorder || !converged) && m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE)) &&
     dn < reach * (real)1.001 && extent > reach)
   {
     const int n = (int)clamp(ceil((real)4 * extent / reach), (real)5, (real)8);

@@ -790,6 +790,55 @@ TEST(SolverExact, SecondValleyOfALargePatch)
   ExpectCertificationFinds("second valley", bend, model, o, 2.0, 0.08);
 }
 
+/// A valley that Newton creeps along: one bicubic patch of a B-spline fillet of Bastardkb's
+/// Charybdis3 case (its 16 control points as the file's), narrow across and flat along towards
+/// the centre of a sphere of radius 2.00436 that a chained start gave a sample 1.8 mm away (O and
+/// d as the file's sample). The patch's nearest point to the centre lies at u = 0.47 of the patch,
+/// 0.0011 inside the sphere (OpenCASCADE). Newton's first step from the 5 x 5 grid's nearest
+/// point (u = 0.25) jumped past it to the patch's border, which was nearer; from there each step
+/// crept back along the valley by about 0.002 of the patch, nearer each time, until the cap of 8
+/// steps, 0.001 outside the sphere. Where Newton stops at its cap still getting nearer, a face
+/// without an exact surface now gets the finer grid (`brt_exact_check`: 2t = 4.00872 where the
+/// exact thickness is 4.00309).
+TEST(SolverExact, ValleyNewtonCreepsAlong)
+{
+  const double c[16][3] = { { -63.0149116, 29.0152535, 15.3295939 },
+    { -62.5760659, 29.765267, 13.5836995 }, { -62.3679132, 30.4540758, 11.7566525 },
+    { -62.4186904, 31.0568019, 9.91190235 }, { -63.0598864, 29.5023608, 15.5085208 },
+    { -62.6011513, 30.2448507, 13.7531606 }, { -62.3762375, 30.9275512, 11.9122413 },
+    { -62.4147304, 31.5252852, 10.0512416 }, { -62.8967162, 29.9863828, 15.7385619 },
+    { -62.4240742, 30.7219042, 13.9520896 }, { -62.1894998, 31.3987385, 12.0784895 },
+    { -62.2235179, 31.9916232, 10.1844328 }, { -62.5741404, 30.3321945, 15.9546953 },
+    { -62.0947069, 31.0686284, 14.1278651 }, { -61.8579063, 31.7462239, 12.21339 },
+    { -61.8947014, 32.3397574, 10.2788829 } };
+  TColgp_Array2OfPnt poles(1, 4, 1, 4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      poles.SetValue(i + 1, j + 1, gp_Pnt(c[4 * i + j][0], c[4 * i + j][1], c[4 * i + j][2]));
+  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
+  const TopoDS_Face fillet = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  // The sample's own face: a 1 mm square of the plane through O normal to d.
+  const gp_Pnt O(-60.9615591135, 32.7412999523, 10.9329380446);
+  const gp_Dir d(0.276654717136, -0.918957999238, -0.281030893538);
+  const TopoDS_Face square =
+    BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
+  TopoDS_Compound both;
+  BRep_Builder b;
+  b.MakeCompound(both);
+  b.Add(both, square);
+  b.Add(both, fillet);
+  ConversionOptions conversion;
+  conversion.MaxPatchSize = 100.0;
+  const BRepModel model = ConvertShape(both, conversion);
+  ASSERT_EQ(model.Faces.size(), 2u);
+  ASSERT_EQ(model.Faces[1].PatchCount, 1);
+  Sample o;
+  o.Face = 0;
+  o.Point = { O.X(), O.Y(), O.Z() };
+  o.Direction = { d.X(), d.Y(), d.Z() };
+  ExpectCertificationFinds("creeping valley", fillet, model, o, 2.00436, 9e-4);
+}
+
 /// A blind drilled hole whose 118 degree point ends h above the floor of a block: at a sample O
 /// of the floor a distance rho from the hole's axis, the maximal sphere touches the point, the
 /// cone face's apex, a degenerated edge (a pole of its trim): t = (rho^2 + h^2) / (2 h). It
