@@ -177,6 +177,33 @@ void PackPatchHull(const T* c, T* out)
   out[6] = Rounded<T>(lo, false);
   out[7] = Rounded<T>(hi, true);
   out[8] = static_cast<T>(corners);
+  // The diagonal of the box of the patch's 5 x 5 grid (certify_patch's extent), in double.
+  double B[5][4];
+  for (int k = 0; k <= 4; ++k)
+  {
+    const double x = 0.25 * k, y = 1.0 - x;
+    B[k][0] = y * y * y;
+    B[k][1] = 3.0 * y * y * x;
+    B[k][2] = 3.0 * y * x * x;
+    B[k][3] = x * x * x;
+  }
+  double box[6] = { std::numeric_limits<double>::infinity(), box[0], box[0], -box[0], -box[0],
+    -box[0] };
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+      for (int k = 0; k < 3; ++k)
+      {
+        double q = 0.0;
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b)
+            q += B[i][a] * B[j][b] * static_cast<double>(c[3 * (4 * a + b) + k]);
+        box[k] = std::min(box[k], q);
+        box[3 + k] = std::max(box[3 + k], q);
+      }
+  double e2 = 0.0;
+  for (int k = 0; k < 3; ++k)
+    e2 += (box[3 + k] - box[k]) * (box[3 + k] - box[k]);
+  out[9] = static_cast<T>(std::sqrt(e2));
 }
 
 /// The sector of a cylinder (origin o and unit axis a, absolute) that holds the control points

@@ -52,8 +52,9 @@ constexpr size_t KernelPatchSectorReals = 12;
 /// the net's diagonals (3; zeros where they are parallel), both by the kernel source's own
 /// operations in T on the control points as packed (PackPatchHull); then the least and the
 /// greatest offset of the control points along that normal, rounded outwards to T, and the offset
-/// of the four corners' mean.
-constexpr size_t KernelPatchHullReals = 9;
+/// of the four corners' mean; the diagonal of the box of the patch's 5 x 5 grid of points
+/// (certify_patch's extent).
+constexpr size_t KernelPatchHullReals = 10;
 /// Segments per leaf of a face's trim tree at most (TRIM_LEAF), and the faces that get a tree:
 /// those with more than KernelLinearTrims segments.
 constexpr int KernelTrimLeaf = 4, KernelLinearTrims = 8;
