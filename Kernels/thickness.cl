@@ -2541,10 +2541,10 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
       // stopped where the full step would have gone inwards, and spheres grew through the
       // boundary (Bastardkb's CMini, sample 24526: 2t = 0.0081 -> 2.24, 0.13 mm too deep).
       const real su = -(h11 * g0 - h01 * g1) / det, sv = -(h00 * g1 - h01 * g0) / det;
-      const int outU = (u <= pd[0] && su < (real)0) || (u >= pd[1] && su > (real)0);
-      const int outV = (v <= pd[2] && sv < (real)0) || (v >= pd[3] && sv > (real)0);
-      nu = outU ? u : clamp(u + (outV ? -g0 / h00 : su), pd[0], pd[1]);
-      nv = outV ? v : clamp(v + (outU ? -g1 / h11 : sv), pd[2], pd[3]);
+      const int leavesU = (u <= pd[0] && su < (real)0) || (u >= pd[1] && su > (real)0);
+      const int leavesV = (v <= pd[2] && sv < (real)0) || (v >= pd[3] && sv > (real)0);
+      nu = leavesU ? u : clamp(u + (leavesV ? -g0 / h00 : su), pd[0], pd[1]);
+      nv = leavesV ? v : clamp(v + (leavesU ? -g1 / h11 : sv), pd[2], pd[3]);
     }
     else if (h00 <= (real)1e-12 * h11 && h11 > (real)0)
     {

@@ -1710,13 +1710,13 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   // body again (a file that lists one body twice: OpenCASCADE's AP209 samples) and gets none.
   std::vector<SharedFaceUse> sharedUses;
   auto addBody = [&](const TopoDS_Shape& body, int solidIndex) {
-    std::vector<TopoDS_Shape> faces;
+    std::vector<TopoDS_Shape> bodyFaces;
     for (TopExp_Explorer fx(body, TopAbs_FACE); fx.More(); fx.Next())
-      faces.push_back(fx.Current());
+      bodyFaces.push_back(fx.Current());
     // Every face of this body already read, and all of one body read before: the same again.
-    bool allSeen = !faces.empty();
+    bool allSeen = !bodyFaces.empty();
     std::set<int> indices;
-    for (const TopoDS_Shape& f : faces)
+    for (const TopoDS_Shape& f : bodyFaces)
     {
       const int index = faceMap.FindIndex(f);
       if (index == 0)
@@ -1737,7 +1737,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         if (o.second == indices)
           return; // the same body again
     }
-    for (const TopoDS_Shape& f : faces)
+    for (const TopoDS_Shape& f : bodyFaces)
     {
       const int index = faceMap.Add(f);
       if (index > static_cast<int>(faceSolid.size()))
