@@ -2593,6 +2593,21 @@ inline void grid_bernstein(int n, real (*B)[4])
   }
 }
 
+// A grid's row over the patch's control points c: each column of the control net against the
+// u row's Bernstein values Bu (then the v values give the row's points).
+inline void grid_row(__global const real* c, const real* Bu, real3* row)
+{
+  for (int j = 0; j < 4; ++j)
+  {
+    row[j] = splat_real3(0);
+    for (int a = 0; a < 4; ++a)
+    {
+      const int k = (4 * a + j) * 3;
+      row[j] += Bu[a] * make_real3(c[k], c[k + 1], c[k + 2]);
+    }
+  }
+}
+
 BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
   real depth, real reach, PointInside* st)
 {
@@ -2608,15 +2623,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   for (int i = 0; i <= 4; ++i)
   {
     real3 row[4];
-    for (int j = 0; j < 4; ++j)
-    {
-      row[j] = splat_real3(0);
-      for (int a = 0; a < 4; ++a)
-      {
-        const int k = (4 * a + j) * 3;
-        row[j] += B[i][a] * make_real3(c[k], c[k + 1], c[k + 2]);
-      }
-    }
+    grid_row(c, B[i], row);
     for (int j = 0; j <= 4; ++j)
     {
       const real u = pd[0] + (real)0.25 * (real)i * (pd[1] - pd[0]);
@@ -2686,15 +2693,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     for (int i = 0; i <= n; ++i)
     {
       real3 row[4];
-      for (int j = 0; j < 4; ++j)
-      {
-        row[j] = splat_real3(0);
-        for (int a = 0; a < 4; ++a)
-        {
-          const int k = (4 * a + j) * 3;
-          row[j] += Bn[i][a] * make_real3(c[k], c[k + 1], c[k + 2]);
-        }
-      }
+      grid_row(c, Bn[i], row);
       for (int j = 0; j <= n; ++j)
       {
         const real u = pd[0] + (pd[1] - pd[0]) * (real)i / (real)n;

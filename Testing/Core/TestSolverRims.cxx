@@ -711,6 +711,37 @@ void ExpectCertificationFinds(const char* name, const TopoDS_Face& face, const B
   EXPECT_TRUE(holds);
 }
 
+/// The certification, given the sphere of `radius` tangent at O along d, on the face of one
+/// bicubic Bezier patch (control points c, row by row along u) beside a 1 mm square of the plane
+/// through O normal to d (the sample's own face), finds the patch more than minDepth inside it.
+void ExpectPatchBesideSquareFound(const char* name, const double (&c)[16][3], const gp_Pnt& O,
+  const gp_Dir& d, double radius, double minDepth)
+{
+  TColgp_Array2OfPnt poles(1, 4, 1, 4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      poles.SetValue(i + 1, j + 1, gp_Pnt(c[4 * i + j][0], c[4 * i + j][1], c[4 * i + j][2]));
+  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
+  const TopoDS_Face patch = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  const TopoDS_Face square =
+    BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
+  TopoDS_Compound both;
+  BRep_Builder b;
+  b.MakeCompound(both);
+  b.Add(both, square);
+  b.Add(both, patch);
+  ConversionOptions conversion;
+  conversion.MaxPatchSize = 100.0;
+  const BRepModel model = ConvertShape(both, conversion);
+  ASSERT_EQ(model.Faces.size(), 2u);
+  ASSERT_EQ(model.Faces[1].PatchCount, 1);
+  Sample o;
+  o.Face = 0;
+  o.Point = { O.X(), O.Y(), O.Z() };
+  o.Direction = { d.X(), d.Y(), d.Z() };
+  ExpectCertificationFinds(name, patch, model, o, radius, minDepth);
+}
+
 /// A wall whose section bends much within one patch: a ruled cubic face, x(u), z(u) with
 /// control points (0, 0), (-2.5, 2.55) twice and (-0.25, 10.55), straight along y over 2 (the
 /// side wall of Bastardkb's Charybdis Mini case, a single B-spline patch there). A sphere of
@@ -762,32 +793,9 @@ TEST(SolverExact, SecondValleyOfALargePatch)
     { -26.2617485, 4.77955341, -65.3300205 }, { -25.7698848, 7.16933011, -60.7917334 },
     { -32.3769429, 0, -68.170068 }, { -32.3769429, 0.722161458, -68.170068 },
     { -32.1313143, 5.47616862, -65.7188666 }, { -31.6400572, 8.21425293, -60.816464 } };
-  TColgp_Array2OfPnt poles(1, 4, 1, 4);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      poles.SetValue(i + 1, j + 1, gp_Pnt(c[4 * i + j][0], c[4 * i + j][1], c[4 * i + j][2]));
-  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
-  const TopoDS_Face bend = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
-  // The sample's own face: a 1 mm square of the plane through O normal to d.
   const gp_Pnt O(-30.240738737, -0.00333333333333, -63.9466781852);
   const gp_Dir d(0.0955310864584, 0.0, -0.995426447067);
-  const TopoDS_Face square =
-    BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
-  TopoDS_Compound both;
-  BRep_Builder b;
-  b.MakeCompound(both);
-  b.Add(both, square);
-  b.Add(both, bend);
-  ConversionOptions conversion;
-  conversion.MaxPatchSize = 100.0;
-  const BRepModel model = ConvertShape(both, conversion);
-  ASSERT_EQ(model.Faces.size(), 2u);
-  ASSERT_EQ(model.Faces[1].PatchCount, 1);
-  Sample o;
-  o.Face = 0;
-  o.Point = { O.X(), O.Y(), O.Z() };
-  o.Direction = { d.X(), d.Y(), d.Z() };
-  ExpectCertificationFinds("second valley", bend, model, o, 2.0, 0.08);
+  ExpectPatchBesideSquareFound("second valley", c, O, d, 2.0, 0.08);
 }
 
 /// A valley that Newton creeps along: one bicubic patch of a B-spline fillet of Bastardkb's
@@ -811,32 +819,9 @@ TEST(SolverExact, ValleyNewtonCreepsAlong)
     { -62.2235179, 31.9916232, 10.1844328 }, { -62.5741404, 30.3321945, 15.9546953 },
     { -62.0947069, 31.0686284, 14.1278651 }, { -61.8579063, 31.7462239, 12.21339 },
     { -61.8947014, 32.3397574, 10.2788829 } };
-  TColgp_Array2OfPnt poles(1, 4, 1, 4);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      poles.SetValue(i + 1, j + 1, gp_Pnt(c[4 * i + j][0], c[4 * i + j][1], c[4 * i + j][2]));
-  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
-  const TopoDS_Face fillet = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
-  // The sample's own face: a 1 mm square of the plane through O normal to d.
   const gp_Pnt O(-60.9615591135, 32.7412999523, 10.9329380446);
   const gp_Dir d(0.276654717136, -0.918957999238, -0.281030893538);
-  const TopoDS_Face square =
-    BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
-  TopoDS_Compound both;
-  BRep_Builder b;
-  b.MakeCompound(both);
-  b.Add(both, square);
-  b.Add(both, fillet);
-  ConversionOptions conversion;
-  conversion.MaxPatchSize = 100.0;
-  const BRepModel model = ConvertShape(both, conversion);
-  ASSERT_EQ(model.Faces.size(), 2u);
-  ASSERT_EQ(model.Faces[1].PatchCount, 1);
-  Sample o;
-  o.Face = 0;
-  o.Point = { O.X(), O.Y(), O.Z() };
-  o.Direction = { d.X(), d.Y(), d.Z() };
-  ExpectCertificationFinds("creeping valley", fillet, model, o, 2.00436, 9e-4);
+  ExpectPatchBesideSquareFound("creeping valley", c, O, d, 2.00436, 9e-4);
 }
 
 /// A blind drilled hole whose 118 degree point ends h above the floor of a block: at a sample O
