@@ -181,14 +181,14 @@ void PackPatchHull(const T* c, T* out)
   double B[5][4];
   for (int k = 0; k <= 4; ++k)
   {
-    const double x = 0.25 * k, y = 1.0 - x;
-    B[k][0] = y * y * y;
-    B[k][1] = 3.0 * y * y * x;
-    B[k][2] = 3.0 * y * x * x;
-    B[k][3] = x * x * x;
+    const double at = 0.25 * k, rest = 1.0 - at;
+    B[k][0] = rest * rest * rest;
+    B[k][1] = 3.0 * rest * rest * at;
+    B[k][2] = 3.0 * rest * at * at;
+    B[k][3] = at * at * at;
   }
-  double box[6] = { std::numeric_limits<double>::infinity(), box[0], box[0], -box[0], -box[0],
-    -box[0] };
+  const double inf = std::numeric_limits<double>::infinity();
+  double box[6] = { inf, inf, inf, -inf, -inf, -inf };
   for (int i = 0; i <= 4; ++i)
     for (int j = 0; j <= 4; ++j)
       for (int k = 0; k < 3; ++k)
