@@ -527,6 +527,18 @@ TEST(SolverExact, PointOnTheTrimCounts)
   std::printf("[trim point] %zu cover samples: largest overlap of the exact faces %.3g (allowed "
               "%.3g)\n", samples.size(), worst, allowed);
 }
+/// The sphere of `radius` tangent at o along its direction, as a surface/surface result (the
+/// certification's question: is it empty?).
+SampleResult SphereAlong(const Sample& o, double radius)
+{
+  SampleResult sphere;
+  sphere.Type = ContactType::SurfaceSurface;
+  sphere.Radius = radius;
+  sphere.Thickness = 2.0 * radius;
+  for (int k = 0; k < 3; ++k)
+    sphere.Center[k] = o.Point[k] + radius * o.Direction[k];
+  return sphere;
+}
 } // namespace
 
 /// A half ball (a sphere of radius 20 cut through its axis: the spherical face's poles lie on the
@@ -585,14 +597,10 @@ TEST(SolverExact, PlaneThroughASpheresPoles)
     const double disc = od * od - (rho2 - reach * reach);
     if (disc <= 0.0)
       continue;
-    SampleResult big;
-    big.Type = ContactType::SurfaceSurface;
-    big.Radius = -od + std::sqrt(disc);
-    if (big.Radius < 10.0 * allowed)
+    const double t = -od + std::sqrt(disc);
+    if (t < 10.0 * allowed)
       continue;
-    big.Thickness = 2.0 * big.Radius;
-    for (int k = 0; k < 3; ++k)
-      big.Center[k] = o.Point[k] + big.Radius * o.Direction[k];
+    const SampleResult big = SphereAlong(o, t);
     ++tried;
     missed += native.HoldsBoundary(SolverOptions(), o, big) ? 0 : 1;
   }
@@ -610,12 +618,7 @@ TEST(SolverExact, PlaneThroughASpheresPoles)
       const double z2 = reach * reach - t * t - x * x;
       Sample near = o;
       near.Point = { std::copysign(x, o.Point[0]), 0.0, std::copysign(std::sqrt(z2), o.Point[2]) };
-      SampleResult big;
-      big.Type = ContactType::SurfaceSurface;
-      big.Radius = t;
-      big.Thickness = 2.0 * t;
-      for (int k = 0; k < 3; ++k)
-        big.Center[k] = near.Point[k] + t * near.Direction[k];
+      const SampleResult big = SphereAlong(near, t);
       ++tried;
       missed += native.HoldsBoundary(SolverOptions(), near, big) ? 0 : 1;
     }
@@ -667,11 +670,7 @@ TEST(SolverExact, GrazingOwnFaceNextToO)
     o.V = 0.5;
     o.Point = { 0.0, 0.0, 0.0 };
     o.Direction = { 0.0, 0.0, 1.0 };
-    SampleResult sphere;
-    sphere.Type = ContactType::SurfaceSurface;
-    sphere.Radius = 1.0;
-    sphere.Thickness = 2.0;
-    sphere.Center = { 0.0, 0.0, 1.0 };
+    const SampleResult sphere = SphereAlong(o, 1.0);
     // The premise, by OpenCASCADE: how deep the face reaches into the sphere.
     const double depth = 1.0 - BoundaryDistance(face, sphere.Center);
     const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
@@ -697,12 +696,7 @@ void ExpectCertificationFinds(const char* name, const TopoDS_Face& face, const B
   const Sample& o, double radius, double minDepth)
 {
   const SolverData data = PrepareSolver(model, SolverOptions());
-  SampleResult sphere;
-  sphere.Type = ContactType::SurfaceSurface;
-  sphere.Radius = radius;
-  sphere.Thickness = 2.0 * radius;
-  for (int k = 0; k < 3; ++k)
-    sphere.Center[k] = o.Point[k] + radius * o.Direction[k];
+  const SampleResult sphere = SphereAlong(o, radius);
   const double depth = radius - BoundaryDistance(face, sphere.Center);
   const bool holds = NativeSolver(model, data).HoldsBoundary(SolverOptions(), o, sphere);
   std::printf("[%s] the face %.3g deep in the sphere (OpenCASCADE), the certification says %s\n",
