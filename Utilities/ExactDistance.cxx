@@ -72,16 +72,9 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
     return std::numeric_limits<double>::max();
   double u0, u1, v0, v1;
   BRepTools::UVBounds(F, u0, u1, v0, v1);
-  const double tol = BRep_Tool::Tolerance(F);
-  // Two classifiers must agree: BRepClass_FaceClassifier put a corner of a plane's parameter box
-  // on the face where BRepTopAdaptor_FClass2d and the face's distance did not (the Ventilator's
-  // face 10: a point 0.75 mm "inside" a sphere that is 0.6 mm clear of the face).
-  BRepTopAdaptor_FClass2d polygon(F, tol);
-  auto onFace = [&](double u, double v) {
-    const TopAbs_State a = BRepClass_FaceClassifier(F, gp_Pnt2d(u, v), tol).State();
-    const TopAbs_State b = polygon.Perform(gp_Pnt2d(u, v));
-    return (a == TopAbs_IN || a == TopAbs_ON) && (b == TopAbs_IN || b == TopAbs_ON);
-  };
+  // Two classifiers must agree (OnFace): BRepClass_FaceClassifier put a corner of a plane's
+  // parameter box on the face where BRepTopAdaptor_FClass2d and the face's distance did not (the
+  // Ventilator's face 10: a point 0.75 mm "inside" a sphere that is 0.6 mm clear of the face).
   // The nearest of the cell centres of an m x m grid over [ua, ub] x [va, vb] that are on the
   // face: candidates by distance, each classified in turn until one is on it.
   auto nearestOn = [&](double ua, double ub, double va, double vb, int m, double& bu, double& bv) {
@@ -96,7 +89,7 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
     std::sort(cand.begin(), cand.end());
     for (const auto& c : cand)
     {
-      if (onFace(c.second.first, c.second.second))
+      if (OnFace(F, c.second.first, c.second.second))
       {
         bu = c.second.first;
         bv = c.second.second;
@@ -209,33 +202,25 @@ double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid, gp_
     std::vector<TopoDS_Face> off;
     for (int i = 1; i <= dist.NbSolution() && !trusted; ++i)
     {
-      if (dist.SupportTypeShape2(i) != BRepExtrema_IsInFace)
+      TopoDS_Face F; // null on an edge or a vertex
+      if (dist.SupportTypeShape2(i) == BRepExtrema_IsInFace)
       {
-        trusted = true;
-        if (dist.Value() < best)
+        F = TopoDS::Face(dist.SupportOnShape2(i));
+        double u, v;
+        dist.ParOnFaceS2(i, u, v);
+        if (!OnFace(F, u, v))
         {
-          best = dist.Value();
-          bestAt = dist.PointOnShape2(i);
-          bestFace = TopoDS_Face();
-        }
-        break;
-      }
-      const TopoDS_Face F = TopoDS::Face(dist.SupportOnShape2(i));
-      double u, v;
-      dist.ParOnFaceS2(i, u, v);
-      const bool on = OnFace(F, u, v);
-      if (on)
-      {
-        trusted = true;
-        if (dist.Value() < best)
-        {
-          best = dist.Value();
-          bestAt = dist.PointOnShape2(i);
-          bestFace = F;
+          off.push_back(F);
+          continue;
         }
       }
-      else
-        off.push_back(F);
+      trusted = true;
+      if (dist.Value() < best)
+      {
+        best = dist.Value();
+        bestAt = dist.PointOnShape2(i);
+        bestFace = F;
+      }
     }
     if (trusted || off.empty())
       break;

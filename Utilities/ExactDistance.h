@@ -3,6 +3,7 @@
 // The distance from a point to a part's exact faces by a second way, beside OpenCASCADE's
 // BRepExtrema_DistShapeShape (which can miss the nearest point of a face: docs/Solver.md, item
 // 14). Shared by brt_exact_check and the tests that measure spheres against the exact B-Rep.
+// Not for several threads at once: each face's polygon classifier is built once and kept.
 #include <Bnd_Box.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
@@ -42,8 +43,9 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at = n
 /// such faces. BRepExtrema returned the corner of a sliver face's parameter box, 0.3 mm off the
 /// face, as its nearest point (Bastardkb's Charybdis3 case, face 271: a sphere "0.13 into the
 /// faces" that our solver has clear; BRepClass_FaceClassifier, on which BRepExtrema relies, has
-/// the corner in, the polygon classifier out). Returns -1 where
-/// BRepExtrema fails; *at gets the point and *onFace its face (null on an edge or vertex).
+/// the corner in, the polygon classifier out). Returns -1 where BRepExtrema fails, where no
+/// point is found, or where more than eight rounds drop faces; *at gets the point and *onFace
+/// its face (null on an edge or vertex).
 double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid = 0,
   gp_Pnt* at = nullptr, TopoDS_Face* onFace = nullptr);
 
