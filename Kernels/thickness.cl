@@ -2399,12 +2399,33 @@ inline real own_face_margin(const Model* m, int face)
   return m->faceInfo[FACE_INTS * face + 10] ? (real)0 : m->slack;
 }
 
+// The margin within half the radius of O on a face without an exact surface, where a point of
+// O's own face lies inside the sphere only by the face curving more than the sphere or by the
+// patches' error: in double the face's measured deviation (FACE_DEVIATION) and half as much
+// again, as deviation_allowance takes it, never more than the slack (the slack hid such a face
+// 3.7e-4 mm deep; docs/Solver.md, Open items, "O's own free-form face"). Elsewhere, in float and
+// where no measure came, the slack: a face with an exact surface curves into the sphere as its
+// closed form says (self_contact_radius), and farther from O the own face is the wall across,
+// where the slack also covers its trim's approximation (the measure there shrank exact spheres
+// by up to 1.2e-3 relative on Voron-0's RPi DIN mount, Ploopy's headbands and trackpad).
+inline real own_face_margin_near(const Model* m, int face)
+{
+  const real margin = own_face_margin(m, face);
+#ifdef BRT_DOUBLE
+  const real measured = m->faceDomain[FACE_REALS * face + FACE_DEVIATION];
+  if (measured >= (real)0 && m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE)
+    return fmin(margin, (real)1.5 * measured + (real)1e-3 * m->slack);
+#endif
+  return margin;
+}
+
 // A candidate point w = P - O on `face` at (u, v), the centre at M = O + mr: kept when it lies
 // inside the trim, deeper than the depth in d, deeper than the best so far, and not the sample's
 // own point: on O's own face a point must lie deeper by twice the tolerance more (the patches
 // there may lie a little more than the tolerance off O's exact point: a toroidal shell converted
 // within 1e-6 showed 2.75e-6 at O's own patch point), unless its patches are its surface
-// (own_face_margin), and within 4 tolerances of O nothing counts.
+// (own_face_margin; within half the radius of O on a free-form face, its measured deviation:
+// own_face_margin_near), and within 4 tolerances of O nothing counts.
 BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, real v, real3 w, real3 mr,
   real3 d, real depth, real reach, PointInside* st)
 {
@@ -2414,7 +2435,11 @@ BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, rea
   // The cheap tests first, then the trim test.
   const real dn = dot(d, w);
   const real tol = (real)0.5 * m->slack;
-  if (!(dn > depth) || (face == ownFace && !(dist < reach - own_face_margin(m, face))) ||
+  if (!(dn > depth) ||
+    (face == ownFace &&
+      !(dist < reach -
+          (dot(w, w) < (real)0.25 * dot(mr, mr) ? own_face_margin_near(m, face)
+                                                 : own_face_margin(m, face)))) ||
     dot(w, w) <= (real)16 * tol * tol)
     return;
   __global const real* fd = m->faceDomain + FACE_REALS * face;
@@ -3482,7 +3507,7 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
   real gapOfFace = (real)0, nodeGap = (real)0;
   // The need's caps on O's own face and its edges (below), and the best distance squared, kept
   // with st->best (only the searches change it).
-  const real ownCap = ownFace >= 0 ? reach - own_face_margin(m, ownFace) : reach;
+  const real ownCap = ownFace >= 0 ? reach - own_face_margin_near(m, ownFace) : reach;
   const real ownEdgeCap = reach - m->slack;
   real best2 = st->best * st->best;
   while (top > 0)
@@ -4491,7 +4516,7 @@ BRT_SPLIT int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 O
 // shrinks the sphere (a sample next to a convex edge, a drafted wall). 0 where nothing was found
 // inside, the certification is off, or it does not settle in 32 steps.
 BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
-  Result* r)
+  int nearOwn, Result* r)
 {
   if (!(m->mode & MODE_CERTIFY))
     return 0;
@@ -4533,9 +4558,13 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
       // standing off the face (the file's tolerance), geometry the sphere must not hold; so is
       // a point where O's own face ends (on its trim), whose place the trim fixes, not the
       // face's curvature; and so is a shallow point of an own face whose patches are its surface
-      // (own_face_margin), where their accuracy fixes the radius.
+      // (own_face_margin), where their accuracy fixes the radius; with nearOwn, also one of a
+      // free-form own face within half the radius of O, counted there beyond its patches'
+      // measured deviation (own_face_margin_near), within which the ball then holds it.
       if (c.edge >= 0 ? edge_at_sample(m, ownFace, c.edge, c.foot)
-          : (last.onTrim || own_face_margin(m, c.face) == (real)0
+          : (last.onTrim || own_face_margin(m, c.face) == (real)0 ||
+                (nearOwn && c.face == ownFace && dot(c.foot, c.foot) < (real)0.25 * t * t &&
+                  own_face_margin_near(m, c.face) < own_face_margin(m, c.face))
                 ? at_sample(m, ownFace, c.face, c.foot)
                 : shallow_own_face_contact(m, ownFace, c.face, c.foot, d,
                     sphere_radius(d, c.foot, (real)0))))
@@ -4552,9 +4581,18 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
   return 0;
 }
 
+// A contact on O's own face or on one of its edges.
+inline int on_own_face(const Model* m, int ownFace, const Result* r)
+{
+  return r->edge >= 0
+    ? m->edgeInfo[4 * r->edge + 2] == ownFace || m->edgeInfo[4 * r->edge + 3] == ownFace
+    : r->face == ownFace;
+}
+
 // The last resort of a sphere no restart shrinks: the shrinking ball through the deepest point
 // of the faces (where it ends on a shallow point of O's own face, item 10's osculating case, the
-// descent on that face from the first point inside instead, as the descent fallback would),
+// descent on that face from the first point inside instead, as the descent fallback would; on a
+// free-form face near O, where that descent runs back to O, the ball's own sphere),
 // then through the edges' s1 points still inside it. Such a point lies on an edge
 // near O where the certification counts nothing (an edge whose curve the file lets stray from
 // its face by more than the conversion tolerance, up to 1.5e-3 mm on the ExpansionCard), and no
@@ -4571,18 +4609,27 @@ BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
   const int solid = scope_solid(m, ownFace);
   PointInside inside;
   if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
-    !shrink_ball(m, ownFace, Ohi, Olo, d, depth, r))
+    !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 0, r))
   {
     if (inside.edge >= 0 || inside.face != ownFace)
       return 0;
     const Result dr = descend(m, ownFace, ownFace, Ohi, Olo, d, inside.u, inside.v, scale,
       newtonTol, maxIterations, maxEdgeIterations, iterations);
-    if (dr.type == CONTACT_FAILED || !(dr.t < r->t))
-      return 0;
     PointInside again;
-    if (find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again))
+    // The descent's sphere where it shrinks this one and holds no point; on a free-form face
+    // whose points count near O by its measured deviation (own_face_margin_near), only where a
+    // contact on O's own face or its edges stands more than the slack in front of O's tangent
+    // plane (from a point of such a face curving into the sphere away from O, the descent can run
+    // back to O, to the wrinkle of an edge's curve a few micrometres off that plane next to it:
+    // a Ventilator blade 2 mm thick read 0.49925), else the shrinking ball's own sphere ended on
+    // that face's point (shrink_ball), whose radius the measured deviation then fixes.
+    const int nearOwn = own_face_margin_near(m, ownFace) < own_face_margin(m, ownFace);
+    if (dr.type != CONTACT_FAILED && dr.t < r->t &&
+      !(nearOwn && on_own_face(m, ownFace, &dr) && !(dot(d, dr.foot) > m->slack)) &&
+      !find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again))
+      *r = dr;
+    else if (!nearOwn || !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r))
       return 0;
-    *r = dr;
   }
   for (int k = 0; k < 4; ++k)
   {
@@ -4981,7 +5028,7 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       // diagonal that found it.
       Result s = no_result();
       s.t = fromCertification ? scale : firstT;
-      if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), &s))
+      if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), 0, &s))
         r = s;
     }
   }

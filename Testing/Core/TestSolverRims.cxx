@@ -818,6 +818,65 @@ TEST(SolverExact, ValleyNewtonCreepsAlong)
   ExpectPatchBesideSquareFound("creeping valley", c, O, d, 2.00436, 9e-4);
 }
 
+/// O's own free-form face curving into the sphere a little away from O: a face z = h(x), straight
+/// along y, of degree 6 (so its patches only approximate it), tangent at O = 0 to a sphere of
+/// radius 1.3 along d = z; h follows the sphere's lower cap to a tenth of a micrometre and adds a
+/// bump that stays below it within 0.03 of O and rises above it to about 3.8e-4 at x = +-0.16
+/// (OpenCASCADE's trj4_pm2-ec-214, sample 112490: its B-spline face 730 held 3.68e-4 deep 0.159
+/// from O, 2t = 2.618 against the exact 2.488). Within half the radius of O the certification
+/// counted a point of O's own face only below twice the tolerance more than another face's
+/// (4.5e-4 in all at the default tolerance), which hid it; a face without an exact surface now
+/// allows there only its patches' measured deviation and half as much again.
+TEST(SolverExact, OwnFreeFormFaceNearO)
+{
+  const double T = 1.3, s0 = 0.16 * 0.16, D = 4.2e-4, E = 0.1 * D, X = 0.2, W = 0.2;
+  // h(x) in powers of x, then in the Bernstein basis of u in [0, 1], x = -X + 2 X u.
+  double power[7] = { 0, 0, 1.0 / (2 * T) - E / s0, 0, 1.0 / (8 * T * T * T) + 3 * D / (s0 * s0), 0,
+    -2 * D / (s0 * s0 * s0) };
+  double inU[7] = { 0, 0, 0, 0, 0, 0, 0 }; // h(x(u)) in powers of u
+  for (int i = 0; i <= 6; ++i)
+    for (int j = 0; j <= i; ++j) // (-X + 2 X u)^i, the u^j term
+    {
+      double binom = 1;
+      for (int k = 0; k < j; ++k)
+        binom = binom * (i - k) / (k + 1);
+      inU[j] += power[i] * binom * std::pow(-X, i - j) * std::pow(2 * X, j);
+    }
+  TColgp_Array2OfPnt poles(1, 7, 1, 2);
+  for (int k = 0; k <= 6; ++k)
+  {
+    double b = 0, ck = 1; // sum over j <= k of C(k, j) / C(6, j) a_j
+    for (int j = 0; j <= k; ++j)
+    {
+      double c6 = 1;
+      for (int q = 0; q < j; ++q)
+        c6 = c6 * (6 - q) / (q + 1);
+      b += ck / c6 * inU[j];
+      ck = ck * (k - j) / (j + 1);
+    }
+    for (int j = 0; j < 2; ++j)
+      poles.SetValue(k + 1, j + 1, gp_Pnt(-X + 2 * X * k / 6.0, j ? W : -W, b));
+  }
+  Handle(Geom_BezierSurface) surface = new Geom_BezierSurface(poles);
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  const BRepModel model = ConvertShape(face, ConversionOptions());
+  ASSERT_EQ(model.Faces.size(), 1u);
+  std::printf("[own free-form face] %d patches, measured %.3g off the face\n",
+    model.Faces[0].PatchCount, model.Faces[0].MaxDeviation);
+  // The point counts where it lies deeper than the depth and a quarter slack (2.5e-4) and the
+  // margin; the case is meant for patches much nearer their face than the tolerance.
+  ASSERT_GE(model.Faces[0].MaxDeviation, 0.0);
+  ASSERT_LT(model.Faces[0].MaxDeviation, 4e-5);
+  Sample o;
+  o.Face = 0;
+  o.Point = { 0.0, 0.0, 0.0 };
+  o.Direction = { 0.0, 0.0, 1.0 };
+  const SampleResult sphere = SphereAlong(o, T);
+  const double depth = T - BoundaryDistance(face, sphere.Center);
+  EXPECT_LT(depth, 4.5e-4); // within the margin that hid it
+  ExpectCertificationFinds("own free-form face", face, model, o, T, 3.5e-4);
+}
+
 /// A blind drilled hole whose 118 degree point ends h above the floor of a block: at a sample O
 /// of the floor a distance rho from the hole's axis, the maximal sphere touches the point, the
 /// cone face's apex, a degenerated edge (a pole of its trim): t = (rho^2 + h^2) / (2 h). It
