@@ -4592,7 +4592,8 @@ inline int on_own_face(const Model* m, int ownFace, const Result* r)
 // The last resort of a sphere no restart shrinks: the shrinking ball through the deepest point
 // of the faces (where it ends on a shallow point of O's own face, item 10's osculating case, the
 // descent on that face from the first point inside instead, as the descent fallback would; on a
-// free-form face near O, where that descent runs back to O, the ball's own sphere),
+// free-form face near O, where that descent runs back to O or the first point lies elsewhere,
+// the ball's own sphere),
 // then through the edges' s1 points still inside it. Such a point lies on an edge
 // near O where the certification counts nothing (an edge whose curve the file lets stray from
 // its face by more than the conversion tolerance, up to 1.5e-3 mm on the ExpansionCard), and no
@@ -4611,25 +4612,31 @@ BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
   if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
     !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 0, r))
   {
+    // A free-form own face whose points count near O by its measured deviation.
+    const int freeForm = own_face_margin_near(m, ownFace) < own_face_margin(m, ownFace);
     if (inside.edge >= 0 || inside.face != ownFace)
-      return 0;
+      return freeForm && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r);
     const Result dr = descend(m, ownFace, ownFace, Ohi, Olo, d, inside.u, inside.v, scale,
       newtonTol, maxIterations, maxEdgeIterations, iterations);
     PointInside again;
-    // The descent's sphere where it shrinks this one and holds no point; on a free-form face
-    // whose points count near O by its measured deviation (own_face_margin_near), only where a
-    // contact on O's own face or its edges stands more than the slack in front of O's tangent
-    // plane (from a point of such a face curving into the sphere away from O, the descent can run
-    // back to O, to the wrinkle of an edge's curve a few micrometres off that plane next to it:
-    // a Ventilator blade 2 mm thick read 0.49925), else the shrinking ball's own sphere ended on
-    // that face's point (shrink_ball), whose radius the measured deviation then fixes.
-    const int nearOwn = own_face_margin_near(m, ownFace) < own_face_margin(m, ownFace);
-    if (dr.type != CONTACT_FAILED && dr.t < r->t &&
-      !(nearOwn && on_own_face(m, ownFace, &dr) && !(dot(d, dr.foot) > m->slack)) &&
-      !find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again))
+    // The descent's sphere where it shrinks this one and holds no point. On a free-form face
+    // whose points count near O by its measured deviation (own_face_margin_near), where its
+    // contact on O's own face or its edges stands no more than the slack in front of O's tangent
+    // plane, the shrinking ball's own sphere ended on that face's point (shrink_ball), whose
+    // radius the measured deviation then fixes, comes first: from a point of such a face curving
+    // into the sphere away from O, the descent can run back to O, to the wrinkle of an edge's
+    // curve a few micrometres off that plane next to it (a Ventilator blade 2 mm thick read
+    // 0.49925).
+    const int valid = dr.type != CONTACT_FAILED && dr.t < r->t &&
+      !find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again);
+    const int nearOwn = freeForm &&
+      (!valid || (on_own_face(m, ownFace, &dr) && !(dot(d, dr.foot) > m->slack)));
+    if (!(nearOwn && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r)))
+    {
+      if (!valid)
+        return 0;
       *r = dr;
-    else if (!nearOwn || !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r))
-      return 0;
+    }
   }
   for (int k = 0; k < 4; ++k)
   {
