@@ -2403,11 +2403,11 @@ inline real own_face_margin(const Model* m, int face)
 // O's own face lies inside the sphere only by the face curving more than the sphere or by the
 // patches' error: in double the face's measured deviation (FACE_DEVIATION) and half as much
 // again, as deviation_allowance takes it, never more than the slack (the slack hid such a face
-// 3.7e-4 mm deep; docs/Solver.md, Open items, "O's own free-form face"). Elsewhere, in float and
-// where no measure came, the slack: a face with an exact surface curves into the sphere as its
-// closed form says (self_contact_radius), and farther from O the own face is the wall across,
-// where the slack also covers its trim's approximation (the measure there shrank exact spheres
-// by up to 1.2e-3 relative on Voron-0's RPi DIN mount, Ploopy's headbands and trackpad).
+// 3.7e-4 mm deep; docs/Solver.md, item 14, "O's own free-form face near O"). Elsewhere, in float
+// and where no measure came, the slack: a face with an exact surface curves into the sphere as
+// its closed form says (self_contact_radius), and farther from O the own face is the wall
+// across, where the slack also covers its trim's approximation (the measure there shrank exact
+// spheres by up to 1.2e-3 relative on Voron-0's RPi DIN mount, Ploopy's headbands and trackpad).
 inline real own_face_margin_near(const Model* m, int face)
 {
   const real margin = own_face_margin(m, face);

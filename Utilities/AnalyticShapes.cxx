@@ -318,7 +318,11 @@ TopoDS_Shape TwoPlates(double lx, double ly, double h, double gap)
   const TopoDS_Shape a = BRepPrimAPI_MakeBox(lx, ly, h).Shape();
   gp_Trsf up;
   up.SetTranslation(gp_Vec(0, 0, h + gap));
-  const TopoDS_Shape b = BRepBuilderAPI_Transform(a, up, true).Shape();
+  return CompoundOf(a, BRepBuilderAPI_Transform(a, up, true).Shape());
+}
+
+TopoDS_Shape CompoundOf(const TopoDS_Shape& a, const TopoDS_Shape& b)
+{
   BRep_Builder builder;
   TopoDS_Compound c;
   builder.MakeCompound(c);

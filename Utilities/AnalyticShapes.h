@@ -60,4 +60,6 @@ TopoDS_Shape CrossProfile(double len, double h, double depth);
 TopoDS_Shape UChannel(double w, double h, double lt, double ft, double l);
 /// Two plates lx x ly x h as two solids of one compound, the second `gap` above the first.
 TopoDS_Shape TwoPlates(double lx, double ly, double h, double gap);
+/// The compound of two shapes (faces, solids), as they are.
+TopoDS_Shape CompoundOf(const TopoDS_Shape& a, const TopoDS_Shape& b);
 } // namespace brt::analytic

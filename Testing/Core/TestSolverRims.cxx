@@ -719,14 +719,9 @@ void ExpectPatchBesideSquareFound(const char* name, const double (&c)[16][3], co
   const TopoDS_Face patch = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
   const TopoDS_Face square =
     BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(O, d)), -0.5, 0.5, -0.5, 0.5).Face();
-  TopoDS_Compound both;
-  BRep_Builder b;
-  b.MakeCompound(both);
-  b.Add(both, square);
-  b.Add(both, patch);
   ConversionOptions conversion;
   conversion.MaxPatchSize = 100.0;
-  const BRepModel model = ConvertShape(both, conversion);
+  const BRepModel model = ConvertShape(analytic::CompoundOf(square, patch), conversion);
   ASSERT_EQ(model.Faces.size(), 2u);
   ASSERT_EQ(model.Faces[1].PatchCount, 1);
   Sample o;
