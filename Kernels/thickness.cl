@@ -2497,9 +2497,10 @@ BRT_SPLIT void consider_point(const Model* m, int ownFace, int face, real u, rea
 // candidates themselves), then Newton on |S - M|^2 / 2 in (u, v), clamped to the patch.
 // Newton on |S - M|^2 / 2 over patch p from (u0, v0), clamped to the patch (certify_patch): the
 // nearest of its points in (*nu, *nv). Returns 1 where it converged, 0 where it stopped at its
-// cap of steps (or a singular step) still getting nearer.
+// cap of steps (or a singular step) still getting nearer; *concave says whether a step found
+// the distance not convex (Gauss-Newton's), and alongValley lengthens those steps (below).
 int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0, real v0,
-  real* outU, real* outV)
+  int alongValley, real* outU, real* outV, int* concave)
 {
   __global const real* pd = m->patchDomain + 4 * p;
   real u = u0, v = v0;
@@ -2514,6 +2515,7 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
   // stood, 58 times the exact thickness.
   real last = REAL_MAX, nearU = u, nearV = v, fromU = u, fromV = v;
   int halvings = 0, converged = 0;
+  *concave = 0;
   for (int it = 0;; ++it)
   {
     const PatchEval e = eval_patch(m, p, u, v);
@@ -2544,6 +2546,9 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
     real h00 = dot(e.Du, e.Du) + dot(e.Duu, w), h01 = dot(e.Du, e.Dv) + dot(e.Duv, w),
          h11 = dot(e.Dv, e.Dv) + dot(e.Dvv, w);
     real det = h00 * h11 - h01 * h01;
+    // The Hessian's own terms, for the valley's direction below.
+    const real H00 = h00, H01 = h01, H11 = h11;
+    int gaussNewton = 0;
     if (!(h00 > (real)0) || !(det > (real)0))
     {
       // Not convex here: Gauss-Newton.
@@ -2551,6 +2556,8 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
       h01 = dot(e.Du, e.Dv);
       h11 = dot(e.Dv, e.Dv);
       det = h00 * h11 - h01 * h01;
+      gaussNewton = 1;
+      *concave = 1;
     }
     real nu, nv;
     if (det > (real)0)
@@ -2588,6 +2595,33 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
     }
     else
       break;
+    if (gaussNewton && alongValley)
+    {
+      // Concave here, as along a ring the sphere osculates: Gauss-Newton's step, sized by the
+      // metric alone, is far too short there. From its point, the step goes on along the
+      // valley's soft direction (the coordinate whose reduced curvature, h00 - h01^2 / h11 or
+      // h11 - h01^2 / h00, is not positive, the other following the valley: -h01 / h11), doubled
+      // while the distance falls, up to 2^11 times the step (certify_patch; docs/Solver.md,
+      // "The certification's Newton along a valley").
+      real du = nu - u, dv = nv - v;
+      if (H11 > (real)0 && !(H00 - H01 * H01 / H11 > (real)0))
+        dv = -H01 / H11 * du;
+      else if (H00 > (real)0 && !(H11 - H01 * H01 / H00 > (real)0))
+        du = -H01 / H00 * dv;
+      const real u1 = nu, v1 = nv;
+      real prev = length(anchor + eval_patch_point(m, p, nu, nv) - mr);
+      for (int k = 0; k < 10 && (du != (real)0 || dv != (real)0); ++k)
+      {
+        const real f = (real)((2 << k) - 1);
+        const real tu = clamp(u1 + f * du, pd[0], pd[1]), tv = clamp(v1 + f * dv, pd[2], pd[3]);
+        const real dk = length(anchor + eval_patch_point(m, p, tu, tv) - mr);
+        if (!(dk < prev))
+          break;
+        prev = dk;
+        nu = tu;
+        nv = tv;
+      }
+    }
     const int done =
       fabs(nu - u) / (pd[1] - pd[0]) + fabs(nv - v) / (pd[3] - pd[2]) < (real)1e-12;
     u = nu;
@@ -2676,9 +2710,21 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // interleaved rounds; results the same on all 56 solve dumps).
   const real extent = m->patchHull[PATCH_HULL_REALS * p + 9];
   real nearU, nearV;
-  const int converged = patch_nearest_newton(m, p, anchor, mr, bu, bv, &nearU, &nearV);
-  const real3 wn = anchor + eval_patch_point(m, p, nearU, nearV);
+  int concave;
+  int converged = patch_nearest_newton(m, p, anchor, mr, bu, bv, 0, &nearU, &nearV, &concave);
+  real3 wn = anchor + eval_patch_point(m, p, nearU, nearV);
   consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
+  // Newton stopped at its cap still getting nearer after a concave step: along a valley that the
+  // sphere osculates, its steps crept (a 1 mm bore's ring, 4e-4 to 6e-4 inside the sphere 0.35
+  // to 0.46 from O, missed). It goes on from its nearest point with the valley's longer steps.
+  // Only there: Newton with them throughout moved results on 31 of 119 solve dumps, some
+  // spheres growing where it left one basin for another.
+  if (!converged && concave)
+  {
+    converged = patch_nearest_newton(m, p, anchor, mr, nearU, nearV, 1, &nearU, &nearV, &concave);
+    wn = anchor + eval_patch_point(m, p, nearU, nearV);
+    consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
+  }
   // A face that grazes the sphere along a valley of a patch much larger than the sphere: Newton
   // from the 5 x 5 grid's nearest point ends at the valley's shallow end, just outside the sphere,
   // and its deep point lies between the grid's points (Voron's corner_ptfe_plate: a 7 mm patch, a
@@ -2740,10 +2786,18 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     }
     if (fd < REAL_MAX)
     {
-      patch_nearest_newton(m, p, anchor, mr, fu, fv, &nearU, &nearV);
-      const real3 w = anchor + eval_patch_point(m, p, nearU, nearV);
+      const int fineConverged =
+        patch_nearest_newton(m, p, anchor, mr, fu, fv, 0, &nearU, &nearV, &concave);
+      real3 w = anchor + eval_patch_point(m, p, nearU, nearV);
       if (dot(w, w) > nearO)
         consider_point(m, ownFace, face, nearU, nearV, w, mr, d, depth, reach, st);
+      if (!fineConverged && concave)
+      {
+        patch_nearest_newton(m, p, anchor, mr, nearU, nearV, 1, &nearU, &nearV, &concave);
+        w = anchor + eval_patch_point(m, p, nearU, nearV);
+        if (dot(w, w) > nearO)
+          consider_point(m, ownFace, face, nearU, nearV, w, mr, d, depth, reach, st);
+      }
     }
   }
 }
