@@ -2601,8 +2601,8 @@ int patch_nearest_newton(const Model* m, int p, real3 anchor, real3 mr, real u0,
       // metric alone, is far too short there. From its point, the step goes on along the
       // valley's soft direction (the coordinate whose reduced curvature, h00 - h01^2 / h11 or
       // h11 - h01^2 / h00, is not positive, the other following the valley: -h01 / h11), doubled
-      // while the distance falls, up to 2^11 times the step (certify_patch; docs/Solver.md,
-      // "The certification's Newton along a valley").
+      // while the distance falls, up to 2^10 times Gauss-Newton's step (certify_patch;
+      // docs/Solver.md, "The certification's Newton along a valley").
       real du = nu - u, dv = nv - v;
       if (H11 > (real)0 && !(H00 - H01 * H01 / H11 > (real)0))
         dv = -H01 / H11 * du;
