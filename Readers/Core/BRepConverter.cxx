@@ -1,4 +1,5 @@
 #include "BRepConverter.h"
+#include "CurvesOnFaces.h"
 
 #include "Bezier.h"
 #include "TouchingBodies.h"
@@ -1793,6 +1794,22 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     throw std::runtime_error("the shape holds no face");
   stats.Solids = solid;
 
+  // Curves of edges on faces that miss their edge, projected again (CurvesOnFaces.h): before
+  // anything reads the faces' parameter bounds or trims. Also without the healing: the trims are
+  // these curves, wrong for every use of the model.
+  {
+    std::vector<TopoDS_Face> faceList;
+    for (int i = 1; i <= faceMap.Extent(); ++i)
+      faceList.push_back(TopoDS::Face(faceMap(i)));
+    try
+    {
+      RepairCurvesOnFaces(faceList, options.Tolerance, stats.Warnings);
+    }
+    catch (const Standard_Failure& e)
+    {
+      warn(std::string("checking the edges' curves on faces failed: ") + e.GetMessageString());
+    }
+  }
   TopTools_IndexedMapOfShape edgeMap;
   for (int i = 1; i <= faceMap.Extent(); ++i)
     for (TopExp_Explorer ex(faceMap(i), TopAbs_EDGE); ex.More(); ex.Next())

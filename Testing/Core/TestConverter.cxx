@@ -1,5 +1,6 @@
 // Conversion of every model in Data/: patch deviation, loop closure, and the point-in-face test
 // built on the cubic trimming segments against OpenCASCADE's BRepClass_FaceClassifier.
+#include "CurvesOnFaces.h"
 #include "TestHelpers.h"
 #include "TrimClassifier.h"
 
@@ -12,6 +13,12 @@
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepClass_FaceClassifier.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <Geom2dAPI_Interpolate.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom_Line.hxx>
+#include <TColStd_HArray1OfReal.hxx>
+#include <TColgp_HArray1OfPnt2d.hxx>
 #include <BRepTools.hxx>
 #include <Geom_BezierCurve.hxx>
 #include <Geom_Plane.hxx>
@@ -253,4 +260,110 @@ TEST(LoopRoles, OuterLoopIsTheLargestNotTheFirstWire)
   EXPECT_TRUE(ClassifyPoint(m, 0, 1.5, -200.0).Inside);
   EXPECT_FALSE(ClassifyPoint(m, 0, 1.5, -135.0).Inside);
 }
+// A cylinder's top edge whose curve on the side face bulges 0.05 below the edge (v = 10) in its
+// middle while the edge keeps its tolerance of 1e-7: OpenCASCADE's transfer made such curves on
+// spheres near their poles (a SolidWorks part's lay 0.93 mm off its circle). The reader projects
+// the edge again: the side face's trim and parameter range end at v = 10, as the edge does.
+TEST(CurvesOnFaces, CurveOffItsEdgeIsProjectedAgain)
+{
+  const TopoDS_Shape cylinder = BRepPrimAPI_MakeCylinder(5.0, 10.0).Shape();
+  TopoDS_Face side;
+  for (TopExp_Explorer fx(cylinder, TopAbs_FACE); fx.More(); fx.Next())
+    if (BRep_Tool::Surface(TopoDS::Face(fx.Current()))->DynamicType()->Name() ==
+      std::string("Geom_CylindricalSurface"))
+      side = TopoDS::Face(fx.Current());
+  ASSERT_FALSE(side.IsNull());
+  TopoDS_Edge top;
+  for (TopExp_Explorer ex(side, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+    double f, l;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, side, f, l);
+    if (!BRep_Tool::IsClosed(e, side) && std::abs(pc->Value(f).Y() - 10.0) < 1e-12)
+      top = e;
+  }
+  ASSERT_FALSE(top.IsNull());
+  double f, l;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(top, side, f, l);
+  const int n = 32;
+  Handle(TColgp_HArray1OfPnt2d) points = new TColgp_HArray1OfPnt2d(1, n + 1);
+  Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n + 1);
+  for (int k = 0; k <= n; ++k)
+  {
+    const double t = f + (l - f) * k / n, s = std::sin(M_PI * k / n);
+    points->SetValue(k + 1, gp_Pnt2d(pc->Value(t).X(), 10.0 - 0.05 * s * s));
+    params->SetValue(k + 1, t);
+  }
+  Geom2dAPI_Interpolate bulge(points, params, Standard_False, 1e-12);
+  bulge.Perform();
+  ASSERT_TRUE(bulge.IsDone());
+  BRep_Builder().UpdateEdge(top, bulge.Curve(), side, BRep_Tool::Tolerance(top));
+  EXPECT_NEAR(CurveOnFaceDistance(top, side, 1e-7, 1000), 0.05, 1e-4);
+
+  // The conversion: the face's range and trim end at the edge, with one warning naming it.
+  // Without OpenCASCADE's healing, which finds this bulge (it spans the edge) and raises the
+  // edge's tolerance to 0.05 instead; the transfer's own check missed the narrower ones of real
+  // parts, their edges left at 1e-7.
+  ConversionOptions options;
+  options.Heal = false;
+  std::vector<TopoDS_Face> faces;
+  const BRepModel m = ConvertShape(cylinder, options, &faces);
+  int sideIndex = -1;
+  for (size_t i = 0; i < faces.size(); ++i)
+    if (faces[i].IsSame(side))
+      sideIndex = static_cast<int>(i);
+  ASSERT_GE(sideIndex, 0);
+  EXPECT_LT(CurveOnFaceDistance(top, side, 1e-7, 1000), 1e-6);
+  EXPECT_NEAR(m.Faces[sideIndex].Domain[3], 10.0, 1e-9);
+  // every control point of the side's trim at v = 0 or v = 10 (the seam's run between them)
+  for (const TrimSegment& ts : m.TrimSegments)
+  {
+    if (ts.Face != sideIndex || ts.Edge < 0)
+      continue;
+    const auto& c = ts.ControlPoints;
+    if (std::abs(c[0] - c[6]) < 1e-9)
+      continue; // the seam
+    for (int i = 0; i < 4; ++i)
+    {
+      EXPECT_TRUE(std::abs(c[2 * i + 1]) < 1e-9 || std::abs(c[2 * i + 1] - 10.0) < 1e-9)
+        << "v " << c[2 * i + 1];
+    }
+  }
+  int said = 0;
+  for (const std::string& w : m.Stats.Warnings)
+    said += w.find("face " + std::to_string(sideIndex) + ": 1 edge's curve on the face lay off the edge by up to 0.05") == 0 &&
+      w.find("projected again") != std::string::npos;
+  EXPECT_EQ(said, 1);
+}
+
+// A square's side whose 3D line lies 0.01 above the plane, its curve on the plane where the
+// side is: no projection is nearer, so the curve stays and the warning says where the file's
+// face and edge disagree.
+TEST(CurvesOnFaces, EdgeOffItsFaceIsLeftAndNamed)
+{
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), 0.0, 10.0, 0.0, 10.0).Face();
+  TopoDS_Edge side;
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More() && side.IsNull(); ex.Next())
+    side = TopoDS::Edge(ex.Current());
+  double f, l;
+  const Handle(Geom_Curve) line = BRep_Tool::Curve(side, f, l);
+  BRep_Builder().UpdateEdge(
+    side, Handle(Geom_Curve)::DownCast(line->Translated(gp_Vec(0.0, 0.0, 0.01))), 1e-7);
+  std::vector<std::string> warnings;
+  const CurvesOnFacesResult r = RepairCurvesOnFaces({ face }, 1e-4, warnings);
+  EXPECT_EQ(r.Checked, 4);
+  EXPECT_EQ(r.Rebuilt, 0);
+  EXPECT_EQ(r.Left, 1);
+  EXPECT_NEAR(r.WorstLeft, 0.01, 1e-9);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].find("face 0: 1 edge's curve on the face lies off the edge by up to 0.01, beyond"), 0u) << warnings[0];
+  // an untouched face: measured, nothing said
+  warnings.clear();
+  const TopoDS_Face plain = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), 0.0, 1.0, 0.0, 1.0).Face();
+  const CurvesOnFacesResult q = RepairCurvesOnFaces({ plain }, 1e-4, warnings);
+  EXPECT_EQ(q.Checked, 4);
+  EXPECT_EQ(q.Rebuilt + q.Left, 0);
+  EXPECT_TRUE(warnings.empty());
+}
+
 } // namespace
