@@ -6,6 +6,7 @@
 #include <GeomProjLib.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
+#include <ShapeAnalysis_Curve.hxx>
 #include <ShapeConstruct_ProjectCurveOnSurface.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
@@ -40,9 +41,11 @@ double Distance(const Handle(Geom2d_Curve)& pc, const Handle(Geom_Surface)& surf
     double d = p.Distance(curve->Value(t));
     if (d > threshold)
     {
-      // the nearest point of the 3D curve near t: Newton on (C(s) - p).C'(s) = 0
+      // the nearest point of the 3D curve near t: Newton on (C(s) - p).C'(s) = 0, and where that
+      // does not settle (the two curves' parameters far apart), OpenCASCADE's projection
       double s = t;
-      for (int it = 0; it < 8; ++it)
+      bool settled = false;
+      for (int it = 0; it < 8 && !settled; ++it)
       {
         gp_Pnt c;
         gp_Vec d1, d2;
@@ -52,12 +55,17 @@ double Distance(const Handle(Geom2d_Curve)& pc, const Handle(Geom_Surface)& surf
         if (!(h > 0.0))
           break;
         const double next = std::clamp(s - g / h, first, last);
-        const bool settled = std::fabs(next - s) <= 1e-12 * (1.0 + std::fabs(s));
+        settled = std::fabs(next - s) <= 1e-12 * (1.0 + std::fabs(s));
         s = next;
-        if (settled)
-          break;
       }
       d = std::min(d, p.Distance(curve->Value(s)));
+      if (!settled)
+      {
+        gp_Pnt nearest;
+        double at = t;
+        d = std::min(d, ShapeAnalysis_Curve().Project(curve, p, 1e-10, nearest, at, first, last,
+                          Standard_False));
+      }
     }
     worst = std::max(worst, d);
   }
@@ -168,7 +176,7 @@ CurvesOnFacesResult RepairCurvesOnFaces(
         };
         try
         {
-          double reached = 0.5 * threshold;
+          double reached = 0.1 * threshold;
           consider(GeomProjLib::Curve2d(curve, f, l, surface, reached));
         }
         catch (const Standard_Failure&)
@@ -179,7 +187,7 @@ CurvesOnFacesResult RepairCurvesOnFaces(
           try
           {
             ShapeConstruct_ProjectCurveOnSurface projector;
-            projector.Init(surface, 0.5 * threshold);
+            projector.Init(surface, 0.1 * threshold);
             Handle(Geom_Curve) c3 = curve;
             Handle(Geom2d_Curve) c2;
             double pf = f, pl = l;
