@@ -155,8 +155,9 @@ CurvesOnFacesResult RepairCurvesOnFaces(
       Handle(Geom2d_Curve) best;
       double bestOff = 0.5 * off;
       const bool seam = BRep_Tool::IsClosed(edge, face);
-      if (!seam && BRep_Tool::SameParameter(edge) && std::fabs(f - f3) < 1e-9 * (1.0 + std::fabs(f3)) &&
-        std::fabs(l - l3) < 1e-9 * (1.0 + std::fabs(l3)))
+      const bool sameRange = std::fabs(f - f3) < 1e-9 * (1.0 + std::fabs(f3)) &&
+        std::fabs(l - l3) < 1e-9 * (1.0 + std::fabs(l3));
+      if (!seam && BRep_Tool::SameParameter(edge) && sameRange)
       {
         auto consider = [&](const Handle(Geom2d_Curve)& c2) {
           if (c2.IsNull())
@@ -191,7 +192,8 @@ CurvesOnFacesResult RepairCurvesOnFaces(
             Handle(Geom_Curve) c3 = curve;
             Handle(Geom2d_Curve) c2;
             double pf = f, pl = l;
-            if (projector.Perform(c3, pf, pl, c2) && std::fabs(pf - f) < 1e-12 * (1.0 + std::fabs(f)) &&
+            const bool done = projector.Perform(c3, pf, pl, c2);
+            if (done && std::fabs(pf - f) < 1e-12 * (1.0 + std::fabs(f)) &&
               std::fabs(pl - l) < 1e-12 * (1.0 + std::fabs(l)))
               consider(c2);
           }

@@ -331,8 +331,11 @@ TEST(CurvesOnFaces, CurveOffItsEdgeIsProjectedAgain)
   }
   int said = 0;
   for (const std::string& w : m.Stats.Warnings)
-    said += w.find("face " + std::to_string(sideIndex) + ": 1 edge's curve on the face lay off the edge by up to 0.05") == 0 &&
-      w.find("projected again") != std::string::npos;
+  {
+    const std::string head = "face " + std::to_string(sideIndex) +
+      ": 1 edge's curve on the face lay off the edge by up to 0.05";
+    said += w.find(head) == 0 && w.find("projected again") != std::string::npos;
+  }
   EXPECT_EQ(said, 1);
 }
 
@@ -356,7 +359,10 @@ TEST(CurvesOnFaces, EdgeOffItsFaceIsLeftAndNamed)
   EXPECT_EQ(r.Left, 1);
   EXPECT_NEAR(r.WorstLeft, 0.01, 1e-9);
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_EQ(warnings[0].find("face 0: 1 edge's curve on the face lies off the edge by up to 0.01, beyond"), 0u) << warnings[0];
+  EXPECT_EQ(warnings[0].find(
+              "face 0: 1 edge's curve on the face lies off the edge by up to 0.01, beyond"),
+    0u)
+    << warnings[0];
   // an untouched face: measured, nothing said
   warnings.clear();
   const TopoDS_Face plain = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), 0.0, 1.0, 0.0, 1.0).Face();
