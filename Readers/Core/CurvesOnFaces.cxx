@@ -86,19 +86,36 @@ void AlignPeriods(const Handle(Geom2d_Curve)& c2, const Handle(Geom2d_Curve)& ol
     c2->Translate(gp_Vec2d(du, dv));
 }
 
-// The one warning for a kind of curve: "face F and N more: C edges' curves on the face lay off
-// the edge by up to W" and the rest.
-std::string Summary(int count, int faces, int worstFace, const char* verb, double worst,
-  const char* beforeTolerance, double tolerance, const char* after)
+// The curves of one kind (projected again, or left): how many, on how many faces, the worst
+// distance, its face and the largest edge tolerance among them.
+struct Tally
 {
-  std::ostringstream s;
-  s << "face " << worstFace;
-  if (faces > 1)
-    s << " and " << faces - 1 << " more";
-  s << ": " << count << (count == 1 ? " edge's curve" : " edges' curves") << " on the face "
-    << verb << " off the edge by up to " << worst << beforeTolerance << tolerance << after;
-  return s.str();
-}
+  int Count = 0, Faces = 0, WorstFace = -1, LastFace = -1;
+  double Worst = 0.0, Tolerance = 0.0;
+  void Add(int face, double off, double edgeTolerance)
+  {
+    ++Count;
+    Faces += face != LastFace ? 1 : 0;
+    LastFace = face;
+    if (off > Worst)
+    {
+      Worst = off;
+      WorstFace = face;
+    }
+    Tolerance = std::max(Tolerance, edgeTolerance);
+  }
+  // "face F and N more: C edges' curves on the face lay off the edge by up to W" and the rest
+  std::string Summary(const char* verb, const char* beforeTolerance, const char* after) const
+  {
+    std::ostringstream s;
+    s << "face " << WorstFace;
+    if (Faces > 1)
+      s << " and " << Faces - 1 << " more";
+    s << ": " << Count << (Count == 1 ? " edge's curve" : " edges' curves") << " on the face "
+      << verb << " off the edge by up to " << Worst << beforeTolerance << Tolerance << after;
+    return s.str();
+  }
+};
 } // namespace
 
 double CurveOnFaceDistance(const TopoDS_Edge& edge, const TopoDS_Face& face, double threshold,
@@ -117,8 +134,7 @@ CurvesOnFacesResult RepairCurvesOnFaces(
   const std::vector<TopoDS_Face>& faces, double tolerance, std::vector<std::string>& warnings)
 {
   CurvesOnFacesResult result;
-  int rebuiltFaces = 0, leftFaces = 0, rebuiltWorstFace = -1, leftWorstFace = -1;
-  double leftTolerance = 0.0, rebuiltTolerance = 0.0;
+  Tally rebuilt, left;
   BRep_Builder builder;
   for (size_t fi = 0; fi < faces.size(); ++fi)
   {
@@ -126,7 +142,6 @@ CurvesOnFacesResult RepairCurvesOnFaces(
     const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
     if (surface.IsNull())
       continue;
-    bool rebuiltHere = false, leftHere = false;
     for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
     {
       const TopoDS_Edge edge = TopoDS::Edge(ex.Current());
@@ -207,41 +222,28 @@ CurvesOnFacesResult RepairCurvesOnFaces(
           }
         }
       }
+      const int at = static_cast<int>(fi);
       if (!best.IsNull())
       {
         builder.UpdateEdge(edge, best, face, std::max(edgeTolerance, bestOff));
-        ++result.Rebuilt;
-        rebuiltHere = true;
-        if (off > result.WorstRebuilt)
-        {
-          result.WorstRebuilt = off;
-          rebuiltWorstFace = static_cast<int>(fi);
-        }
-        rebuiltTolerance = std::max(rebuiltTolerance, edgeTolerance);
+        rebuilt.Add(at, off, edgeTolerance);
         off = bestOff;
       }
-      if (off <= threshold)
-        continue;
-      ++result.Left;
-      leftHere = true;
-      if (off > result.WorstLeft)
-      {
-        result.WorstLeft = off;
-        leftWorstFace = static_cast<int>(fi);
-      }
-      leftTolerance = std::max(leftTolerance, edgeTolerance);
+      if (off > threshold)
+        left.Add(at, off, edgeTolerance);
     }
-    rebuiltFaces += rebuiltHere ? 1 : 0;
-    leftFaces += leftHere ? 1 : 0;
   }
-  if (result.Rebuilt > 0)
-    warnings.push_back(Summary(result.Rebuilt, rebuiltFaces, rebuiltWorstFace, "lay",
-      result.WorstRebuilt, " (edge tolerance up to ", rebuiltTolerance,
-      "); projected again from the edge"));
-  if (result.Left > 0)
-    warnings.push_back(Summary(result.Left, leftFaces, leftWorstFace,
-      result.Left == 1 ? "lies" : "lie", result.WorstLeft, ", beyond the edge's tolerance (up to ",
-      leftTolerance, "): the file's faces and edges disagree there by as much"));
+  result.Rebuilt = rebuilt.Count;
+  result.WorstRebuilt = rebuilt.Worst;
+  result.Left = left.Count;
+  result.WorstLeft = left.Worst;
+  if (rebuilt.Count > 0)
+    warnings.push_back(rebuilt.Summary(
+      "lay", " (edge tolerance up to ", "); projected again from the edge"));
+  if (left.Count > 0)
+    warnings.push_back(left.Summary(left.Count == 1 ? "lies" : "lie",
+      ", beyond the edge's tolerance (up to ",
+      "): the file's faces and edges disagree there by as much"));
   return result;
 }
 } // namespace brt
