@@ -907,9 +907,10 @@ TEST(SolverExact, OwnFreeFormFaceNearO)
   std::printf("[own free-form face] %d patches, measured %.3g off the face\n",
     model.Faces[0].PatchCount, model.Faces[0].MaxDeviation);
   // The point counts where it lies deeper than the depth and a quarter slack (2.5e-4) and the
-  // margin; the case is meant for patches much nearer their face than the tolerance.
+  // margin (1.5 times the measured deviation): the bump's 3.8e-4 stands out of that with the
+  // patches within half the tolerance, which the conversion's fit aims at.
   ASSERT_GE(model.Faces[0].MaxDeviation, 0.0);
-  ASSERT_LT(model.Faces[0].MaxDeviation, 4e-5);
+  ASSERT_LT(model.Faces[0].MaxDeviation, 5e-5);
   Sample o;
   o.Face = 0;
   o.Point = { 0.0, 0.0, 0.0 };
