@@ -1,5 +1,6 @@
 // Conversion of every model in Data/: patch deviation, loop closure, and the point-in-face test
 // built on the cubic trimming segments against OpenCASCADE's BRepClass_FaceClassifier.
+#include "Bezier.h"
 #include "CurvesOnFaces.h"
 #include "TestHelpers.h"
 #include "TrimClassifier.h"
@@ -20,9 +21,13 @@
 #include <TColStd_HArray1OfReal.hxx>
 #include <TColgp_HArray1OfPnt2d.hxx>
 #include <BRepTools.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Geom_BezierCurve.hxx>
 #include <Geom_Plane.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array2OfReal.hxx>
 #include <TColgp_Array1OfPnt.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
@@ -370,6 +375,93 @@ TEST(CurvesOnFaces, EdgeOffItsFaceIsLeftAndNamed)
   EXPECT_EQ(q.Checked, 4);
   EXPECT_EQ(q.Rebuilt + q.Left, 0);
   EXPECT_TRUE(warnings.empty());
+}
+
+// A free-form face fitted by interpolation (docs/Design.md, item 3): a rational cubic arc (the
+// Ploopy headband's rational faces: about 100 degrees, middle weights 0.6-0.75; here 0.6, which
+// makes a conic that is no circle, so that the face stays free-form) extruded 10 along z. Along
+// the arc the Hermite fit takes 16 patches within half the tolerance, the interpolation 10 (both
+// seen with the fit switched in the reader). Checked against OpenCASCADE's evaluation of the
+// surface: every patch within the tolerance on a 17 x 17 grid, neighbouring patches sharing
+// their boundary curves, and the cross-boundary derivative at the face's boundary that of the
+// surface (the face keeps its tangent plane along its edges, so faces tangent across an edge
+// stay tangent on the patches; interpolation at the ends alone misses it).
+TEST(FreeFormFit, RationalArcInterpolatedTangentAtItsBoundary)
+{
+  TColgp_Array2OfPnt poles(1, 4, 1, 2);
+  TColStd_Array2OfReal weights(1, 4, 1, 2);
+  const double xy[4][2] = { { 2.438, 74.430 }, { 6.155, 74.281 }, { 8.339, 71.268 },
+    { 7.324, 67.689 } };
+  const double w[4] = { 1.0, 0.6, 0.6, 1.0 };
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j)
+    {
+      poles.SetValue(i + 1, j + 1, gp_Pnt(xy[i][0], xy[i][1], 10.0 * j));
+      weights.SetValue(i + 1, j + 1, w[i]);
+    }
+  TColStd_Array1OfReal uKnots(1, 2), vKnots(1, 2);
+  TColStd_Array1OfInteger uMults(1, 2), vMults(1, 2);
+  uKnots(1) = vKnots(1) = 0.0;
+  uKnots(2) = vKnots(2) = 1.0;
+  uMults(1) = uMults(2) = 4;
+  vMults(1) = vMults(2) = 2;
+  const Handle(Geom_BSplineSurface) surface =
+    new Geom_BSplineSurface(poles, weights, uKnots, vKnots, uMults, vMults, 3, 1);
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  ConversionOptions conversion;
+  conversion.MaxPatchSize = 100.0; // the fit's patches alone (a lone face's 1/8 would split them)
+  const BRepModel model = ConvertShape(face, conversion);
+  ASSERT_EQ(model.Faces.size(), 1u);
+  const Face& F = model.Faces[0];
+  ASSERT_EQ(F.Kind, SurfaceKind::BSplineSurface); // not recognised as an analytic surface
+  std::printf("[free-form fit] rational arc: %d x %d patches, measured %.3g off the face\n",
+    F.PatchesU, F.PatchesV, F.MaxDeviation);
+  EXPECT_LE(F.PatchesU, 12);
+  EXPECT_GE(F.PatchesU, 2);
+  const double tol = model.Tolerance;
+  double worst = 0.0, seam = 0.0, tangent = 0.0;
+  for (int k = 0; k < F.PatchCount; ++k)
+  {
+    const BezierPatch& p = model.Patches[static_cast<size_t>(F.FirstPatch + k)];
+    const auto& d = p.Domain;
+    for (int a = 0; a <= 16; ++a)
+      for (int b = 0; b <= 16; ++b)
+      {
+        const PatchEval e = EvaluatePatchLocal(p.ControlPoints, a / 16.0, b / 16.0);
+        const gp_Pnt q =
+          surface->Value(d[0] + (d[1] - d[0]) * a / 16.0, d[2] + (d[3] - d[2]) * b / 16.0);
+        worst = std::max(worst, std::hypot(e.P[0] - q.X(), e.P[1] - q.Y(), e.P[2] - q.Z()));
+      }
+    const int i = k % F.PatchesU;
+    for (int b = 0; b <= 8; ++b)
+    {
+      const double r = b / 8.0, v = d[2] + (d[3] - d[2]) * r;
+      if (i + 1 < F.PatchesU) // the next patch along u starts where this one ends
+      {
+        const BezierPatch& n = model.Patches[static_cast<size_t>(F.FirstPatch + k + 1)];
+        const PatchEval e1 = EvaluatePatchLocal(p.ControlPoints, 1.0, r);
+        const PatchEval e2 = EvaluatePatchLocal(n.ControlPoints, 0.0, r);
+        seam = std::max(seam, std::hypot(e1.P[0] - e2.P[0], e1.P[1] - e2.P[1], e1.P[2] - e2.P[2]));
+      }
+      for (const int end : { 0, 1 }) // the face's boundary u = 0 or 1: d/du the surface's
+      {
+        if ((end == 0 && i != 0) || (end == 1 && i + 1 != F.PatchesU))
+          continue;
+        const PatchEval e = EvaluatePatchLocal(p.ControlPoints, end, r);
+        gp_Pnt P;
+        gp_Vec Su, Sv;
+        surface->D1(end ? d[1] : d[0], v, P, Su, Sv);
+        const double h = d[1] - d[0];
+        tangent = std::max(tangent, std::hypot(e.Du[0] / h - Su.X(), e.Du[1] / h - Su.Y(),
+                                      e.Du[2] / h - Su.Z()) / Su.Magnitude());
+      }
+    }
+  }
+  std::printf("[free-form fit] max |patch - S| %.3g, seams %.3g, boundary derivative %.3g "
+              "relative\n", worst, seam, tangent);
+  EXPECT_LE(worst, tol);
+  EXPECT_LE(seam, 1e-12);
+  EXPECT_LE(tangent, 1e-9);
 }
 
 } // namespace
