@@ -732,8 +732,7 @@ std::vector<double> InitialBreaks(const Handle(Geom_Surface)& surface, bool uDir
 /// Fitted patches (FitScheme: Hermite, or interpolating where `interpolate`) on a tensor grid
 /// refined until every patch is within `tol` (or the patch budget runs out): an interval is
 /// halved when the error along its direction is too large. (Split instead into as many parts
-/// as the error's fourth root says, free-form faces came out no fewer: the Ploopy headband's
-/// 11,064 patches 10,816, Framework's tile's 1,491 1,694.)
+/// as the error's fourth root says, faces came out no fewer: docs/Design.md, item 3.)
 PatchGrid FittedPatches(const Handle(Geom_Surface)& s, const std::array<double, 4>& d, double tol,
   int maxPatches, bool interpolate)
 {
