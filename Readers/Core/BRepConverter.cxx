@@ -95,6 +95,7 @@
 #include <map>
 #include <set>
 #include <memory>
+#include <numeric>
 #include <queue>
 #include <random>
 #include <iomanip>
@@ -566,15 +567,16 @@ struct FitScheme
   bool Derivative[4];
 };
 
-FitScheme SchemeFor(bool lowOnBoundary, bool highOnBoundary)
+/// The four schemes, by whether the patch's low and high ends lie on the face's boundary.
+const FitScheme& SchemeFor(bool lowOnBoundary, bool highOnBoundary)
 {
-  if (lowOnBoundary && highOnBoundary) // Hermite
-    return { { 0.0, 0.0, 1.0, 1.0 }, { false, true, false, true } };
-  if (lowOnBoundary)
-    return { { 0.0, 0.0, 0.64, 1.0 }, { false, true, false, false } };
-  if (highOnBoundary)
-    return { { 0.0, 0.36, 1.0, 1.0 }, { false, false, false, true } };
-  return { { 0.0, 0.29289321881345248, 0.70710678118654752, 1.0 }, { false, false, false, false } };
+  static const FitScheme schemes[4] = {
+    { { 0.0, 0.29289321881345248, 0.70710678118654752, 1.0 }, { false, false, false, false } },
+    { { 0.0, 0.0, 0.64, 1.0 }, { false, true, false, false } },
+    { { 0.0, 0.36, 1.0, 1.0 }, { false, false, false, true } },
+    { { 0.0, 0.0, 1.0, 1.0 }, { false, true, false, true } }, // Hermite
+  };
+  return schemes[(lowOnBoundary ? 1 : 0) + (highOnBoundary ? 2 : 0)];
 }
 
 /// The inverse of the 4 x 4 matrix of the scheme's conditions on the cubic Bernstein basis
@@ -612,34 +614,78 @@ std::array<std::array<double, 4>, 4> InverseConditions(const FitScheme& scheme)
   return inverse;
 }
 
+/// InverseConditions of SchemeFor(low, high), computed once.
+const std::array<std::array<double, 4>, 4>& InverseFor(bool lowOnBoundary, bool highOnBoundary)
+{
+  static const std::array<std::array<double, 4>, 4> inverses[4] = {
+    InverseConditions(SchemeFor(false, false)), InverseConditions(SchemeFor(true, false)),
+    InverseConditions(SchemeFor(false, true)), InverseConditions(SchemeFor(true, true)) };
+  return inverses[(lowOnBoundary ? 1 : 0) + (highOnBoundary ? 2 : 0)];
+}
+
 /// The bicubic patch on [u0,u1]x[v0,v1] that meets the tensor product of the two directions'
 /// schemes (SchemeFor: whether each end lies on the face's boundary). It keeps the surface's own
-/// (u,v) parametrisation: the trims, in that parameter space, stay valid on the patches.
+/// (u,v) parametrisation: the trims, in that parameter space, stay valid on the patches. The
+/// surface is evaluated once at each distinct node pair, to the order its conditions ask there
+/// (a Hermite patch: D2 at its four corners, as the Hermite fit always did).
 BezierPatch FittedPatch(const Handle(Geom_Surface)& s, double u0, double u1, double v0, double v1,
-  const FitScheme& su, const FitScheme& sv)
+  bool uLow, bool uHigh, bool vLow, bool vHigh)
 {
-  const std::array<std::array<double, 4>, 4> iu = InverseConditions(su), iv = InverseConditions(sv);
+  const FitScheme &su = SchemeFor(uLow, uHigh), &sv = SchemeFor(vLow, vHigh);
+  const std::array<std::array<double, 4>, 4>&iu = InverseFor(uLow, uHigh),
+                                             &iv = InverseFor(vLow, vHigh);
+  // Each condition's node, as an index into the direction's distinct nodes, and whether a
+  // derivative is asked at that node.
+  struct Nodes
+  {
+    int Count = 0, Of[4] = {};
+    double T[4] = {};
+    bool Derivative[4] = {};
+  };
+  auto nodesOf = [](const FitScheme& scheme) {
+    Nodes n;
+    for (int k = 0; k < 4; ++k)
+    {
+      int at = 0;
+      while (at < n.Count && n.T[at] != scheme.T[k])
+        ++at;
+      if (at == n.Count)
+        n.T[n.Count++] = scheme.T[k];
+      n.Of[k] = at;
+      n.Derivative[at] = n.Derivative[at] || scheme.Derivative[k];
+    }
+    return n;
+  };
+  const Nodes nu = nodesOf(su), nv = nodesOf(sv);
   // Derivatives with respect to the local parameters: d/dt = (u1 - u0) d/du.
   const double hu = u1 - u0, hv = v1 - v0;
+  gp_XYZ P[4][4], Su[4][4], Sv[4][4], Suv[4][4];
+  for (int a = 0; a < nu.Count; ++a)
+    for (int b = 0; b < nv.Count; ++b)
+    {
+      const double u = u0 + hu * nu.T[a], v = v0 + hv * nv.T[b];
+      gp_Pnt p;
+      gp_Vec du, dv, duu, dvv, duv;
+      if (nu.Derivative[a] && nv.Derivative[b])
+      {
+        s->D2(u, v, p, du, dv, duu, dvv, duv);
+        Suv[a][b] = (hu * hv) * duv.XYZ();
+      }
+      else if (nu.Derivative[a] || nv.Derivative[b])
+        s->D1(u, v, p, du, dv);
+      else
+        p = s->Value(u, v);
+      P[a][b] = p.XYZ();
+      Su[a][b] = hu * du.XYZ();
+      Sv[a][b] = hv * dv.XYZ();
+    }
   gp_XYZ values[4][4];
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b)
     {
-      const double u = u0 + hu * su.T[a], v = v0 + hv * sv.T[b];
-      gp_Pnt P;
-      gp_Vec Su, Sv, Suu, Svv, Suv;
-      if (su.Derivative[a] && sv.Derivative[b])
-      {
-        s->D2(u, v, P, Su, Sv, Suu, Svv, Suv);
-        values[a][b] = (hu * hv) * Suv.XYZ();
-      }
-      else if (su.Derivative[a] || sv.Derivative[b])
-      {
-        s->D1(u, v, P, Su, Sv);
-        values[a][b] = su.Derivative[a] ? hu * Su.XYZ() : hv * Sv.XYZ();
-      }
-      else
-        values[a][b] = s->Value(u, v).XYZ();
+      const int x = nu.Of[a], y = nv.Of[b];
+      values[a][b] = su.Derivative[a] ? (sv.Derivative[b] ? Suv[x][y] : Su[x][y])
+                                      : (sv.Derivative[b] ? Sv[x][y] : P[x][y]);
     }
   BezierPatch p;
   p.Domain = { u0, u1, v0, v1 };
@@ -751,8 +797,8 @@ PatchGrid FittedPatches(const Handle(Geom_Surface)& s, const std::array<double, 
       for (int i = 0; i < grid.NU; ++i)
       {
         grid.Patches.push_back(FittedPatch(s, us[i], us[i + 1], vs[j], vs[j + 1],
-          SchemeFor(!interpolate || i == 0, !interpolate || i + 1 == grid.NU),
-          SchemeFor(!interpolate || j == 0, !interpolate || j + 1 == grid.NV)));
+          !interpolate || i == 0, !interpolate || i + 1 == grid.NU, !interpolate || j == 0,
+          !interpolate || j + 1 == grid.NV));
         const PatchError e = MeasureOne(s, grid.Patches.back(), 6);
         if (e.All <= tol)
           continue;
