@@ -583,34 +583,21 @@ const FitScheme& SchemeFor(bool lowOnBoundary, bool highOnBoundary)
 /// (row k: B_i(T[k]) or B_i'(T[k])): control points = inverse * conditions' values.
 std::array<std::array<double, 4>, 4> InverseConditions(const FitScheme& scheme)
 {
-  double a[4][8];
-  for (int k = 0; k < 4; ++k)
-  {
-    const Bernstein3 b(scheme.T[k]);
-    for (int c = 0; c < 8; ++c)
-      a[k][c] = c < 4 ? (scheme.Derivative[k] ? b.D[c] : b.B[c]) : (c - 4 == k ? 1.0 : 0.0);
-  }
-  for (int c = 0; c < 4; ++c) // Gauss-Jordan with partial pivoting
-  {
-    int pivot = c;
-    for (int r = c + 1; r < 4; ++r)
-      if (std::fabs(a[r][c]) > std::fabs(a[pivot][c]))
-        pivot = r;
-    std::swap(a[c], a[pivot]);
-    const double d = a[c][c];
-    for (double& x : a[c])
-      x /= d;
-    for (int r = 0; r < 4; ++r)
-    {
-      const double f = r == c ? 0.0 : a[r][c];
-      for (int k = 0; k < 8; ++k)
-        a[r][k] -= f * a[c][k];
-    }
-  }
   std::array<std::array<double, 4>, 4> inverse{};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      inverse[r][c] = a[r][c + 4];
+  for (int column = 0; column < 4; ++column) // the conditions' matrix against each unit vector
+  {
+    double a[4][5];
+    for (int k = 0; k < 4; ++k)
+    {
+      const Bernstein3 b(scheme.T[k]);
+      for (int c = 0; c < 4; ++c)
+        a[k][c] = scheme.Derivative[k] ? b.D[c] : b.B[c];
+      a[k][4] = k == column ? 1.0 : 0.0;
+    }
+    SolveNormalEquations(a); // the schemes' matrices are regular (distinct nodes or orders)
+    for (int r = 0; r < 4; ++r)
+      inverse[r][column] = a[r][4] / a[r][r];
+  }
   return inverse;
 }
 
