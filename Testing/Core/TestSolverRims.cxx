@@ -25,6 +25,9 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <Geom_BezierSurface.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <BRepOffsetAPI_MakeThickSolid.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <gp_Pnt.hxx>
 
@@ -1044,4 +1047,53 @@ TEST(SolverExact, SettledSphereMadeTangent)
     { 59415, { 490, 0.82791068990983629, 0.00017082216476714491, { -0.56473647452575537, 0.069394922499504408, 1.4989206886684336 }, { -0.28150416407102691, 0.95955929902742876, 0.0011650153055306712 } } }
   };
   ExpectExactSpheres("settled", cover, numbered);
+}
+
+/// A wall between a free-form face and its offset, 14 mm apart: a cubic B-spline fitted to
+/// z = sin(x / 5) cos(y / 7) + 0.002 x y over 40 x 40 mm, made a solid by OpenCASCADE's thick
+/// solid (its far face an offset surface). Both faces are interpolated by the reader, their
+/// patches joined with C0 continuity, so t has a kink along every join; the descents whose
+/// minimum lay on one crept there up to their cap of 4 x MaxIterations steps (docs/Solver.md,
+/// item 9, "At a patch join"; AnalysisSitus's storage part ran 25% slower so). Away from the
+/// side faces every sphere spans the wall: 2t = 14 exactly (the offset's distance). Before the
+/// descent stopped at kinks, 4 of its 3,895 samples took 200 steps or more (261 at most).
+TEST(SolverReference, DescentEndsAtAPatchJoin)
+{
+  const int n = 25;
+  const double H = 14.0;
+  TColgp_Array2OfPnt points(1, n, 1, n);
+  for (int i = 1; i <= n; ++i)
+    for (int j = 1; j <= n; ++j)
+    {
+      const double x = 40.0 * (i - 1) / (n - 1), y = 40.0 * (j - 1) / (n - 1);
+      points.SetValue(i, j, gp_Pnt(x, y, std::sin(x / 5.0) * std::cos(y / 7.0) + 0.002 * x * y));
+    }
+  const GeomAPI_PointsToBSplineSurface fit(points, 3, 3, GeomAbs_C2, 1e-6);
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(fit.Surface(), 1e-7).Face();
+  BRepOffsetAPI_MakeThickSolid thick;
+  thick.MakeThickSolidBySimple(face, H);
+  ASSERT_TRUE(thick.IsDone());
+  const SolverOptions options;
+  const test::Solved s = test::SolveShape(thick.Shape(), ConversionOptions().Tolerance, options);
+  const std::vector<double> rim = test::RimDistances(s.Model, s.Samples);
+  int most = 0, failed = 0, inner = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < s.Results.size(); ++i)
+  {
+    const SampleResult& r = s.Results[i];
+    most = std::max(most, r.Iterations);
+    failed += r.Type == ContactType::Failed;
+    if (rim[i] > 0.6 * H)
+    {
+      ++inner;
+      worst = std::max(worst, std::fabs(r.Thickness - H) / H);
+    }
+  }
+  std::printf("[patch joins] %zu samples, %zu patches, most steps %d, %d failed; %d samples "
+              "0.6 H or more from the sides, worst 2t %.3g relative off H\n",
+    s.Samples.size(), s.Model.Patches.size(), most, failed, inner, worst);
+  EXPECT_EQ(failed, 0);
+  EXPECT_LT(most, 4 * options.MaxIterations);
+  EXPECT_GT(inner, 300);
+  EXPECT_LE(worst, 1e-6);
 }
