@@ -1781,6 +1781,7 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
   real knownU = 0, knownV = 0, knownR2 = (real)-1;
   real borderStep = 0; // the length of the step before where it crossed the trim, else 0
   int kinked = 0;
+  DescentState before = cur; // the state before the last accepted step
   for (int it = 0; it < 4 * maxIterations; ++it)
   {
     ++*iterations;
@@ -1822,6 +1823,10 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
       break; // stationary: a minimum of t on the face
     const real res0 = tangential_residual(&cur, d);
     const real stepUV = sqrt(s0 * s0 + s1 * s1);
+    // Whether the step, at the length the line search starts from, ends on another patch (a
+    // join crossed; the kink test below).
+    const int crossesJoin = find_patch(m, face, clamp(wrap_param(cur.u + f * s0, fd[0], fd[4]), fd[0], fd[1]),
+      clamp(wrap_param(cur.v + f * s1, fd[2], fd[5]), fd[2], fd[3])) != cur.patch;
     // Steps longer than this end outside the face for certain, without a trim test (below).
     real outsideAbove = REAL_MAX;
     int accepted = 0;
@@ -1865,6 +1870,7 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
       if (next.t <= t + (real)1e-4 * f * slope ||
         (next.t <= t + roundoff * t && tangential_residual(&next, d) < res0))
       {
+        before = cur;
         cur = next;
         accepted = 1;
         break;
@@ -1875,14 +1881,22 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
     borderStep = *crossing >= 0 ? f * len : (real)0;
     // A minimum on the join of two patches is a kink of t: a free-form face's patches join with
     // C0 continuity only (docs/Design.md, item 3), their tangent planes a little apart there. The
-    // full step, shorter than the patches' accuracy, crosses the join, and the line search halves
-    // it six times or more for a gain far below the tolerance, up to the iteration cap. Three such
-    // steps in a row end the descent where it stands. On AnalysisSitus's 1 m storage part (walls
-    // between B-spline faces and their offsets), 2,400 of its descents ran to the cap, and its
-    // solve was 25% slower than with Hermite patches (docs/Solver.md, "Kinks at patch joins").
-    kinked = len <= m->slack && f < (real)0.015625 ? kinked + 1 : 0;
+    // step from it crosses the join, and the line search halves it until it barely moves, for a
+    // gain far below any tolerance; the descent crept so up to its cap of 4 x maxIterations steps.
+    // Three steps in a row that cross a join and were accepted after six halvings or more, moving
+    // less than a thousandth of the slack, end the descent there (docs/Solver.md, item 9, "At a
+    // patch join": 2,400 descents of AnalysisSitus's 1 m storage part ran to the cap before).
+    kinked = crossesJoin && f * len <= (real)1e-3 * m->slack && f < (real)0.015625 ? kinked + 1 : 0;
     if (kinked >= 3)
+    {
+      // The side of the join whose tangent plane leaves the smaller residual: the contact's
+      // check (descend) takes the residual at the point it is given, and the two sides' differ by
+      // the kink (6.1e-5 and 1.5e-4 on the classic trackball's wedge, whose descent alternated
+      // between the two patches at t equal to 1e-11).
+      if (res0 < tangential_residual(&cur, d))
+        cur = before;
       break;
+    }
   }
   return cur;
 }

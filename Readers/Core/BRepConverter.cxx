@@ -51,6 +51,7 @@
 #include <Geom_ConicalSurface.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_Line.hxx>
+#include <Geom_OffsetCurve.hxx>
 #include <Geom_OffsetSurface.hxx>
 #include <Geom_Plane.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
@@ -721,13 +722,42 @@ PatchError MeasureOne(const Handle(Geom_Surface)& s, const BezierPatch& p, int n
   return e;
 }
 
-/// Initial grid lines of one direction: the domain ends, the surface's interior knots (where it
-/// may be less smooth), and splits so that periodic (angular) directions span at most pi/4.
-std::vector<double> InitialBreaks(const Handle(Geom_Surface)& surface, bool uDir, double a,
-  double b)
+/// The knots strictly inside (a, b) of a curve's B-spline, through trims and offsets (an offset
+/// curve keeps its basis's parameter).
+void CurveKnots(Handle(Geom_Curve) c, double a, double b, std::vector<double>& out)
 {
-  std::vector<double> breaks{ a, b };
-  const Handle(Geom_Surface) s = Unwrap(surface);
+  for (;;)
+  {
+    if (auto t = Handle(Geom_TrimmedCurve)::DownCast(c))
+      c = t->BasisCurve();
+    else if (auto o = Handle(Geom_OffsetCurve)::DownCast(c))
+      c = o->BasisCurve();
+    else
+      break;
+  }
+  if (auto bc = Handle(Geom_BSplineCurve)::DownCast(c))
+    for (int i = 1; i <= bc->NbKnots(); ++i)
+      if (bc->Knot(i) > a && bc->Knot(i) < b)
+        out.push_back(bc->Knot(i));
+}
+
+/// The knots strictly inside (a, b) of one direction of a surface: a B-spline's own; through
+/// trims and offsets (which keep their basis's parameters), the basis's; an extrusion's along
+/// its curve (u), a revolution's along its meridian (v). A patch that straddled such a knot,
+/// where the surface is less smooth, had its error outside the fit's measuring grid (forty-ninth
+/// session: AnalysisSitus's 204211, 98 extrusions, 7.8e-5 measured by random points where the
+/// fit's grids found half the tolerance).
+void SurfaceKnots(Handle(Geom_Surface) s, bool uDir, double a, double b, std::vector<double>& out)
+{
+  for (;;)
+  {
+    if (auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(s))
+      s = t->BasisSurface();
+    else if (auto o = Handle(Geom_OffsetSurface)::DownCast(s))
+      s = o->BasisSurface();
+    else
+      break;
+  }
   if (auto bs = Handle(Geom_BSplineSurface)::DownCast(s))
   {
     const int n = uDir ? bs->NbUKnots() : bs->NbVKnots();
@@ -735,9 +765,30 @@ std::vector<double> InitialBreaks(const Handle(Geom_Surface)& surface, bool uDir
     {
       const double k = uDir ? bs->UKnot(i) : bs->VKnot(i);
       if (k > a && k < b)
-        breaks.push_back(k);
+        out.push_back(k);
     }
   }
+  else if (auto e = Handle(Geom_SurfaceOfLinearExtrusion)::DownCast(s))
+  {
+    if (uDir)
+      CurveKnots(e->BasisCurve(), a, b, out);
+  }
+  else if (auto r = Handle(Geom_SurfaceOfRevolution)::DownCast(s))
+  {
+    if (!uDir)
+      CurveKnots(r->BasisCurve(), a, b, out);
+  }
+}
+
+/// Initial grid lines of one direction: the domain ends, the surface's interior knots (where it
+/// may be less smooth; SurfaceKnots), and splits so that periodic (angular) directions span at
+/// most pi/4.
+std::vector<double> InitialBreaks(const Handle(Geom_Surface)& surface, bool uDir, double a,
+  double b)
+{
+  std::vector<double> breaks{ a, b };
+  const Handle(Geom_Surface) s = Unwrap(surface);
+  SurfaceKnots(s, uDir, a, b, breaks);
   std::sort(breaks.begin(), breaks.end());
   const bool periodic = uDir ? s->IsUPeriodic() : s->IsVPeriodic();
   const double span = uDir ? (periodic ? s->UPeriod() : 0.0) : (periodic ? s->VPeriod() : 0.0);

@@ -1089,11 +1089,15 @@ TEST(SolverReference, DescentEndsAtAPatchJoin)
       worst = std::max(worst, std::fabs(r.Thickness - H) / H);
     }
   }
-  std::printf("[patch joins] %zu samples, %zu patches, most steps %d, %d failed; %d samples "
-              "0.6 H or more from the sides, worst 2t %.3g relative off H\n",
-    s.Samples.size(), s.Model.Patches.size(), most, failed, inner, worst);
+  // Neither face has an exact surface to finish on: 2t is as good as the two faces' patches.
+  double deviation = 0.0;
+  for (const Face& F : s.Model.Faces)
+    deviation = std::max(deviation, F.MaxDeviation);
+  std::printf("[patch joins] %zu samples, %zu patches (deviation %.3g), most steps %d, %d failed; "
+              "%d samples 0.6 H or more from the sides, worst 2t %.3g off H\n",
+    s.Samples.size(), s.Model.Patches.size(), deviation, most, failed, inner, worst * H);
   EXPECT_EQ(failed, 0);
   EXPECT_LT(most, 4 * options.MaxIterations);
   EXPECT_GT(inner, 300);
-  EXPECT_LE(worst, 1e-6);
+  EXPECT_LE(worst * H, 2.0 * deviation);
 }
