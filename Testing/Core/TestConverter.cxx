@@ -379,6 +379,22 @@ TEST(CurvesOnFaces, EdgeOffItsFaceIsLeftAndNamed)
   EXPECT_TRUE(warnings.empty());
 }
 
+/// Max |patch - S| on a 17 x 17 grid of a patch, S evaluated by OpenCASCADE at the same (u, v).
+double GridDeviation(const BezierPatch& p, const Handle(Geom_Surface)& surface)
+{
+  const auto& d = p.Domain;
+  double worst = 0.0;
+  for (int a = 0; a <= 16; ++a)
+    for (int b = 0; b <= 16; ++b)
+    {
+      const PatchEval e = EvaluatePatchLocal(p.ControlPoints, a / 16.0, b / 16.0);
+      const gp_Pnt q =
+        surface->Value(d[0] + (d[1] - d[0]) * a / 16.0, d[2] + (d[3] - d[2]) * b / 16.0);
+      worst = std::max(worst, std::hypot(e.P[0] - q.X(), e.P[1] - q.Y(), e.P[2] - q.Z()));
+    }
+  return worst;
+}
+
 // A free-form face fitted by interpolation (docs/Design.md, item 3): a rational cubic arc (the
 // Ploopy headband's rational faces: about 100 degrees, middle weights 0.6-0.75; here 0.6, which
 // makes a conic that is no circle, so that the face stays free-form) extruded 10 along z. Along
@@ -426,14 +442,7 @@ TEST(FreeFormFit, RationalArcInterpolatedTangentAtItsBoundary)
   {
     const BezierPatch& p = model.Patches[static_cast<size_t>(F.FirstPatch + k)];
     const auto& d = p.Domain;
-    for (int a = 0; a <= 16; ++a)
-      for (int b = 0; b <= 16; ++b)
-      {
-        const PatchEval e = EvaluatePatchLocal(p.ControlPoints, a / 16.0, b / 16.0);
-        const gp_Pnt q =
-          surface->Value(d[0] + (d[1] - d[0]) * a / 16.0, d[2] + (d[3] - d[2]) * b / 16.0);
-        worst = std::max(worst, std::hypot(e.P[0] - q.X(), e.P[1] - q.Y(), e.P[2] - q.Z()));
-      }
+    worst = std::max(worst, GridDeviation(p, surface));
     const int i = k % F.PatchesU;
     for (int b = 0; b <= 8; ++b)
     {
@@ -504,14 +513,7 @@ TEST(FreeFormFit, ExtrusionBreaksAtItsCurvesKnots)
     const BezierPatch& p = model.Patches[static_cast<size_t>(F.FirstPatch + k)];
     const auto& d = p.Domain;
     atKnot = atKnot || std::fabs(d[1] - 0.37) < 1e-12;
-    for (int a = 0; a <= 16; ++a)
-      for (int b = 0; b <= 16; ++b)
-      {
-        const PatchEval e = EvaluatePatchLocal(p.ControlPoints, a / 16.0, b / 16.0);
-        const gp_Pnt q =
-          surface->Value(d[0] + (d[1] - d[0]) * a / 16.0, d[2] + (d[3] - d[2]) * b / 16.0);
-        worst = std::max(worst, std::hypot(e.P[0] - q.X(), e.P[1] - q.Y(), e.P[2] - q.Z()));
-      }
+    worst = std::max(worst, GridDeviation(p, surface));
   }
   std::printf("[free-form fit] extrusion: %d x %d patches, measured %.3g, on a 17 x 17 grid "
               "%.3g off the face; a patch ends at the knot: %s\n",
