@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
@@ -29,7 +30,20 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
     throw std::runtime_error("cannot write '" + path + "'");
   out.write(reinterpret_cast<const char*>(&Magic), sizeof Magic);
   PutGeometry(out, m);
-  Put(out, d.S1);
+  // S1Point's padding after OnEdge zeroed, so that one prepared model always writes the same
+  // bytes (it carried whatever the heap held: two exports of one model differed byte for byte).
+  std::vector<S1Point> s1(d.S1.size());
+  if (!s1.empty())
+    std::memset(static_cast<void*>(s1.data()), 0, s1.size() * sizeof(S1Point));
+  for (size_t i = 0; i < s1.size(); ++i)
+  {
+    s1[i].Point = d.S1[i].Point;
+    s1[i].Face = d.S1[i].Face;
+    s1[i].OnEdge = d.S1[i].OnEdge;
+    s1[i].U = d.S1[i].U;
+    s1[i].V = d.S1[i].V;
+  }
+  Put(out, s1);
   Put(out, d.Nodes);
   Put(out, d.Breaks);
   Put(out, d.FaceBreaks);
