@@ -1823,10 +1823,7 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
       break; // stationary: a minimum of t on the face
     const real res0 = tangential_residual(&cur, d);
     const real stepUV = sqrt(s0 * s0 + s1 * s1);
-    // Whether the step, at the length the line search starts from, ends on another patch (a
-    // join crossed; the kink test below).
-    const int crossesJoin = find_patch(m, face, clamp(wrap_param(cur.u + f * s0, fd[0], fd[4]), fd[0], fd[1]),
-      clamp(wrap_param(cur.v + f * s1, fd[2], fd[5]), fd[2], fd[3])) != cur.patch;
+    const real f0 = f; // the length the line search starts from (the kink test below)
     // Steps longer than this end outside the face for certain, without a trim test (below).
     real outsideAbove = REAL_MAX;
     int accepted = 0;
@@ -1883,10 +1880,17 @@ BRT_SPLIT DescentState descend_on_face(const Model* m, int face, real3 Ohi, real
     // C0 continuity only (docs/Design.md, item 3), their tangent planes a little apart there. The
     // step from it crosses the join, and the line search halves it until it barely moves, for a
     // gain far below any tolerance; the descent crept so up to its cap of 4 x maxIterations steps.
-    // Three steps in a row that cross a join and were accepted after six halvings or more, moving
-    // less than a thousandth of the slack, end the descent there (docs/Solver.md, item 9, "At a
-    // patch join": 2,400 descents of AnalysisSitus's 1 m storage part ran to the cap before).
-    kinked = crossesJoin && f * len <= (real)1e-3 * m->slack && f < (real)0.015625 ? kinked + 1 : 0;
+    // Three steps in a row that were accepted at a 64th of the full step or less, moving less
+    // than a thousandth of the slack, and whose step at the line search's first length crossed
+    // into another patch (before, from `before`: a join crossed) end the descent there
+    // (docs/Solver.md, item 9, "At a patch join": 2,400 descents of AnalysisSitus's 1 m storage
+    // part ran to the cap before). The patch lookup only where the other two hold.
+    const int creeping = f * len <= (real)1e-3 * m->slack && f < (real)0.015625;
+    kinked = creeping &&
+        find_patch(m, face, clamp(wrap_param(before.u + f0 * s0, fd[0], fd[4]), fd[0], fd[1]),
+          clamp(wrap_param(before.v + f0 * s1, fd[2], fd[5]), fd[2], fd[3])) != before.patch
+      ? kinked + 1
+      : 0;
     if (kinked >= 3)
     {
       // The side of the join whose tangent plane leaves the smaller residual: the contact's

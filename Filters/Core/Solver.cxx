@@ -651,6 +651,12 @@ void RestrictCubic(double* c, int stride, double a, double b)
     split(a / b, false);
 }
 
+/// The UV band TrimmedPatchBox widens by: the face's UV tolerance twice and 1e-8 of its domain.
+double PatchBoxBand(const Face& F)
+{
+  return 2.0 * F.UVTolerance + 1e-8 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
+}
+
 /// Patch p's box narrowed to the part of it inside its face's trim (b: its control points' box,
 /// narrowed in place). That part lies in the UV box of the trimming segments' pieces within the
 /// patch's domain (their control points' boxes, clipped to it) and of the domain's corners
@@ -659,13 +665,8 @@ void RestrictCubic(double* c, int stride, double a, double b)
 /// the patch restricted to that UV box (de Casteljau). A plane's patch under a boss or across a
 /// hole is then boxed by its face alone. Returns false where no part of the patch is inside
 /// the face (the certification never searches it). The UV box is widened by the face's UV
-/// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding.
-/// The UV band TrimmedPatchBox widens by: the face's UV tolerance twice and 1e-8 of its domain.
-double PatchBoxBand(const Face& F)
-{
-  return 2.0 * F.UVTolerance + 1e-8 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
-}
-
+/// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding
+/// (PatchBoxBand).
 bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
   const std::vector<TrimCandidate>& faceSegments, double* b)
 {
