@@ -4597,9 +4597,11 @@ BRT_SPLIT int inside_other_solid(const Model* m, int ownFace, real3 Ohi, real3 O
 // shrinks the sphere; it stops when no point is deeper, and r becomes a contact at the last
 // point (residual: the last step). The fallback where no Newton or descent from a point inside
 // shrinks the sphere (a sample next to a convex edge, a drafted wall). 0 where nothing was found
-// inside, the certification is off, or it does not settle in 32 steps.
+// inside, the certification is off, or it does not settle in 32 steps. first, when given, is
+// find_point_inside's answer for r's sphere at this depth, which the caller already has: the
+// first step starts from it instead of asking again (the same query gives the same answer).
 BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real depth,
-  int nearOwn, Result* r)
+  int nearOwn, const PointInside* first, Result* r)
 {
   if (!(m->mode & MODE_CERTIFY))
     return 0;
@@ -4612,7 +4614,15 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
   last.w = splat_real3(0); // (read only once found; set here for the compilers' sake)
   for (int k = 0; k < 32; ++k)
   {
-    if (!find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &st))
+    int found;
+    if (k == 0 && first)
+    {
+      st = *first;
+      found = st.found;
+    }
+    else
+      found = find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &st);
+    if (!found)
     {
       if (!last.found)
         return 0;
@@ -4684,21 +4694,29 @@ inline int on_own_face(const Model* m, int ownFace, const Result* r)
 // minimum of eq. 1 along the edge from that point (eq. 7's contact where it converges).
 // Each sphere lies inside the one before (tangent at O, smaller), so what the certification
 // cleared stays clear. 1 with r the settled sphere; 0 where it does not settle (NotMaximal).
+// known, when given, is find_point_inside's answer for r's sphere at check_depth, which the
+// caller already has (the certification's query in solve_with_clearance): neither this nor the
+// shrinking ball asks it again. On Voron-0's SKR E3 DIN mount 2,212 of 46,030 samples (4.8%)
+// come here and took 39% of the solve, a third of it in those two repeated queries, each of the
+// sphere found too large, which reaches the most patches (docs/Solver.md, item 12).
 BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
-  real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations, Result* r)
+  real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
+  const PointInside* known, Result* r)
 {
   const real depth = check_depth(m, scale);
   const int solid = scope_solid(m, ownFace);
   PointInside inside;
-  if (find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside) &&
-    !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 0, r))
+  if (known)
+    inside = *known;
+  if ((known ? known->found : find_point_inside(m, ownFace, Ohi, Olo, d, r->t, depth, &inside)) &&
+    !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 0, &inside, r))
   {
     // A free-form own face whose points count near O by its measured deviation.
     const int freeForm = own_face_margin_near(m, ownFace) < own_face_margin(m, ownFace);
     if (inside.edge >= 0 || inside.face != ownFace)
-      return freeForm && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r);
+      return freeForm && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, &inside, r);
     const Result dr = descend(m, ownFace, ownFace, Ohi, Olo, d, inside.u, inside.v, scale,
       newtonTol, maxIterations, maxEdgeIterations, iterations);
     PointInside again;
@@ -4714,7 +4732,7 @@ BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
       !find_point_inside(m, ownFace, Ohi, Olo, d, dr.t, depth, &again);
     const int nearOwn = freeForm &&
       (!valid || (on_own_face(m, ownFace, &dr) && !(dot(d, dr.foot) > m->slack)));
-    if (!(nearOwn && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, r)))
+    if (!(nearOwn && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, &inside, r)))
     {
       if (!valid)
         return 0;
@@ -5118,7 +5136,7 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       // diagonal that found it.
       Result s = no_result();
       s.t = fromCertification ? scale : firstT;
-      if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), 0, &s))
+      if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), 0, 0, &s))
         r = s;
     }
   }
@@ -5130,6 +5148,10 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
     best = verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, O, d, solid, scale, r.t, depth, &t);
     int inFace;
     real inU, inV;
+    // The certification's answer for r's sphere, where it was asked (the else branch); r does
+    // not change until the restart's sphere replaces it, so the last resort reuses it.
+    PointInside inside;
+    int askedInside = 0;
     if (best >= 0)
     {
       inFace = s1_face(s1Face, best);
@@ -5143,9 +5165,9 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       second_look_near(m, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
         maxEdgeIterations, iterations, &r);
       // Then the patches themselves: a wall narrower than s1's spacing can still reach in.
-      PointInside inside;
       if (!find_point_inside(m, ownFace, Ohi, Olo, d, r.t, depth, &inside))
         break;
+      askedInside = 1;
       inFace = inside.face;
       inU = inside.u;
       inV = inside.v;
@@ -5176,7 +5198,8 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       // No Newton or descent shrinks the sphere from the point inside: shrink it through the
       // deepest point of the faces instead (the shrinking ball), then check s1 once more.
       if (settle_not_maximal(m, s1Point, s1Face, s1UV, nodeBox, nodeInfo, ownFace, Ohi, Olo,
-            d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations, &r))
+            d, scale, newtonTol, maxIterations, maxEdgeIterations, iterations,
+            askedInside ? &inside : 0, &r))
       {
         // The shrinking ball stops where no point lies deeper than the certification's depth:
         // where the sphere meets the surface at a grazing angle (an edge or face next to O, as
