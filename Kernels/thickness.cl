@@ -4253,6 +4253,17 @@ BRT_SPLIT void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, r
 // `solid` only (others = 0) or of every solid but it (others = 1), face excludeFace left out
 // (-1: none), and with minCos > -1 only where the face's outward normal lies within acos(minCos)
 // of d. sMax where nothing is hit (REAL_MAX: no bound).
+// The slab test: the interval of the ray O + s dir (inv: 1 / dir per coordinate, huge where 0)
+// inside box b (min x, y, z, max x, y, z), [*lo, *hi]; empty where *lo > *hi.
+inline void ray_box(__global const real* b, real3 O, real3 inv, real* lo, real* hi)
+{
+  const real tx0 = (b[0] - O.x) * inv.x, tx1 = (b[3] - O.x) * inv.x;
+  const real ty0 = (b[1] - O.y) * inv.y, ty1 = (b[4] - O.y) * inv.y;
+  const real tz0 = (b[2] - O.z) * inv.z, tz1 = (b[5] - O.z) * inv.z;
+  *lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
+  *hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
+}
+
 BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeFace, real3 Ohi, real3 Olo,
   real3 d, real sMin, real sMax, real minCos, int* hitFace, int* hitPatch, real2* hitUV)
 {
@@ -4263,21 +4274,28 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
   const real big = REAL_MAX;
   const real3 inv = make_real3(d.x != (real)0 ? (real)1 / d.x : big,
     d.y != (real)0 ? (real)1 / d.y : big, d.z != (real)0 ? (real)1 / d.z : big);
+  const real pad = m->slack; // boxes hold the patches; the ray may graze them
+  // Each entry keeps where the ray enters its box (its slab test passed when it was pushed): the
+  // nearer child is walked first, and an entry whose box the ray enters beyond the nearest hit
+  // found since is dropped when popped. Walked in a fixed order, the rays of the centre test
+  // (centre_in_own_solid) searched far patches first, each a Newton, before the hit next to the
+  // centre bounded the walk.
   int stack[64];
+  real stackLo[64];
   int top = 0;
-  stack[top++] = 0;
+  {
+    real lo, hi;
+    ray_box(m->boxNodeBox, O, inv, &lo, &hi);
+    if (lo > hi + pad || hi < sMin - pad || lo > best + pad)
+      return best;
+    stack[top] = 0;
+    stackLo[top++] = lo;
+  }
   while (top > 0)
   {
-    const int node = stack[--top];
-    __global const real* b = m->boxNodeBox + 6 * node;
-    // Slab test: the ray's parameter interval inside the box, against [sMin, best].
-    const real tx0 = (b[0] - O.x) * inv.x, tx1 = (b[3] - O.x) * inv.x;
-    const real ty0 = (b[1] - O.y) * inv.y, ty1 = (b[4] - O.y) * inv.y;
-    const real tz0 = (b[2] - O.z) * inv.z, tz1 = (b[5] - O.z) * inv.z;
-    const real lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
-    const real hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
-    const real pad = m->slack; // boxes hold the patches; the ray may graze them
-    if (lo > hi + pad || hi < sMin - pad || lo > best + pad)
+    --top;
+    const int node = stack[top];
+    if (stackLo[top] > best + pad)
       continue;
     __global const int* ni = m->boxNodeInfo + 3 * node;
     if (ni[1] < 0 && (-ni[1] - 1 == solid) == (others != 0))
@@ -4290,6 +4308,36 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
         if (!(item < m->patchCount && m->patchFace[item] != excludeFace &&
               (m->faceInfo[FACE_INTS * m->patchFace[item] + 7] == solid) != (others != 0)))
           continue;
+        {
+          // The patch's own box (BuildPatchBoxes: its trimmed part's control points), widened by
+          // what ray_patch accepts a hit within (its accuracy: half the slack, or the precision's
+          // over the hit's distance, which lies within the box's farthest corner from O plus
+          // that) and the rounding of O and the box: a ray that misses it has no hit there. Each
+          // patch a ray's walk reaches costs ray_patch a 5 x 5 grid and up to three Newtons; on
+          // the ExpansionCard's ray thickness most of them missed (docs/Solver.md, "Ray thickness").
+          __global const real* pb = m->patchBoxes + 6 * item;
+          real D = 0, size = fabs(O.x) + fabs(O.y) + fabs(O.z);
+          for (int k = 0; k < 3; ++k)
+          {
+            const real o = k == 0 ? O.x : (k == 1 ? O.y : O.z);
+            D += fmax(fabs(pb[k] - o), fabs(pb[3 + k] - o));
+            size += fmax(fabs(pb[k]), fabs(pb[3 + k]));
+          }
+          const real w = fmax(m->slack,
+                           (real)33 * REAL_EPS *
+                             ((real)2 * D + length(anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo)) +
+                               m->slack)) +
+            (real)8 * REAL_EPS * size;
+          const real3 b0 = make_real3(pb[0], pb[1], pb[2]) - splat_real3(w);
+          const real3 b1 = make_real3(pb[3], pb[4], pb[5]) + splat_real3(w);
+          const real tx0 = (b0.x - O.x) * inv.x, tx1 = (b1.x - O.x) * inv.x;
+          const real ty0 = (b0.y - O.y) * inv.y, ty1 = (b1.y - O.y) * inv.y;
+          const real tz0 = (b0.z - O.z) * inv.z, tz1 = (b1.z - O.z) * inv.z;
+          const real lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
+          const real hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
+          if (lo > hi || hi < sMin || lo > best)
+            continue;
+        }
         if (sMax < REAL_MAX)
         {
           // A short ray: a patch whose control hull, or whose face's exact surface, lies farther
@@ -4309,8 +4357,23 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
     }
     if (top + 2 > 64)
       continue;
-    stack[top++] = ni[2];
-    stack[top++] = node + 1;
+    const int left = node + 1, right = ni[2];
+    real loL, hiL, loR, hiR;
+    ray_box(m->boxNodeBox + 6 * left, O, inv, &loL, &hiL);
+    ray_box(m->boxNodeBox + 6 * right, O, inv, &loR, &hiR);
+    const int okL = !(loL > hiL + pad || hiL < sMin - pad || loL > best + pad);
+    const int okR = !(loR > hiR + pad || hiR < sMin - pad || loR > best + pad);
+    const int leftFirst = loL <= loR;
+    if (leftFirst ? okR : okL)
+    {
+      stack[top] = leftFirst ? right : left;
+      stackLo[top++] = leftFirst ? loR : loL;
+    }
+    if (leftFirst ? okL : okR)
+    {
+      stack[top] = leftFirst ? left : right;
+      stackLo[top++] = leftFirst ? loL : loR;
+    }
   }
   return best;
 }
