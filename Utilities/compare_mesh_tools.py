@@ -16,6 +16,10 @@ STL user would have it. Printed per tool: samples/s, and the error against the e
 the samples inside faces (vertices of one face only: at face boundaries the welded mesh has one
 normal where the B-Rep has two): median, 99th percentile and maximum of |T - T_exact|, and the
 share within 1e-4 mm. The exact values are the native device's; failed samples are left out.
+Rows marked (*) measure another quantity, the ray thickness along the sample's normal, against
+the same exact sphere values: ours (Method Ray, native device; exact on the B-Rep) is timed and
+listed beside the tools' rays, and the row "MeshLib ray vs ours" gives MeshLib's ray error
+against our exact ray (the samples where ours meets a face).
 A model that cannot be read, or whose mesh tools are stopped (a tool killed for memory on a large
 mesh), gets one line saying so and the next model runs; the exit status is then 1.
 Ours is timed for the solve alone (the Summary's SolveSeconds); the row "native + prep." adds
@@ -52,8 +56,8 @@ from vtkmodules.numpy_interface import dataset_adapter as dsa
 LoadPlugin(sys.argv[1], ns=globals())
 model, out, gap, repeat = sys.argv[2], sys.argv[3], sys.argv[4] == "1", int(sys.argv[5])
 reader = STEPReader(FileName=model)
-def solve_once(device, measure, precision):
-    f = BRepThickness(Input=reader, Device=device, Precision=precision, Measure=measure)
+def solve_once(device, measure, precision, method="Sphere"):
+    f = BRepThickness(Input=reader, Device=device, Precision=precision, Measure=measure, Method=method)
     f.UpdatePipeline()
     mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))
     summary = sm.Fetch(f, idx=3)
@@ -65,15 +69,15 @@ def solve_once(device, measure, precision):
             name = dev.GetValue(0)
     Delete(f)
     return mesh, rows, name
-def solve(device, measure="Thickness", precision=None):
+def solve(device, measure="Thickness", precision=None, method="Sphere"):
     # The first run's mesh and names, each timing the fastest of `repeat` runs.
     if precision is None:
         precision = "Double" if device == "native" else "Float"
-    mesh, rows, name = solve_once(device, measure, precision)
+    mesh, rows, name = solve_once(device, measure, precision, method)
     for _ in range(repeat - 1):
         if mesh.VTKObject.GetNumberOfPoints() == 0:
             break
-        again = solve_once(device, measure, precision)[1]
+        again = solve_once(device, measure, precision, method)[1]
         for key in ("SolveSeconds", "PrepareSeconds"):
             rows[key] = min(rows[key], again[key])
     return mesh, rows, name
@@ -82,10 +86,12 @@ if mesh.VTKObject.GetNumberOfPoints() == 0:
     sys.exit(1)  # the reader's or the filter's error is on stderr
 _, rows_dev, dev_name = solve("cpu")
 _, rows_dev2, _ = solve("cpu", precision="Double")
-extra = {}
+# Our ray thickness alone (Method Ray, native device): the counterpart of the tools' rays.
+rmesh, rows_ray, _ = solve("native", method="Ray")
+extra = dict(ray=np.asarray(rmesh.PointData["RayThickness"]), ray_seconds=rows_ray["SolveSeconds"])
 if gap:
     gmesh, rows_gap, _ = solve("native", "Thickness and gap")
-    extra = dict(gap=np.asarray(gmesh.PointData["Gap"]),
+    extra.update(gap=np.asarray(gmesh.PointData["Gap"]),
                  gap_seconds=rows_gap["SolveSeconds"] - rows_ref["SolveSeconds"])
 polys = dsa.vtkDataArrayToVTKArray(mesh.VTKObject.GetPolys().GetConnectivityArray())
 np.savez(out, **extra, points=np.asarray(mesh.Points), triangles=np.asarray(polys).reshape(-1, 3),
@@ -167,6 +173,18 @@ def tools(npz, trimesh_samples, repeat=1, seed=1):
     ray = np.fromiter(ray.vec, dtype=float, count=n_w)
     report("MeshLib in-sphere", ins[inverse], t_ins, n_w, all_idx)
     report("MeshLib ray (*)", ray[inverse], t_ray, n_w, all_idx)
+    if "ray" in d:
+        # Ours along the same normals (exact, on the B-Rep), and MeshLib's rays against it: the
+        # error of the tool's ray where ours met a face.
+        ours_ray = np.asarray(d["ray"], dtype=float)
+        report("ours, ray native (*)", ours_ray, float(d["ray_seconds"]), len(P), all_idx)
+        hit = all_idx[np.isfinite(ours_ray[all_idx])]
+        v = ray[inverse][hit]
+        ok = np.isfinite(v) & (v < 1e30)
+        err = np.abs(v[ok] - ours_ray[hit][ok])
+        if len(err):
+            emit(("MeshLib ray vs ours", len(W) / t_ray, np.median(err), np.percentile(err, 99), err.max(),
+                  np.mean(err <= 1e-4), 1.0 - ok.mean()))
 
     # trimesh (single-threaded), on a random subset of the face-interior samples.
     tm = trimesh.Trimesh(W, wtri, process=False)
