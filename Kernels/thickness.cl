@@ -4333,8 +4333,32 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
           const real tx0 = (b0.x - O.x) * inv.x, tx1 = (b1.x - O.x) * inv.x;
           const real ty0 = (b0.y - O.y) * inv.y, ty1 = (b1.y - O.y) * inv.y;
           const real tz0 = (b0.z - O.z) * inv.z, tz1 = (b1.z - O.z) * inv.z;
-          const real lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
-          const real hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
+          real lo = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmin(tz0, tz1));
+          real hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
+          // And the slab between the control points' least and greatest offsets along the
+          // patch's mean normal (PATCH_HULL_REALS; relative to its anchor, rounded outwards), as
+          // widened: a curved patch's box is loose where the ray passes it obliquely.
+          __global const real* h = m->patchHull + PATCH_HULL_REALS * item;
+          const real3 n = make_real3(h[3], h[4], h[5]);
+          if (h[3] != (real)0 || h[4] != (real)0 || h[5] != (real)0)
+          {
+            const real3 a = anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo);
+            const real na = dot(n, a), nd = dot(n, d);
+            const real wn = w + (real)8 * REAL_EPS * (length(a) + fabs(h[6]) + fabs(h[7]));
+            const real A = h[6] - wn + na, B = h[7] + wn + na;
+            if (nd > (real)0)
+            {
+              lo = fmax(lo, A / nd);
+              hi = fmin(hi, B / nd);
+            }
+            else if (nd < (real)0)
+            {
+              lo = fmax(lo, B / nd);
+              hi = fmin(hi, A / nd);
+            }
+            else if (A > (real)0 || B < (real)0)
+              continue;
+          }
           if (lo > hi || hi < sMin || lo > best)
             continue;
         }
