@@ -30,8 +30,12 @@
 // the outward normal, in the air; --all-solids: bounded by every solid's faces): the overlap is
 // measured against the faces that bound it, --thickness M checks M gaps by the same bisection,
 // and every sample the solver finds facing nothing (an infinite gap) is checked: its exact
-// sphere must stay empty up to a radius of the model's bounding-box diagonal.
+// sphere must stay empty up to a radius of the model's bounding-box diagonal. With --ray the ray
+// thickness instead (NativeSolver::RayThickness, the filter's Method Ray) against OpenCASCADE's
+// first intersection of the same ray with the exact faces of the sample's solid
+// (IntCurvesFace_ShapeIntersector) beyond twice the patches' accuracy, as ours counts.
 #include "BRepConverter.h"
+#include "NativeSolver.h"
 #include "ExactDistance.h"
 #include "ResultCheck.h"
 #include "Solver.h"
@@ -52,6 +56,7 @@
 #include <BRepBndLib.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
+#include <BRepAdaptor_Surface.hxx>
 #include <Bnd_Box.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -64,6 +69,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -77,7 +83,7 @@ namespace
 {
 const char* const Usage =
   "usage: brt_exact_check [--samples N] [--seed S] [--device native|any|cpu|gpu|NAME] "
-  "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] [--indices I,J,...]\n"
+  "[--double] [--no-certify] [--list K] [--thickness M] [--gap [--all-solids]] [--ray] [--indices I,J,...]\n"
   "       [--grid N] [--delaunay] [--chain N] [--solve-drawn]\n"
   "       FILE.step ...\n"
   "Solves every sample of each file (native CPU device by default) and measures N random ones\n"
@@ -109,14 +115,18 @@ const char* const Usage =
   "--chain N: SolverOptions::Chain (default 0: the device's, 32 on a CPU; 1: every sample started\n"
   "  from s1).\n"
   "--solve-drawn: solve the drawn samples alone, not the whole mesh: each chain's samples lie far\n"
-  "apart, and each starts from a distant one's contact (a test of the certification).\n";
+  "apart, and each starts from a distant one's contact (a test of the certification).\n"
+  "--ray: the ray thickness (the filter's Method Ray, native device) of the drawn samples against\n"
+  "OpenCASCADE's first intersection of the same ray with the exact faces of the sample's solid\n"
+  "(IntCurvesFace_ShapeIntersector) beyond twice the patches' accuracy: the share within 1e-4\n"
+  "relative, misses on either side, and the K largest differences (--list).\n";
 }
 
 int main(int argc, char** argv)
 {
   size_t count = 2500;
   unsigned seed = 1;
-  bool gap = false, allSolids = false;
+  bool gap = false, allSolids = false, ray = false;
   int list = 5;
   int grid = 0;
   size_t exactCount = 0;
@@ -170,6 +180,8 @@ int main(int argc, char** argv)
       exactCount = std::strtoul(argv[++i], nullptr, 10);
     else if (a == "--gap")
       gap = true;
+    else if (a == "--ray")
+      ray = true;
     else if (a == "--all-solids")
       allSolids = true;
     else if (a.compare(0, 2, "--") == 0)
@@ -185,8 +197,9 @@ int main(int argc, char** argv)
     std::fputs(Usage, stderr);
     return 2;
   }
-  std::printf("%-34s %7s %8s %8s %9s %10s %9s  %s\n", "model", "samples", "solved", "failed",
-    "overlap", "overlap_%", "largest", "failed by reason");
+  if (!ray)
+    std::printf("%-34s %7s %8s %8s %9s %10s %9s  %s\n", "model", "samples", "solved", "failed",
+      "overlap", "overlap_%", "largest", "failed by reason");
   int status = 0;
   for (const std::string& file : files)
   {
@@ -263,6 +276,173 @@ int main(int argc, char** argv)
     std::vector<brt::Sample> samples;
     for (size_t i : pick)
       samples.push_back(all[i]);
+    if (ray)
+    {
+      // Ours: the drawn samples' rays (a ray depends on its sample alone).
+      brt::NativeSolver native(m, data);
+      std::vector<double> ours;
+      native.RayThickness(samples, ours);
+      // As ours counts: beyond twice the patches' accuracy (2 slack, 4 tolerances) from O.
+      const double sMin = 4.0 * m.Tolerance;
+      std::vector<std::unique_ptr<IntCurvesFace_ShapeIntersector>> rays(
+        static_cast<size_t>(solids) + 1);
+      size_t within = 0, both = 0, oursOnly = 0, exactOnly = 0, neither = 0;
+      // Where the two differ: the same hit, ours within twice the tolerance of OpenCASCADE's
+      // across the face (the patches' accuracy, over the cosine at a glancing angle) and of the
+      // faces; ours nearer, its point on a face within twice the tolerance (the
+      // patches' deviation and the hit's acceptance): the ray grazes a face or an edge there,
+      // which ours counts as a hit and OpenCASCADE's intersector, counting crossings, does not;
+      // OpenCASCADE's point off the faces by more than the tolerance (its hit is not on the
+      // trimmed face); OpenCASCADE's nearer hit a touch (tangent, or on a face's boundary: the
+      // ray runs along a face or grazes a round, which ours does not count); the others.
+      size_t glancing = 0, grazing = 0, exactOff = 0, touch = 0, other = 0, failedExact = 0;
+      // A point's distance from the sample's solid's exact faces (BRepExtrema): about 0 where
+      // the ray meets a face there.
+      auto off = [&](const brt::Sample& sm, double at) {
+        if (!std::isfinite(at))
+          return std::numeric_limits<double>::quiet_NaN();
+        const gp_Pnt X(sm.Point[0] + at * sm.Direction[0], sm.Point[1] + at * sm.Direction[1],
+          sm.Point[2] + at * sm.Direction[2]);
+        BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(X).Vertex(), bounding(sm));
+        return dist.IsDone() ? dist.Value() : std::numeric_limits<double>::quiet_NaN();
+      };
+      double largestRel = 0.0;
+      std::vector<std::pair<double, size_t>> worstRay;
+      std::vector<double> exactRay(samples.size(), std::numeric_limits<double>::quiet_NaN());
+      std::vector<const char*> kind(samples.size(), ""); // the class of a difference
+      for (size_t k = 0; k < samples.size(); ++k)
+      {
+        const brt::Sample& sm = samples[k];
+        std::unique_ptr<IntCurvesFace_ShapeIntersector>& in =
+          rays[static_cast<size_t>(m.Faces[static_cast<size_t>(sm.Face)].Solid + 1)];
+        if (!in)
+        {
+          in = std::make_unique<IntCurvesFace_ShapeIntersector>();
+          in->Load(bounding(sm), m.Tolerance);
+        }
+        try
+        {
+          in->Perform(gp_Lin(gp_Pnt(sm.Point[0], sm.Point[1], sm.Point[2]),
+                        gp_Dir(sm.Direction[0], sm.Direction[1], sm.Direction[2])),
+            sMin, RealLast());
+        }
+        catch (const Standard_Failure&)
+        {
+          ++failedExact; // (its intersector throws on some faces: a null curve inside it)
+          continue;
+        }
+        double first = std::numeric_limits<double>::infinity();
+        bool firstTouches = false; // tangent there, or on a face's boundary
+        int firstIndex = 0;
+        for (int i = 1; in->IsDone() && i <= in->NbPnt(); ++i)
+          if (in->WParameter(i) > sMin && in->WParameter(i) < first)
+          {
+            first = in->WParameter(i);
+            firstIndex = i;
+            firstTouches =
+              in->Transition(i) == IntCurveSurface_Tangent || in->State(i) == TopAbs_ON;
+          }
+        const bool hitOurs = std::isfinite(ours[k]), hitExact = std::isfinite(first);
+        if (hitExact)
+          exactRay[k] = first;
+        if (!hitOurs || !hitExact)
+        {
+          ++(hitOurs ? oursOnly : (hitExact ? exactOnly : neither));
+          if (hitOurs != hitExact)
+            worstRay.emplace_back(std::numeric_limits<double>::infinity(), k);
+          continue;
+        }
+        ++both;
+        const double rel = std::fabs(ours[k] - first) / std::max(first, 1e-300);
+        largestRel = std::max(largestRel, rel);
+        if (rel <= 1e-4)
+        {
+          ++within;
+          continue;
+        }
+        worstRay.emplace_back(rel, k);
+        // The cosine between the ray and the face's normal at OpenCASCADE's hit: along the ray
+        // the patches' accuracy is that over the cosine.
+        double cosine = 0.0;
+        {
+          BRepAdaptor_Surface S(in->Face(firstIndex));
+          gp_Pnt P;
+          gp_Vec Du, Dv;
+          S.D1(in->UParameter(firstIndex), in->VParameter(firstIndex), P, Du, Dv);
+          const gp_Vec n = Du.Crossed(Dv);
+          if (n.Magnitude() > 0.0)
+            cosine = std::fabs(
+              n.Normalized().Dot(gp_Vec(sm.Direction[0], sm.Direction[1], sm.Direction[2])));
+        }
+        if (std::fabs(ours[k] - first) * cosine <= 2.0 * m.Tolerance &&
+          off(sm, ours[k]) <= 2.0 * m.Tolerance)
+          ++glancing, kind[k] = "glancing";
+        else if (ours[k] < first && off(sm, ours[k]) <= 2.0 * m.Tolerance)
+          ++grazing, kind[k] = "grazing";
+        else if (off(sm, first) > m.Tolerance)
+          ++exactOff, kind[k] = "OpenCASCADE's point off the faces";
+        else if (first < ours[k] && firstTouches)
+          ++touch, kind[k] = "OpenCASCADE's hit a touch";
+        else
+          ++other, kind[k] = "other";
+      }
+      std::printf("%-34s %7zu rays: %zu hit on both, %zu within 1e-4 relative (%.2f%%), largest %.3g; "
+                  "of the others, the same hit within twice the tolerance across the face "
+                  "(glancing) %zu, ours nearer at a face within twice the tolerance (grazing) %zu, "
+                  "OpenCASCADE's point off the faces %zu, OpenCASCADE's nearer hit a touch (tangent, "
+                  "or on a face's boundary) %zu, other %zu; ours alone %zu, OpenCASCADE's alone %zu, "
+                  "neither %zu; OpenCASCADE's intersector failed on %zu\n",
+        name.c_str(), samples.size(), both, within, both ? 100.0 * within / both : 0.0, largestRel,
+        glancing, grazing, exactOff, touch, other, oursOnly, exactOnly, neither, failedExact);
+      std::sort(worstRay.begin(), worstRay.end(), std::greater<>());
+      for (int i = 0; i < list && i < static_cast<int>(worstRay.size()); ++i)
+      {
+        const size_t k = worstRay[static_cast<size_t>(i)].second;
+        const brt::Sample& sm = samples[k];
+        std::printf("    sample %zu (face %d): ours %.9g (%.2g off the faces), OpenCASCADE %.9g "
+                    "(%.2g off)%s%s\n",
+          pick[k], sm.Face, ours[k], off(sm, ours[k]), exactRay[k], off(sm, exactRay[k]),
+          *kind[k] ? ": " : "", kind[k]);
+        // OpenCASCADE's hits along the ray up to ours (or all where ours met nothing): the
+        // face, whether the ray crosses there or touches (tangent; on the face's boundary), and
+        // the cosine between the ray and the face's normal.
+        IntCurvesFace_ShapeIntersector& in =
+          *rays[static_cast<size_t>(m.Faces[static_cast<size_t>(sm.Face)].Solid + 1)];
+        try
+        {
+          in.Perform(gp_Lin(gp_Pnt(sm.Point[0], sm.Point[1], sm.Point[2]),
+                       gp_Dir(sm.Direction[0], sm.Direction[1], sm.Direction[2])),
+            sMin, RealLast());
+        }
+        catch (const Standard_Failure&)
+        {
+          continue;
+        }
+        for (int j = 1; in.IsDone() && j <= in.NbPnt(); ++j)
+        {
+          if (std::isfinite(ours[k]) && in.WParameter(j) > ours[k] * (1.0 + 1e-4))
+            continue;
+          int hitFace = -1;
+          for (size_t g = 0; g < faces.size(); ++g)
+            if (faces[g].IsSame(in.Face(j)))
+              hitFace = static_cast<int>(g);
+          BRepAdaptor_Surface S(in.Face(j));
+          gp_Pnt P;
+          gp_Vec Du, Dv;
+          S.D1(in.UParameter(j), in.VParameter(j), P, Du, Dv);
+          const gp_Vec n = Du.Crossed(Dv);
+          const double cosine = n.Magnitude() > 0.0
+            ? n.Normalized().Dot(gp_Vec(sm.Direction[0], sm.Direction[1], sm.Direction[2]))
+            : 0.0;
+          std::printf("      OpenCASCADE's hit at %.9g on face %d: %s%s, cos %.2g\n", in.WParameter(j),
+            hitFace,
+            in.Transition(j) == IntCurveSurface_Tangent ? "tangent"
+                                                          : (in.Transition(j) == IntCurveSurface_In ? "in" : "out"),
+            in.State(j) == TopAbs_ON ? " on the face's boundary" : "", cosine);
+        }
+      }
+      continue;
+    }
     // Every sample, as the filter solves them, unless --solve-drawn.
     const std::vector<brt::Sample>& toSolve = solveDrawn ? samples : all;
     std::vector<brt::SampleResult> res(toSolve.size());
