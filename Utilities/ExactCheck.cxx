@@ -286,30 +286,11 @@ int main(int argc, char** argv)
       const double sMin = 4.0 * m.Tolerance;
       std::vector<std::unique_ptr<IntCurvesFace_ShapeIntersector>> rays(
         static_cast<size_t>(solids) + 1);
-      size_t within = 0, both = 0, oursOnly = 0, exactOnly = 0, neither = 0;
-      // Where the two differ: the same hit, ours within twice the tolerance of OpenCASCADE's
-      // across the face (the patches' accuracy, over the cosine at a glancing angle) and of the
-      // faces; ours nearer, its point on a face within twice the tolerance (the
-      // patches' deviation and the hit's acceptance): the ray grazes a face or an edge there,
-      // which ours counts as a hit and OpenCASCADE's intersector, counting crossings, does not;
-      // OpenCASCADE's point off the faces by more than the tolerance (its hit is not on the
-      // trimmed face); OpenCASCADE's nearer hit a touch (tangent, or on a face's boundary: the
-      // ray runs along a face or grazes a round, which ours does not count); the others.
-      size_t glancing = 0, grazing = 0, exactOff = 0, touch = 0, other = 0, failedExact = 0;
-      // A point's distance from the sample's solid's exact faces (BRepExtrema): about 0 where
-      // the ray meets a face there.
-      auto off = [&](const brt::Sample& sm, double at) {
-        if (!std::isfinite(at))
-          return std::numeric_limits<double>::quiet_NaN();
-        const gp_Pnt X(sm.Point[0] + at * sm.Direction[0], sm.Point[1] + at * sm.Direction[1],
-          sm.Point[2] + at * sm.Direction[2]);
-        BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(X).Vertex(), bounding(sm));
-        return dist.IsDone() ? dist.Value() : std::numeric_limits<double>::quiet_NaN();
-      };
+      std::map<brt::exact::RayAgreement, size_t> tally;
       double largestRel = 0.0;
       std::vector<std::pair<double, size_t>> worstRay;
       std::vector<double> exactRay(samples.size(), std::numeric_limits<double>::quiet_NaN());
-      std::vector<const char*> kind(samples.size(), ""); // the class of a difference
+      std::vector<brt::exact::RayAgreement> kind(samples.size());
       for (size_t k = 0; k < samples.size(); ++k)
       {
         const brt::Sample& sm = samples[k];
@@ -320,89 +301,40 @@ int main(int argc, char** argv)
           in = std::make_unique<IntCurvesFace_ShapeIntersector>();
           in->Load(bounding(sm), m.Tolerance);
         }
-        try
-        {
-          in->Perform(gp_Lin(gp_Pnt(sm.Point[0], sm.Point[1], sm.Point[2]),
-                        gp_Dir(sm.Direction[0], sm.Direction[1], sm.Direction[2])),
-            sMin, RealLast());
-        }
-        catch (const Standard_Failure&)
-        {
-          ++failedExact; // (its intersector throws on some faces: a null curve inside it)
-          continue;
-        }
-        double first = std::numeric_limits<double>::infinity();
-        bool firstTouches = false; // tangent there, or on a face's boundary
-        int firstIndex = 0;
-        for (int i = 1; in->IsDone() && i <= in->NbPnt(); ++i)
-          if (in->WParameter(i) > sMin && in->WParameter(i) < first)
-          {
-            first = in->WParameter(i);
-            firstIndex = i;
-            firstTouches =
-              in->Transition(i) == IntCurveSurface_Tangent || in->State(i) == TopAbs_ON;
-          }
-        const bool hitOurs = std::isfinite(ours[k]), hitExact = std::isfinite(first);
-        if (hitExact)
-          exactRay[k] = first;
-        if (!hitOurs || !hitExact)
-        {
-          ++(hitOurs ? oursOnly : (hitExact ? exactOnly : neither));
-          if (hitOurs != hitExact)
-            worstRay.emplace_back(std::numeric_limits<double>::infinity(), k);
-          continue;
-        }
-        ++both;
-        const double rel = std::fabs(ours[k] - first) / std::max(first, 1e-300);
-        largestRel = std::max(largestRel, rel);
-        if (rel <= 1e-4)
-        {
-          ++within;
-          continue;
-        }
-        worstRay.emplace_back(rel, k);
-        // The cosine between the ray and the face's normal at OpenCASCADE's hit: along the ray
-        // the patches' accuracy is that over the cosine.
-        double cosine = 0.0;
-        {
-          BRepAdaptor_Surface S(in->Face(firstIndex));
-          gp_Pnt P;
-          gp_Vec Du, Dv;
-          S.D1(in->UParameter(firstIndex), in->VParameter(firstIndex), P, Du, Dv);
-          const gp_Vec n = Du.Crossed(Dv);
-          if (n.Magnitude() > 0.0)
-            cosine = std::fabs(
-              n.Normalized().Dot(gp_Vec(sm.Direction[0], sm.Direction[1], sm.Direction[2])));
-        }
-        if (std::fabs(ours[k] - first) * cosine <= 2.0 * m.Tolerance &&
-          off(sm, ours[k]) <= 2.0 * m.Tolerance)
-          ++glancing, kind[k] = "glancing";
-        else if (ours[k] < first && off(sm, ours[k]) <= 2.0 * m.Tolerance)
-          ++grazing, kind[k] = "grazing";
-        else if (off(sm, first) > m.Tolerance)
-          ++exactOff, kind[k] = "OpenCASCADE's point off the faces";
-        else if (first < ours[k] && firstTouches)
-          ++touch, kind[k] = "OpenCASCADE's hit a touch";
-        else
-          ++other, kind[k] = "other";
+        const gp_Pnt O(sm.Point[0], sm.Point[1], sm.Point[2]);
+        const gp_Dir d(sm.Direction[0], sm.Direction[1], sm.Direction[2]);
+        kind[k] =
+          brt::exact::CompareRay(ours[k], *in, bounding(sm), O, d, sMin, m.Tolerance, &exactRay[k]);
+        ++tally[kind[k]];
+        const bool both = std::isfinite(ours[k]) && std::isfinite(exactRay[k]);
+        const double rel = both ? std::fabs(ours[k] - exactRay[k]) / exactRay[k]
+                                : std::numeric_limits<double>::infinity();
+        if (both)
+          largestRel = std::max(largestRel, rel);
+        if (kind[k] != brt::exact::RayAgreement::Within && kind[k] != brt::exact::RayAgreement::Neither &&
+          kind[k] != brt::exact::RayAgreement::ExactFailed)
+          worstRay.emplace_back(rel, k);
       }
+      using A = brt::exact::RayAgreement;
+      const size_t bothHit = tally[A::Within] + tally[A::Glancing] + tally[A::Grazing] +
+        tally[A::ExactOff] + tally[A::ExactTouch] + tally[A::Other];
       std::printf("%-34s %7zu rays: %zu hit on both, %zu within 1e-4 relative (%.2f%%), largest %.3g; "
                   "of the others, the same hit within twice the tolerance across the face "
                   "(glancing) %zu, ours nearer at a face within twice the tolerance (grazing) %zu, "
                   "OpenCASCADE's point off the faces %zu, OpenCASCADE's nearer hit a touch (tangent, "
                   "or on a face's boundary) %zu, other %zu; ours alone %zu, OpenCASCADE's alone %zu, "
                   "neither %zu; OpenCASCADE's intersector failed on %zu\n",
-        name.c_str(), samples.size(), both, within, both ? 100.0 * within / both : 0.0, largestRel,
-        glancing, grazing, exactOff, touch, other, oursOnly, exactOnly, neither, failedExact);
+        name.c_str(), samples.size(), bothHit, tally[A::Within],
+        bothHit ? 100.0 * tally[A::Within] / bothHit : 0.0, largestRel, tally[A::Glancing],
+        tally[A::Grazing], tally[A::ExactOff], tally[A::ExactTouch], tally[A::Other],
+        tally[A::OursAlone], tally[A::ExactAlone], tally[A::Neither], tally[A::ExactFailed]);
       std::sort(worstRay.begin(), worstRay.end(), std::greater<>());
       for (int i = 0; i < list && i < static_cast<int>(worstRay.size()); ++i)
       {
         const size_t k = worstRay[static_cast<size_t>(i)].second;
         const brt::Sample& sm = samples[k];
-        std::printf("    sample %zu (face %d): ours %.9g (%.2g off the faces), OpenCASCADE %.9g "
-                    "(%.2g off)%s%s\n",
-          pick[k], sm.Face, ours[k], off(sm, ours[k]), exactRay[k], off(sm, exactRay[k]),
-          *kind[k] ? ": " : "", kind[k]);
+        std::printf("    sample %zu (face %d): ours %.9g, OpenCASCADE %.9g: %s\n", pick[k], sm.Face,
+          ours[k], exactRay[k], brt::exact::RayAgreementName(kind[k]));
         // OpenCASCADE's hits along the ray up to ours (or all where ours met nothing): the
         // face, whether the ray crosses there or touches (tangent; on the face's boundary), and
         // the cosine between the ray and the face's normal.

@@ -1,5 +1,6 @@
 #include "ExactDistance.h"
 
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass_FaceClassifier.hxx>
@@ -13,6 +14,9 @@
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <IntCurvesFace_ShapeIntersector.hxx>
+#include <Standard_Failure.hxx>
+#include <gp_Lin.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <TopExp_Explorer.hxx>
@@ -21,6 +25,7 @@
 #include <gp_Pnt2d.hxx>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <limits>
 #include <utility>
@@ -264,6 +269,95 @@ double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid, gp_
   if (onFace)
     *onFace = bestFace;
   return best;
+}
+
+const char* RayAgreementName(RayAgreement a)
+{
+  switch (a)
+  {
+    case RayAgreement::Within:
+      return "within 1e-4 relative";
+    case RayAgreement::Glancing:
+      return "glancing";
+    case RayAgreement::Grazing:
+      return "grazing";
+    case RayAgreement::ExactOff:
+      return "OpenCASCADE's point off the faces";
+    case RayAgreement::ExactTouch:
+      return "OpenCASCADE's hit a touch";
+    case RayAgreement::Other:
+      return "other";
+    case RayAgreement::OursAlone:
+      return "ours alone";
+    case RayAgreement::ExactAlone:
+      return "OpenCASCADE's alone";
+    case RayAgreement::Neither:
+      return "neither";
+    case RayAgreement::ExactFailed:
+      return "OpenCASCADE failed";
+  }
+  return "?";
+}
+
+RayAgreement CompareRay(double ours, IntCurvesFace_ShapeIntersector& in, const TopoDS_Shape& shape,
+  const gp_Pnt& O, const gp_Dir& d, double sMin, double tolerance, double* exactOut)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (exactOut)
+    *exactOut = nan;
+  try
+  {
+    in.Perform(gp_Lin(O, d), sMin, RealLast());
+  }
+  catch (const Standard_Failure&)
+  {
+    return RayAgreement::ExactFailed; // (its intersector throws on some faces: a null curve)
+  }
+  double first = std::numeric_limits<double>::infinity();
+  int at = 0;
+  for (int i = 1; in.IsDone() && i <= in.NbPnt(); ++i)
+    if (in.WParameter(i) > sMin && in.WParameter(i) < first)
+    {
+      first = in.WParameter(i);
+      at = i;
+    }
+  const bool hitOurs = std::isfinite(ours), hitExact = at > 0;
+  if (hitExact && exactOut)
+    *exactOut = first;
+  if (!hitOurs || !hitExact)
+    return hitOurs ? RayAgreement::OursAlone
+                   : (hitExact ? RayAgreement::ExactAlone : RayAgreement::Neither);
+  if (std::fabs(ours - first) <= 1e-4 * first)
+    return RayAgreement::Within;
+  // A point's distance from the exact faces: about 0 where the ray meets a face there.
+  auto off = [&](double s) {
+    BRepExtrema_DistShapeShape dist(
+      BRepBuilderAPI_MakeVertex(O.Translated(s * gp_Vec(d))).Vertex(), shape);
+    return dist.IsDone() ? dist.Value() : std::numeric_limits<double>::infinity();
+  };
+  // Along the ray the patches' accuracy is that over the cosine between the ray and the face's
+  // normal at OpenCASCADE's hit.
+  double cosine = 0.0;
+  {
+    BRepAdaptor_Surface S(in.Face(at));
+    gp_Pnt P;
+    gp_Vec Du, Dv;
+    S.D1(in.UParameter(at), in.VParameter(at), P, Du, Dv);
+    const gp_Vec n = Du.Crossed(Dv);
+    if (n.Magnitude() > 0.0)
+      cosine = std::fabs(n.Normalized().Dot(gp_Vec(d)));
+  }
+  const double oursOff = off(ours);
+  if (std::fabs(ours - first) * cosine <= 2.0 * tolerance && oursOff <= 2.0 * tolerance)
+    return RayAgreement::Glancing;
+  if (ours < first && oursOff <= 2.0 * tolerance)
+    return RayAgreement::Grazing;
+  if (off(first) > tolerance)
+    return RayAgreement::ExactOff;
+  if (first < ours &&
+    (in.Transition(at) == IntCurveSurface_Tangent || in.State(at) == TopAbs_ON))
+    return RayAgreement::ExactTouch;
+  return RayAgreement::Other;
 }
 } // namespace exact
 } // namespace brt

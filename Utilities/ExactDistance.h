@@ -7,7 +7,10 @@
 #include <Bnd_Box.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <gp_Dir.hxx>
 #include <gp_Pnt.hxx>
+
+class IntCurvesFace_ShapeIntersector;
 
 #include <functional>
 #include <vector>
@@ -51,6 +54,34 @@ double CheckedDistance(const TopoDS_Shape& shape, const gp_Pnt& X, int grid = 0,
 
 /// The faces' boxes for ExtremaDistance.
 std::vector<Bnd_Box> FaceBoxes(const std::vector<TopoDS_Face>& faces);
+
+/// How a ray thickness of ours compares with OpenCASCADE's first intersection of the same ray
+/// with the exact faces (CompareRay).
+enum class RayAgreement
+{
+  Within,        ///< both hit, within 1e-4 relative
+  Glancing,      ///< the same hit within twice the tolerance across the face (and ours within
+                 ///< it of the faces): the patches' accuracy over the cosine at a glancing angle
+  Grazing,       ///< ours nearer, its point within twice the tolerance of a face: a graze of a
+                 ///< face or an edge, which ours counts and the intersector (crossings) does not
+  ExactOff,      ///< OpenCASCADE's point lies off the faces by more than the tolerance
+  ExactTouch,    ///< OpenCASCADE's nearer hit touches (tangent, or on a face's boundary: a ray
+                 ///< along a face or tangent to a round), which ours does not count
+  Other,         ///< none of these: a miss or a false hit of ours
+  OursAlone,     ///< ours hit, OpenCASCADE's nothing
+  ExactAlone,    ///< OpenCASCADE's hit, ours nothing
+  Neither,       ///< neither hit
+  ExactFailed    ///< OpenCASCADE's intersector threw
+};
+const char* RayAgreementName(RayAgreement a);
+
+/// Ours (`ours`: NaN or infinite where the ray met nothing) against OpenCASCADE's first
+/// intersection of the line from O along the unit direction d with the faces of `shape` beyond
+/// sMin (IntCurvesFace_ShapeIntersector loaded with `shape` by the caller, its faces' tolerance
+/// `tolerance`). *exactOut gets OpenCASCADE's distance (NaN where none).
+RayAgreement CompareRay(double ours, IntCurvesFace_ShapeIntersector& intersector,
+  const TopoDS_Shape& shape, const gp_Pnt& O, const gp_Dir& d, double sMin, double tolerance,
+  double* exactOut = nullptr);
 } // namespace exact
 } // namespace brt
 
