@@ -4248,11 +4248,6 @@ BRT_SPLIT void ray_patch(const Model* m, int p, real3 Ohi, real3 Olo, real3 d, r
   }
 }
 
-// The first point of the trimmed faces along the ray from O in direction d beyond sMin and before
-// sMax, over the box BVH of the certification (slab test against the ray): faces of solid
-// `solid` only (others = 0) or of every solid but it (others = 1), face excludeFace left out
-// (-1: none), and with minCos > -1 only where the face's outward normal lies within acos(minCos)
-// of d. sMax where nothing is hit (REAL_MAX: no bound).
 // The slab test: the interval of the ray O + s dir (inv: 1 / dir per coordinate, huge where 0)
 // inside box b (min x, y, z, max x, y, z), [*lo, *hi]; empty where *lo > *hi.
 inline void ray_box(__global const real* b, real3 O, real3 inv, real* lo, real* hi)
@@ -4264,6 +4259,11 @@ inline void ray_box(__global const real* b, real3 O, real3 inv, real* lo, real* 
   *hi = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmax(tz0, tz1));
 }
 
+// The first point of the trimmed faces along the ray from O in direction d beyond sMin and before
+// sMax, over the box BVH of the certification (slab test against the ray): faces of solid
+// `solid` only (others = 0) or of every solid but it (others = 1), face excludeFace left out
+// (-1: none), and with minCos > -1 only where the face's outward normal lies within acos(minCos)
+// of d. sMax where nothing is hit (REAL_MAX: no bound).
 BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeFace, real3 Ohi, real3 Olo,
   real3 d, real sMin, real sMax, real minCos, int* hitFace, int* hitPatch, real2* hitUV)
 {
@@ -4314,7 +4314,7 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
           // over the hit's distance, which lies within the box's farthest corner from O plus
           // that) and the rounding of O and the box: a ray that misses it has no hit there. Each
           // patch a ray's walk reaches costs ray_patch a 5 x 5 grid and up to three Newtons; on
-          // the ExpansionCard's ray thickness most of them missed (docs/Solver.md, "Ray thickness").
+          // the ExpansionCard's ray thickness most of them missed (docs/Solver.md, item 15, "Speed").
           __global const real* pb = m->patchBoxes + 6 * item;
           real D = 0, size = fabs(O.x) + fabs(O.y) + fabs(O.z);
           for (int k = 0; k < 3; ++k)
@@ -4785,7 +4785,7 @@ inline int on_own_face(const Model* m, int ownFace, const Result* r)
 // caller already has (the certification's query in solve_with_clearance): neither this nor the
 // shrinking ball asks it again. On Voron-0's SKR E3 DIN mount 2,212 of 46,030 samples (4.8%)
 // come here and took 39% of the solve, a third of it in those two repeated queries, each of the
-// sphere found too large, which reaches the most patches (docs/Solver.md, item 12).
+// sphere found too large, which reaches the most patches (docs/Solver.md, item 14).
 BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
   __global const int* s1Face, __global const real* s1UV, __global const real* nodeBox,
   __global const int* nodeInfo, int ownFace, real3 Ohi, real3 Olo, real3 d, real scale,
