@@ -4324,6 +4324,7 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
           // patch a ray's walk reaches costs ray_patch a 5 x 5 grid and up to three Newtons; on
           // the ExpansionCard's ray thickness most of them missed (docs/Solver.md, item 15, "Speed").
           __global const real* pb = m->patchBoxes + 6 * item;
+          const real3 a = anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo);
           real D = 0, size = fabs(O.x) + fabs(O.y) + fabs(O.z);
           for (int k = 0; k < 3; ++k)
           {
@@ -4333,8 +4334,7 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
           }
           const real w = fmax(m->slack,
                            (real)33 * REAL_EPS *
-                             ((real)2 * D + length(anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo)) +
-                               m->slack)) +
+                             ((real)2 * D + length(a) + m->slack)) +
             (real)8 * REAL_EPS * size;
           const real3 b0 = make_real3(pb[0], pb[1], pb[2]) - splat_real3(w);
           const real3 b1 = make_real3(pb[3], pb[4], pb[5]) + splat_real3(w);
@@ -4350,7 +4350,6 @@ BRT_SPLIT real ray_first_hit(const Model* m, int solid, int others, int excludeF
           const real3 n = make_real3(h[3], h[4], h[5]);
           if (h[3] != (real)0 || h[4] != (real)0 || h[5] != (real)0)
           {
-            const real3 a = anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo);
             const real na = dot(n, a), nd = dot(n, d);
             const real wn = w + (real)8 * REAL_EPS * (length(a) + fabs(h[6]) + fabs(h[7]));
             const real A = h[6] - wn + na, B = h[7] + wn + na;

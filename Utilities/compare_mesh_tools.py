@@ -88,7 +88,10 @@ _, rows_dev, dev_name = solve("cpu")
 _, rows_dev2, _ = solve("cpu", precision="Double")
 # Our ray thickness alone (Method Ray, native device): the counterpart of the tools' rays.
 rmesh, rows_ray, _ = solve("native", method="Ray")
-extra = dict(ray=np.asarray(rmesh.PointData["RayThickness"]), ray_seconds=rows_ray["SolveSeconds"])
+extra = {}
+if rmesh.VTKObject.GetNumberOfPoints() == mesh.VTKObject.GetNumberOfPoints():
+    # (The same display mesh, so the same samples; otherwise the ray's rows are left out.)
+    extra = dict(ray=np.asarray(rmesh.PointData["RayThickness"]), ray_seconds=rows_ray["SolveSeconds"])
 if gap:
     gmesh, rows_gap, _ = solve("native", "Thickness and gap")
     extra.update(gap=np.asarray(gmesh.PointData["Gap"]),
