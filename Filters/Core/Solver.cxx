@@ -325,6 +325,9 @@ int FindPatchFast(const BRepModel& model, const SolverData& data, int face, doub
     static_cast<int>(std::upper_bound(bv + 1, bv + f.PatchesV, v) - (bv + 1)), 0, f.PatchesV - 1);
   return f.FirstPatch + iu + iv * f.PatchesU;
 }
+static void BuildPatchBoxesWith(
+  const BRepModel& model, const CrossingIndex& crossings, SolverData& data);
+
 SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
 {
   SolverData data;
@@ -376,6 +379,10 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
     return F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
   };
   const BlockTrimCandidates blockSegments(model, [&](const Face& F) { return 2.0 * s1Band(F); });
+  // The crossing parity's answers (the trim test's at cusps, ties and faces whose loops cross,
+  // and the patch boxes' corners below) from each face's chords listed in bands of v: every
+  // segment of the face scanned per point was a fifth of the thumb trackball body's preparation.
+  const CrossingIndex crossings(model);
   ParallelFor(model.Patches.size(), 0, [&](size_t pi) {
     const BezierPatch& p = model.Patches[pi];
     auto cp = [&](int i, int j) -> Vec3 {
@@ -414,7 +421,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         if (c.Box[0] - band <= uh && c.Box[2] + band >= ul && c.Box[1] - band <= vh &&
           c.Box[3] + band >= vl)
           return -1; // near the trim: each point tested
-      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near, loopsCross).Inside
+      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near, loopsCross, &crossings).Inside
         ? 1
         : 0;
     };
@@ -444,7 +451,8 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         const double u = p.Domain[0] + (p.Domain[1] - p.Domain[0]) * (i + 0.5) / nu;
         const double v = p.Domain[2] + (p.Domain[3] - p.Domain[2]) * (j + 0.5) / nv;
         if (decided[k] == 0 ||
-          (decided[k] < 0 && !ClassifyPointAmong(model, u, v, blockNear[k], loopsCross).Inside))
+          (decided[k] < 0 &&
+            !ClassifyPointAmong(model, u, v, blockNear[k], loopsCross, &crossings).Inside))
           continue;
         const PatchEval e = EvaluatePatch(p, u, v);
         perPatch[pi].push_back({ e.P, p.Face, false, u, v });
@@ -459,7 +467,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   AddEdgePoints(model, edgeSpacing, data.S1);
   BuildS1Tree(model, data);
   BuildVertices(model, data);
-  BuildPatchBoxes(model, data);
+  BuildPatchBoxesWith(model, crossings, data);
   BuildWallPartners(model, data);
   return data;
 }
@@ -668,7 +676,7 @@ double PatchBoxBand(const Face& F)
 /// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding
 /// (PatchBoxBand).
 bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
-  const std::vector<TrimCandidate>& faceSegments, double* b)
+  const std::vector<TrimCandidate>& faceSegments, const CrossingIndex& crossings, double* b)
 {
   if (patch.Face < 0 || patch.Face >= static_cast<int>(model.Faces.size()))
     return true;
@@ -705,8 +713,8 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
   for (const double u : { u0, u1 })
     for (const double v : { v0, v1 })
     {
-      const TrimProjection tp = ClassifyPointAmong(model, u, v, near);
-      if (tp.Inside || tp.Distance <= band || InsideByCrossings(model, patch.Face, u, v))
+      const TrimProjection tp = ClassifyPointAmong(model, u, v, near, -1.0, &crossings);
+      if (tp.Inside || tp.Distance <= band || crossings.Inside(patch.Face, u, v))
         add(u, v);
     }
   if (!(lo[0] <= hi[0]))
@@ -744,7 +752,9 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
 }
 } // namespace
 
-void BuildPatchBoxes(const BRepModel& model, SolverData& data)
+/// BuildPatchBoxes with the crossing index PrepareSolver's s1 sampling built too.
+static void BuildPatchBoxesWith(
+  const BRepModel& model, const CrossingIndex& crossings, SolverData& data)
 {
   auto box = [](const double* c, int points, double* b) {
     for (int k = 0; k < 3; ++k)
@@ -765,8 +775,8 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
   std::vector<char> trimmedAway(model.Patches.size(), 0);
   ParallelFor(model.Patches.size(), 0, [&](size_t p) {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
-    trimmedAway[p] = !TrimmedPatchBox(
-      model, model.Patches[p], blockSegments.For(model, p), &data.PatchBoxes[6 * p]);
+    trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], blockSegments.For(model, p),
+      crossings, &data.PatchBoxes[6 * p]);
   });
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
@@ -947,6 +957,12 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data)
     tasks.push_back({ task.First + half, task.Count - half, index });
     tasks.push_back({ task.First, half, -1 });
   }
+}
+
+void BuildPatchBoxes(const BRepModel& model, SolverData& data)
+{
+  const CrossingIndex crossings(model);
+  BuildPatchBoxesWith(model, crossings, data);
 }
 
 void BuildVertices(const BRepModel& model, SolverData& data)

@@ -153,20 +153,27 @@ std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
   };
   for (const TrimCandidate& c : from)
   {
+    if (!c.HasLength)
+      continue;
     const auto& cp = model.TrimSegments[c.Segment].ControlPoints;
-    if (Length2(cp) > 0.0)
-      u2 = std::min(u2, std::min(farthest2(cp[0], cp[1]), farthest2(cp[6], cp[7])));
+    u2 = std::min(u2, std::min(farthest2(cp[0], cp[1]), farthest2(cp[6], cp[7])));
   }
   // The margin: rounding in the distances compared (relative 1e-6, far above it).
   const double limit2 = std::max(u2 * (1.0 + 1e-6), reach * reach);
-  std::vector<TrimCandidate> near;
-  for (const TrimCandidate& c : from)
-  {
+  auto keep = [&](const TrimCandidate& c) {
     const double du = std::max({ c.Box[0] - uvBox[2], uvBox[0] - c.Box[2], 0.0 });
     const double dv = std::max({ c.Box[1] - uvBox[3], uvBox[1] - c.Box[3], 0.0 });
-    if (!(du * du + dv * dv > limit2))
+    return !(du * du + dv * dv > limit2);
+  };
+  // Counted first: the lists are kept (a block's for all its patches), at their size.
+  size_t kept = 0;
+  for (const TrimCandidate& c : from)
+    kept += keep(c);
+  std::vector<TrimCandidate> near;
+  near.reserve(kept);
+  for (const TrimCandidate& c : from)
+    if (keep(c))
       near.push_back(c);
-  }
   return near;
 }
 
@@ -178,7 +185,8 @@ void FaceTrimCandidates(const BRepModel& model, int face, std::vector<TrimCandid
   {
     const TrimLoop& loop = model.Loops[l];
     for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-      out.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints) });
+      out.push_back({ l, s, SegmentBox(model.TrimSegments[s].ControlPoints),
+        Length2(model.TrimSegments[s].ControlPoints) > 0.0 });
   }
 }
 
@@ -194,8 +202,12 @@ namespace
 {
 // ClassifyPoint over `candidates` (every segment of the face, or those TrimCandidatesFor kept).
 TrimProjection Classify(const BRepModel& model, double u, double v,
-  const TrimCandidate* candidates, size_t count, double loopsCross)
+  const TrimCandidate* candidates, size_t count, double loopsCross,
+  const CrossingIndex* crossings = nullptr)
 {
+  auto insideByCrossings = [&](int face) {
+    return crossings ? crossings->Inside(face, u, v) : InsideByCrossings(model, face, u, v);
+  };
   TrimProjection res;
   res.Distance = std::numeric_limits<double>::max();
   int bestLoop = -1;
@@ -209,10 +221,11 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   // The nearest segment, ties to the lowest index. A cubic lies in the box of its control
   // points, so a segment whose box is farther than the best distance so far cannot be nearer
   // and is not projected: first the segment with the nearest box, then the others in order.
-  auto consider = [&](int l, int s) {
-    const auto& cp = model.TrimSegments[s].ControlPoints;
-    if (Length2(cp) <= 0.0)
+  auto consider = [&](const TrimCandidate& c) {
+    if (!c.HasLength)
       return;
+    const int l = c.Loop, s = c.Segment;
+    const auto& cp = model.TrimSegments[s].ControlPoints;
     double d = 0.0;
     const double t = ProjectOnSegment(cp, u, v, &d);
     if (d < res.Distance || (d == res.Distance && s < res.Segment))
@@ -252,13 +265,13 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     }
   }
   if (first < count)
-    consider(candidates[first].Loop, candidates[first].Segment);
+    consider(candidates[first]);
   for (size_t k = 0; k < count; ++k)
   {
     // The margin keeps rounding in the projection from dropping a segment that ties.
     const double bound = res.Distance * (1.0 + tie);
     if (k != first && !(boxGap[k] > bound * bound))
-      consider(candidates[k].Loop, candidates[k].Segment);
+      consider(candidates[k]);
   }
   if (res.Segment < 0)
   {
@@ -272,7 +285,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     const std::array<double, 4>& d = model.Faces[static_cast<size_t>(face)].Domain;
     if (res.Distance > 4.0 * loopsCross + 1e-9 * (d[1] - d[0] + d[3] - d[2]))
     {
-      res.Inside = InsideByCrossings(model, face, u, v);
+      res.Inside = insideByCrossings(face);
       return res;
     }
   }
@@ -321,7 +334,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
       const auto tg2 = Tangent(cp2, secondParameter);
       if (Length2(cp2) > sliver &&
         (Cross(tg2[0], tg2[1], u - e2.P[0], v - e2.P[1]) > 0.0) != res.Inside)
-        res.Inside = InsideByCrossings(model, model.TrimSegments[res.Segment].Face, u, v);
+        res.Inside = insideByCrossings(model.TrimSegments[res.Segment].Face);
     }
     return res;
   }
@@ -350,7 +363,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
   const bool adjacent =
     loop.FirstSegment + (incoming - loop.FirstSegment + 1) % loop.SegmentCount == outgoing;
   if (!adjacent || std::fabs(turn) < 1e-3 * std::hypot(ta[0], ta[1]) * std::hypot(tb[0], tb[1]))
-    res.Inside = InsideByCrossings(model, model.TrimSegments[res.Segment].Face, u, v);
+    res.Inside = insideByCrossings(model.TrimSegments[res.Segment].Face);
   else
     res.Inside = turn < 0.0;
   return res;
@@ -366,9 +379,9 @@ TrimProjection ClassifyPoint(
 }
 
 TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
-  const std::vector<TrimCandidate>& candidates, double loopsCross)
+  const std::vector<TrimCandidate>& candidates, double loopsCross, const CrossingIndex* crossings)
 {
-  return Classify(model, u, v, candidates.data(), candidates.size(), loopsCross);
+  return Classify(model, u, v, candidates.data(), candidates.size(), loopsCross, crossings);
 }
 
 double TrimLoopsCross(const BRepModel& model, int face)
@@ -464,6 +477,54 @@ double TrimLoopsCross(const BRepModel& model, int face)
   return -1.0;
 }
 
+namespace
+{
+/// A segment's control box in v widened by the rounding InsideByCrossings allows for, and the
+/// box's right end likewise: (v0, v1, u1).
+std::array<double, 3> CrossingBox(const double* cp)
+{
+  double vlo = cp[1], vhi = cp[1], uhi = cp[0], mag = 0.0;
+  for (int i = 0; i < 4; ++i)
+  {
+    vlo = std::min(vlo, cp[2 * i + 1]);
+    vhi = std::max(vhi, cp[2 * i + 1]);
+    uhi = std::max(uhi, cp[2 * i]);
+    mag = std::max({ mag, std::fabs(cp[2 * i]), std::fabs(cp[2 * i + 1]) });
+  }
+  const double pad = 1e-12 * mag;
+  return { vlo - pad, vhi + pad, uhi + pad };
+}
+
+/// Whether the ray from (u, v) towards +u crosses the segment's 16 chords an odd number of times.
+bool OddCrossings(const double* cp, double u, double v)
+{
+  // A segment whose control points all lie on one side of the ray's line in v, or all
+  // before its start in u, has no chord the ray crosses: its points lie in their box (the
+  // box widened by far more than the rounding of the points evaluated below). Most
+  // segments of a face are such: the patch boxes' corner tests spent a fifth of the
+  // preparation of a part of rational B-spline faces here.
+  const std::array<double, 3> box = CrossingBox(cp);
+  if (box[1] < v || box[0] > v || box[2] < u)
+    return false;
+  auto at = [&](int k) { return EvaluateCubic<2>(cp, k / 16.0).P; };
+  bool odd = false;
+  std::array<double, 2> a = at(0);
+  for (int k = 1; k <= 16; ++k)
+  {
+    const std::array<double, 2> b = at(k);
+    // Half-open in v, so that a vertex on the ray counts once.
+    if ((a[1] > v) != (b[1] > v))
+    {
+      const double x = a[0] + (v - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+      if (x > u)
+        odd = !odd;
+    }
+    a = b;
+  }
+  return odd;
+}
+} // namespace
+
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v)
 {
   const Face& f = model.Faces[face];
@@ -472,40 +533,88 @@ bool InsideByCrossings(const BRepModel& model, int face, double u, double v)
   {
     const TrimLoop& loop = model.Loops[l];
     for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-    {
-      const double* cp = model.TrimSegments[s].ControlPoints.data();
-      // A segment whose control points all lie on one side of the ray's line in v, or all
-      // before its start in u, has no chord the ray crosses: its points lie in their box (the
-      // box widened by far more than the rounding of the points evaluated below). Most
-      // segments of a face are such: the patch boxes' corner tests spent a fifth of the
-      // preparation of a part of rational B-spline faces here.
-      double vlo = cp[1], vhi = cp[1], uhi = cp[0], mag = 0.0;
-      for (int i = 0; i < 4; ++i)
-      {
-        vlo = std::min(vlo, cp[2 * i + 1]);
-        vhi = std::max(vhi, cp[2 * i + 1]);
-        uhi = std::max(uhi, cp[2 * i]);
-        mag = std::max({ mag, std::fabs(cp[2 * i]), std::fabs(cp[2 * i + 1]) });
-      }
-      const double pad = 1e-12 * mag;
-      if (vhi + pad < v || vlo - pad > v || uhi + pad < u)
-        continue;
-      auto at = [&](int k) { return EvaluateCubic<2>(cp, k / 16.0).P; };
-      std::array<double, 2> a = at(0);
-      for (int k = 1; k <= 16; ++k)
-      {
-        const std::array<double, 2> b = at(k);
-        // Half-open in v, so that a vertex on the ray counts once.
-        if ((a[1] > v) != (b[1] > v))
-        {
-          const double x = a[0] + (v - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-          if (x > u)
-            inside = !inside;
-        }
-        a = b;
-      }
-    }
+      inside ^= OddCrossings(model.TrimSegments[s].ControlPoints.data(), u, v);
   }
+  return inside;
+}
+
+struct CrossingIndex::FaceChords
+{
+  double V0 = 0.0, Step = 1.0;
+  int Bands = 0;
+  std::vector<int> First;    // band b's segments: [First[b], First[b + 1])
+  std::vector<int> Segments; // band by band
+
+  int Band(double v) const
+  {
+    const double x = std::floor((v - V0) / Step);
+    return !(x > 0.0) ? 0 : (x >= Bands - 1 ? Bands - 1 : static_cast<int>(x)); // NaN: band 0
+  }
+};
+
+CrossingIndex::CrossingIndex(const BRepModel& model)
+  : Model(model)
+  , Faces(new FaceChords[model.Faces.size()])
+  , Built(new std::once_flag[model.Faces.size()])
+{
+}
+
+CrossingIndex::~CrossingIndex() = default;
+
+const CrossingIndex::FaceChords& CrossingIndex::For(int face) const
+{
+  const size_t f = static_cast<size_t>(face);
+  std::call_once(Built[f], [&]() {
+    FaceChords& fc = Faces[f];
+    const Face& F = Model.Faces[f];
+    std::vector<std::pair<int, std::array<double, 3>>> segments;
+    for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+    {
+      const TrimLoop& loop = Model.Loops[static_cast<size_t>(l)];
+      for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+        segments.emplace_back(
+          s, CrossingBox(Model.TrimSegments[static_cast<size_t>(s)].ControlPoints.data()));
+    }
+    if (segments.empty())
+      return;
+    double lo = segments[0].second[0], hi = segments[0].second[1];
+    for (const auto& sb : segments)
+    {
+      lo = std::min(lo, sb.second[0]);
+      hi = std::max(hi, sb.second[1]);
+    }
+    // About two segments a band; a segment is listed in every band from its box's lower end's
+    // to its upper end's. The bands are monotone in v (rounding included), so every segment
+    // whose box holds v is listed in v's band, and OddCrossings passes over the others.
+    fc.Bands = static_cast<int>(std::clamp<size_t>(segments.size() / 2, 1, 1 << 16));
+    fc.V0 = lo;
+    fc.Step = hi > lo ? (hi - lo) / fc.Bands : 1.0;
+    std::vector<int> count(static_cast<size_t>(fc.Bands) + 1, 0);
+    for (const auto& sb : segments)
+      for (int b = fc.Band(sb.second[0]); b <= fc.Band(sb.second[1]); ++b)
+        ++count[static_cast<size_t>(b) + 1];
+    fc.First.assign(count.size(), 0);
+    for (size_t b = 1; b < count.size(); ++b)
+      fc.First[b] = fc.First[b - 1] + count[b];
+    fc.Segments.resize(static_cast<size_t>(fc.First.back()));
+    std::vector<int> at(fc.First.begin(), fc.First.end() - 1);
+    for (const auto& sb : segments)
+      for (int b = fc.Band(sb.second[0]); b <= fc.Band(sb.second[1]); ++b)
+        fc.Segments[static_cast<size_t>(at[static_cast<size_t>(b)]++)] = sb.first;
+  });
+  return Faces[f];
+}
+
+bool CrossingIndex::Inside(int face, double u, double v) const
+{
+  const FaceChords& fc = For(face);
+  if (fc.Bands == 0)
+    return false;
+  const int b = fc.Band(v);
+  bool inside = false;
+  for (int i = fc.First[static_cast<size_t>(b)]; i < fc.First[static_cast<size_t>(b) + 1]; ++i)
+    inside ^= OddCrossings(
+      Model.TrimSegments[static_cast<size_t>(fc.Segments[static_cast<size_t>(i)])].ControlPoints.data(), u, v);
   return inside;
 }
 

@@ -4,6 +4,8 @@
 
 #include "BRepModel.h"
 
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace brt
@@ -44,6 +46,8 @@ struct TrimCandidate
 {
   int Loop = -1, Segment = -1;
   std::array<double, 4> Box{};
+  /// The control polygon has a length (ClassifyPoint passes over the segments that have none).
+  bool HasLength = false;
 };
 
 /// Every trimming segment of `face` with its box, loop by loop in the face's order, into `out`
@@ -62,15 +66,41 @@ std::vector<TrimCandidate> TrimCandidatesFor(
 std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
   const std::vector<TrimCandidate>& from, const std::array<double, 4>& uvBox, double reach = 0.0);
 
-/// ClassifyPoint over the candidates TrimCandidatesFor gave for a UV box that holds (u, v): the
-/// same answer, without scanning the face's other segments.
-TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
-  const std::vector<TrimCandidate>& candidates, double loopsCross = -1.0);
-
 /// Independent point-in-face test by the parity of the crossings of a ray from (u,v) towards +u
 /// with the loops, each cubic segment flattened to 16 chords. Meant for points farther from the
 /// loops than the chords' error, as a second opinion beside ClassifyPoint.
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v);
+
+/// InsideByCrossings' answers for many points of a model: each face's chords (the same 16 per
+/// segment, evaluated by the same operations) listed once in bands of v, so that a point tests
+/// only the chords of its band, not every segment of its face. The same answer bit for bit (the
+/// same chords and the same arithmetic; a chord counts only where its ends lie on the two sides
+/// of v, and every such chord is listed in v's band). A face's bands are built on its first
+/// query, from any thread.
+class CrossingIndex
+{
+public:
+  explicit CrossingIndex(const BRepModel& model);
+  ~CrossingIndex();
+  CrossingIndex(const CrossingIndex&) = delete;
+  CrossingIndex& operator=(const CrossingIndex&) = delete;
+
+  bool Inside(int face, double u, double v) const;
+
+private:
+  struct FaceChords;
+  const FaceChords& For(int face) const;
+  const BRepModel& Model;
+  std::unique_ptr<FaceChords[]> Faces;
+  std::unique_ptr<std::once_flag[]> Built;
+};
+
+/// ClassifyPoint over the candidates TrimCandidatesFor gave for a UV box that holds (u, v): the
+/// same answer, without scanning the face's other segments. With `crossings`, the parity tests
+/// it takes (above) are that index's.
+TrimProjection ClassifyPointAmong(const BRepModel& model, double u, double v,
+  const std::vector<TrimCandidate>& candidates, double loopsCross = -1.0,
+  const CrossingIndex* crossings = nullptr);
 
 /// Whether the trimming loops of `face` cross themselves or each other, the segments taken as
 /// InsideByCrossings' 16 chords each (a proper crossing of two chords, neither at the two

@@ -582,20 +582,45 @@ TEST(TrimClassifier, KernelSegmentTreeFindsWhatTheScanFinds)
 // segment tree, only the segments whose boxes the ray in +u meets; it must give the reader's
 // InsideByCrossings (every segment's chords) on random points over every such face of the
 // FRAMEWORK tile and the ExpansionCard, and on points placed on the ray through a segment's
-// end, where a chord's end lies on the ray.
+// end, where a chord's end lies on the ray. So must the preparation's CrossingIndex (the
+// segments listed in bands of v) on every face, and at the ends of its segments' boxes in v
+// (its bands' edges).
 TEST(TrimClassifier, KernelCrossingsThroughTheTreeGiveTheScansAnswer)
 {
-  size_t faces = 0, points = 0, mismatches = 0, inside = 0;
+  size_t faces = 0, points = 0, mismatches = 0, inside = 0, indexPoints = 0, indexMismatches = 0;
   for (const char* name : { "FRAMEWORK_DESKTOP_BLANK_TILE.stp", "ExpansionCard_SelfTapping.stp" })
   {
     const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
     const SolverData data = PrepareSolver(m, SolverOptions());
     const NativeSolver native(m, data);
+    const CrossingIndex index(m);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> unit(-0.1, 1.1);
     for (int f = 0; f < static_cast<int>(m.Faces.size()); ++f)
     {
       const Face& F = m.Faces[f];
+      for (int k = 0; k < 40 && F.LoopCount > 0; ++k)
+      {
+        const double u = F.Domain[0] + unit(rng) * (F.Domain[1] - F.Domain[0]);
+        double v = F.Domain[2] + unit(rng) * (F.Domain[3] - F.Domain[2]);
+        if (k % 2 == 0)
+        {
+          // The lowest or highest control point in v of one of the face's segments.
+          const TrimLoop& L = m.Loops[F.FirstLoop];
+          const auto& cp = m.TrimSegments[L.FirstSegment + k % L.SegmentCount].ControlPoints;
+          v = cp[1];
+          for (int i = 1; i < 4; ++i)
+            v = k % 4 == 0 ? std::min(v, cp[2 * i + 1]) : std::max(v, cp[2 * i + 1]);
+        }
+        ++indexPoints;
+        const bool scan = InsideByCrossings(m, f, u, v);
+        if (index.Inside(f, u, v) != scan)
+        {
+          ++indexMismatches;
+          ADD_FAILURE() << name << " face " << f << " (" << u << ", " << v
+                        << "): CrossingIndex " << !scan << ", InsideByCrossings " << scan;
+        }
+      }
       if (!HasSegmentTree(m, F))
         continue;
       ++faces;
@@ -622,11 +647,14 @@ TEST(TrimClassifier, KernelCrossingsThroughTheTreeGiveTheScansAnswer)
       }
     }
   }
-  std::printf("crossings: %zu faces with a tree, %zu points (%zu inside), %zu disagree\n", faces,
-    points, inside, mismatches);
+  std::printf("crossings: %zu faces with a tree, %zu points (%zu inside), %zu disagree; "
+              "CrossingIndex %zu points, %zu disagree\n",
+    faces, points, inside, mismatches, indexPoints, indexMismatches);
   EXPECT_GT(faces, 60u);
   EXPECT_GT(inside, points / 10);
   EXPECT_EQ(mismatches, 0u);
+  EXPECT_GT(indexPoints, 10000u);
+  EXPECT_EQ(indexMismatches, 0u);
 }
 
 // The preparation classifies s1's grid points among the segments that can be nearest to some
