@@ -2704,6 +2704,9 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
   __global const real* c = m->patches + 48 * p;
   real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
+  // The grid point nearest O, on O's own face whose patches are its surface (below).
+  const int ownExact = face == ownFace && m->faceInfo[FACE_INTS * face + 10];
+  real ou = bu, ov = bv, od = REAL_MAX;
   // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
   // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
   real B[5][4];
@@ -2728,6 +2731,12 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
         bd = dd;
         bu = u;
         bv = v;
+      }
+      if (ownExact && dot(w, w) < od)
+      {
+        od = dot(w, w);
+        ou = u;
+        ov = v;
       }
       if (dd < st->best * st->best)
         consider_point(m, ownFace, face, u, v, w, mr, d, depth, reach, st);
@@ -2754,6 +2763,55 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     wn = anchor + eval_patch_point(m, p, nearU, nearV);
     consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
   }
+  // O's own face, where its patches are its surface and this patch holds O: where the face
+  // curves more than the sphere in some direction at O, O is a saddle or a maximum of the
+  // distance from M, and points of the face next to O lie inside the sphere; a Newton from a grid
+  // point on the line of O's other direction stays on it and ends at O, and the grids may have no
+  // point in the dip (fifty-second session: a B-spline fillet of a die-cast box, Hammond's 1590T,
+  // held a sphere 5.8e-4 mm deep 0.25 of its radius from O, and CubicRidge's top curving 2% more
+  // than the sphere at its crest, up to 1.4e-3 deep, went unseen on a patch 16 mm wide). From O's
+  // point on the patch, the Hessian of |S - M|^2 / 2 in (u, v); along its eigenvector of a
+  // negative eigenvalue, Newton from four starts, a twentieth and three twentieths of the radius
+  // from O each way. Only on such faces: on patches that approximate their face, the curvature
+  // at O is the patches' and not the face's (docs/Solver.md, Open items, "Own-face osculating
+  // contacts, tried again").
+  if (ownExact && od < REAL_MAX)
+  {
+    real uo, vo;
+    int c0;
+    patch_nearest_newton(m, p, anchor, splat_real3(0), ou, ov, 0, &uo, &vo, &c0);
+    const PatchEval e = eval_patch(m, p, uo, vo);
+    const real3 w0 = anchor + e.P;
+    if (dot(w0, w0) <= m->slack * m->slack)
+    {
+      const real3 q = w0 - mr;
+      const real h11 = dot(e.Du, e.Du) + dot(q, e.Duu), h12 = dot(e.Du, e.Dv) + dot(q, e.Duv),
+                 h22 = dot(e.Dv, e.Dv) + dot(q, e.Dvv);
+      const real mid = (real)0.5 * (h11 + h22), dif = (real)0.5 * (h11 - h22);
+      const real lambda = mid - sqrt(dif * dif + h12 * h12);
+      if (lambda < (real)-1e-6 * (fabs(h11) + fabs(h22)))
+      {
+        // The eigenvector of lambda, from the row of H - lambda I with the larger entries.
+        real eu = h12, ev = lambda - h11;
+        if (fabs(h22 - lambda) + fabs(h12) > fabs(ev) + fabs(eu))
+        {
+          eu = lambda - h22;
+          ev = h12;
+        }
+        const real step = length(eu * e.Du + ev * e.Dv);
+        for (int k = 0; k < 4 && step > (real)0; ++k)
+        {
+          const real s = (k < 2 ? (real)0.05 : (real)0.15) * length(mr) / step * ((k & 1) ? -1 : 1);
+          const real su = clamp(uo + s * eu, pd[0], pd[1]), sv = clamp(vo + s * ev, pd[2], pd[3]);
+          real nu, nv;
+          int c1;
+          patch_nearest_newton(m, p, anchor, mr, su, sv, 0, &nu, &nv, &c1);
+          const real3 wk = anchor + eval_patch_point(m, p, nu, nv);
+          consider_point(m, ownFace, face, nu, nv, wk, mr, d, depth, reach, st);
+        }
+      }
+    }
+  }
   // A face that grazes the sphere along a valley of a patch much larger than the sphere: Newton
   // from the 5 x 5 grid's nearest point ends at the valley's shallow end, just outside the sphere,
   // and its deep point lies between the grid's points (Voron's corner_ptfe_plate: a 7 mm patch, a
@@ -2776,8 +2834,15 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // step jumped past the valley's deepest point to the patch's border, and each step from there
   // crept back by 0.002 of the patch until the cap, 0.001 outside the sphere, where the valley
   // dips 0.0011 into it (2t = 4.00872 where the exact thickness is 4.00309).
+  // Where O's own face's patches are its surface (FACE_INTS slot 10: no patch error to decide),
+  // its points count from consider_point's 4 tolerances of O on (fifty-second session): a
+  // B-spline fillet of a die-cast box (Hammond's 1590T) dipped 5.8e-4 mm into a sphere 0.25 of
+  // its radius from O, between the 5 x 5 grid's points, and the sphere read 2t = 3.987 where the
+  // exact thickness is 3.924.
   const real dn = length(wn - mr);
-  const real nearO = face == ownFace ? (real)0.09 * reach * reach : (real)-1; // (0.3 of the radius)^2
+  const real nearO = face != ownFace ? (real)-1
+    : m->faceInfo[FACE_INTS * face + 10] ? (real)4 * m->slack * m->slack
+                                         : (real)0.09 * reach * reach; // (0.3 of the radius)^2
   const int onBorder = !(nearU > pd[0] && nearU < pd[1] && nearV > pd[2] && nearV < pd[3]);
   if ((face == ownFace ||
         ((onBorder || !converged) && m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE)) &&

@@ -554,6 +554,76 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
     }
 }
 
+/// The certification on O's own face where that face curves a little more than the sphere at O,
+/// so that it dips into the sphere only next to O, and its patches are its surface: a B-spline
+/// fillet of a die-cast box (Hammond's 1590T, a file not kept) held a sphere 5.8e-4 mm deep 0.25
+/// of its radius from O, and the sphere read 2t = 3.987 where the exact thickness is 3.924. The
+/// finer grid counted O's own face only from 0.3 of the radius on (for the patches' error, which
+/// such a face has not), and the Newtons from the grids' points on the line through O across the
+/// dip stayed on that line and ended at O, a maximum of the distance along the dip. Here
+/// CubicRidge's top z = H - a x^2 with a = (1 + delta) / 2t, one patch 16 mm wide: it dips into
+/// the sphere of radius t tangent at its crest (x = 0) for |x| below about 0.28 t and stays
+/// outside beyond. Both the old certification (the Newtons ending at O) and one that counted the
+/// finer grid's points from O on (no grid point in the dip) found nothing. Expected, independent
+/// of the solver, in the plane y = y0 (dense): the top's depth inside the sphere is more than 3
+/// tolerances, all of it within 0.3 t of O, so the sphere holds the top; the sphere a thousandth
+/// smaller than eq. 1's infimum over the profile (1 / 2a, the top's radius of curvature at O)
+/// holds nothing.
+TEST(SolverReference, OwnFaceDipNextToO)
+{
+  const double H = 20, L = 8, delta = 0.02;
+  const double tol = ConversionOptions().Tolerance;
+  for (const double t : { 2.0, 3.0 })
+  {
+    const double a = (1.0 + delta) / (2.0 * t), W = 3.0 * t;
+    auto z = [&](double x) { return H - a * x * x; };
+    ConversionOptions conv;
+    conv.Tolerance = tol;
+    conv.MaxPatchSize = 1e3;
+    const BRepModel model = ConvertShape(analytic::CubicRidge(H, a, 0.0, L, W), conv);
+    const SolverData data = PrepareSolver(model, SolverOptions());
+    int top = -1;
+    for (size_t f = 0; f < model.Faces.size(); ++f)
+      if (PatchesAreTheSurface(model, static_cast<int>(f)) && model.Faces[f].DegreeU == 3)
+        top = static_cast<int>(f);
+    ASSERT_GE(top, 0);
+    Sample o;
+    o.Point = { 0.0, 0.5 * W, H };
+    o.Direction = { 0.0, 0.0, -1.0 };
+    o.Face = top;
+    double deepest = -1.0, farthest = 0.0;
+    for (int j = 0; j <= 200000; ++j)
+    {
+      const double x = -L + 2.0 * L * j / 200000.0;
+      const double depth = t - std::hypot(x, z(x) - (H - t));
+      deepest = std::max(deepest, depth);
+      if (depth > 0.0)
+        farthest = std::max(farthest, std::fabs(x));
+    }
+    SampleResult r;
+    r.Type = ContactType::SurfaceSurface;
+    r.Radius = t;
+    r.Thickness = 2.0 * t;
+    r.OppositeFace = top;
+    const double eq1 = 1.0 / (2.0 * a);
+    const NativeSolver native(model, data);
+    const bool holds = native.HoldsBoundary(SolverOptions(), o, r);
+    SampleResult smaller = r;
+    smaller.Radius = 0.999 * eq1;
+    smaller.Thickness = 2.0 * smaller.Radius;
+    const bool holdsSmaller = native.HoldsBoundary(SolverOptions(), o, smaller);
+    std::printf("[closed form] top of a ridge curving a little more than the sphere of radius "
+                "%.1f: %.2e deep, within %.3f t of O; certification %s; a thousandth under eq. "
+                "1's sphere %s\n",
+      t, deepest, farthest / t, holds ? "holds it" : "finds nothing",
+      holdsSmaller ? "held" : "empty");
+    ASSERT_GT(deepest, 3.0 * tol) << "t " << t;
+    ASSERT_LT(farthest, 0.3 * t) << "t " << t;
+    EXPECT_TRUE(holds) << "t " << t << ": the top " << deepest << " deep";
+    EXPECT_FALSE(holdsSmaller) << "t " << t;
+  }
+}
+
 /// OpenCASCADE's distance from M to a patch: every extremum inside it, along its four edges, and
 /// its corners (the nearest point of a patch often lies on its edge, where the surface's own
 /// extrema miss it).
