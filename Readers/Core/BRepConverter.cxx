@@ -1818,7 +1818,7 @@ int SplitEdgesAcrossSolids(BRepModel& m)
 namespace
 {
 BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& options,
-  std::vector<TopoDS_Face>* faces)
+  std::vector<TopoDS_Face>* faces, bool healedOnRead)
 {
   BRepModel model;
   model.Tolerance = options.Tolerance;
@@ -1857,7 +1857,11 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       warn(std::string("sewing open shells failed: ") + e.GetMessageString());
     }
   }
-  if (options.Heal)
+  // A shape from a STEP file was healed by OpenCASCADE's transfer already (its FixShape, the
+  // STEP resource's FromSTEP sequence, with the file's precision): ShapeFix_Shape on it again
+  // changed 1 of 50 files' models and took 0.02-1.5 s a file, a third of their conversion
+  // (docs/Design.md, "Healing"). Where the joining or the sewing above changed it, it is healed.
+  if (options.Heal && !(healedOnRead && shape.IsEqual(input)))
   {
     const TopoDS_Shape unhealed = shape;
     try
@@ -2752,7 +2756,7 @@ BRepModel ConvertShape(const TopoDS_Shape& input, const ConversionOptions& optio
 {
   try
   {
-    return ConvertShapeImpl(input, options, faces);
+    return ConvertShapeImpl(input, options, faces, false);
   }
   catch (const Standard_Failure& e)
   {
@@ -2846,7 +2850,12 @@ BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& opti
   BRepModel model;
   try
   {
-    model = ConvertShape(shape, options, faces);
+    model = ConvertShapeImpl(shape, options, faces, true);
+  }
+  catch (const Standard_Failure& e)
+  {
+    throw InputError("STEP file '" + path + "': OpenCASCADE failed during conversion: " +
+      e.GetMessageString());
   }
   catch (const std::runtime_error& e)
   {
