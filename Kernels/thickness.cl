@@ -2767,9 +2767,9 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // curves more than the sphere in some direction at O, O is a saddle or a maximum of the
   // distance from M, and points of the face next to O lie inside the sphere; a Newton from a grid
   // point on the line of O's other direction stays on it and ends at O, and the grids may have no
-  // point in the dip (fifty-second session: a B-spline fillet of a die-cast box, Hammond's 1590T,
-  // held a sphere 5.8e-4 mm deep 0.25 of its radius from O, and CubicRidge's top curving 2% more
-  // than the sphere at its crest, up to 1.4e-3 deep, went unseen on a patch 16 mm wide). From O's
+  // point in the dip (fifty-second session: CubicRidge's top curving 2% more than the sphere at
+  // its crest, up to 1.4e-3 mm deep within 0.28 of the radius of O, went unseen on a patch 16 mm
+  // wide, also with the finer grid counting such a face from O on, below). From O's
   // point on the patch, the Hessian of |S - M|^2 / 2 in (u, v); along its eigenvector of a
   // negative eigenvalue, Newton from four starts, a twentieth and three twentieths of the radius
   // from O each way. Only on such faces: on patches that approximate their face, the curvature
