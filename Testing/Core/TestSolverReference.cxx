@@ -39,6 +39,7 @@
 #include <numeric>
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -466,6 +467,43 @@ TEST(SolverReference, OwnFaceBendsIntoTheSphere)
   }
 }
 
+/// CubicRidge's top as one patch (no split below the model's size) and the sample O on its crest
+/// (x = 0, the middle of its width), the sphere below it: the two own-face certification tests'
+/// model. Holds(t) is the certification's verdict on the sphere of radius t tangent at O.
+struct RidgeCrest
+{
+  BRepModel Model;
+  SolverData Data;
+  int Top = -1;
+  Sample O;
+  std::unique_ptr<NativeSolver> Native;
+
+  RidgeCrest(double H, double a, double c, double L, double W)
+  {
+    ConversionOptions conv;
+    conv.MaxPatchSize = 1e3;
+    Model = ConvertShape(analytic::CubicRidge(H, a, c, L, W), conv);
+    Data = PrepareSolver(Model, SolverOptions());
+    for (size_t f = 0; f < Model.Faces.size(); ++f)
+      if (PatchesAreTheSurface(Model, static_cast<int>(f)) && Model.Faces[f].DegreeU == 3)
+        Top = static_cast<int>(f);
+    O.Point = { 0.0, 0.5 * W, H };
+    O.Direction = { 0.0, 0.0, -1.0 };
+    O.Face = Top;
+    Native = std::make_unique<NativeSolver>(Model, Data);
+  }
+
+  bool Holds(double t) const
+  {
+    SampleResult r;
+    r.Type = ContactType::SurfaceSurface;
+    r.Radius = t;
+    r.Thickness = 2.0 * t;
+    r.OppositeFace = Top;
+    return Native->HoldsBoundary(SolverOptions(), O, r);
+  }
+};
+
 /// The certification on O's own face where that face stays outside the sphere next to O and
 /// dips into it farther off: a grabcad pulley guard (AnalysisSitus' data) held its own B-spline
 /// face 1.4e-3 mm deep 0.36 mm from O in a sphere of 2t = 1.52 (3% too large), and the Newton
@@ -490,23 +528,9 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
     {
       const double a = (1.0 - delta) / (2.0 * t);
       auto z = [&](double x) { return H - a * x * x - c * x * x * x; };
-      // Patches as large as the faces (no split below the model's size): the top one patch.
-      ConversionOptions conv;
-      conv.Tolerance = tol;
-      conv.MaxPatchSize = 1e3;
-      const BRepModel model = ConvertShape(analytic::CubicRidge(H, a, c, L, W), conv);
-      const SolverData data = PrepareSolver(model, SolverOptions());
-      int top = -1;
-      for (size_t f = 0; f < model.Faces.size(); ++f)
-        if (PatchesAreTheSurface(model, static_cast<int>(f)) && model.Faces[f].DegreeU == 3)
-          top = static_cast<int>(f);
-      ASSERT_GE(top, 0);
-      ASSERT_EQ(model.Faces[top].PatchCount, 1);
-      // O on the crest, in the middle of the top; the sphere below it.
-      Sample o;
-      o.Point = { 0.0, 0.5 * W, H };
-      o.Direction = { 0.0, 0.0, -1.0 };
-      o.Face = top;
+      const RidgeCrest crest(H, a, c, L, W);
+      ASSERT_GE(crest.Top, 0);
+      ASSERT_EQ(crest.Model.Faces[crest.Top].PatchCount, 1);
       double deepest = -1.0;
       for (int j = 0; j <= 200000; ++j)
       {
@@ -514,11 +538,6 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
         if (std::fabs(x) >= 0.3 * t)
           deepest = std::max(deepest, t - std::hypot(x, z(x) - (H - t)));
       }
-      SampleResult r;
-      r.Type = ContactType::SurfaceSurface;
-      r.Radius = t;
-      r.Thickness = 2.0 * t;
-      r.OppositeFace = top;
       // Eq. 1 over the profile: the largest empty sphere tangent at O.
       double eq1 = std::numeric_limits<double>::infinity();
       for (int j = 0; j <= 200000; ++j)
@@ -527,12 +546,8 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
         if (x != 0.0 && h > 0.0)
           eq1 = std::min(eq1, (x * x + h * h) / (2.0 * h));
       }
-      const NativeSolver native(model, data);
-      const bool holds = native.HoldsBoundary(SolverOptions(), o, r);
-      SampleResult smaller = r;
-      smaller.Radius = 0.999 * eq1;
-      smaller.Thickness = 2.0 * smaller.Radius;
-      const bool holdsSmaller = native.HoldsBoundary(SolverOptions(), o, smaller);
+      const bool holds = crest.Holds(t);
+      const bool holdsSmaller = crest.Holds(0.999 * eq1);
       std::printf("[closed form] crest of a ridge, sphere of radius %.2f, delta %.2f: the top "
                   "%.2e deep beyond 0.3 t from O; certification %s; eq. 1's sphere %.5f, a "
                   "thousandth smaller %s\n",
@@ -541,12 +556,12 @@ TEST(SolverReference, OwnFaceValleyFarFromO)
       ASSERT_GT(deepest, 3.0 * tol) << "t " << t << ", delta " << delta;
       EXPECT_TRUE(holds) << "t " << t << ", delta " << delta << ": the top " << deepest << " deep";
       ASSERT_LT(eq1, t);
-      EXPECT_FALSE(holdsSmaller) << "t " << t << ", delta " << delta << ": radius " << smaller.Radius;
+      EXPECT_FALSE(holdsSmaller) << "t " << t << ", delta " << delta << ": radius " << 0.999 * eq1;
       // The solve at O (clearance 0: eq. 1 exactly) ends on eq. 1's sphere.
       SolverOptions strict;
       strict.Clearance = 0.0;
       std::vector<SampleResult> solved;
-      SolveReference(model, data, strict, { o }, solved);
+      SolveReference(crest.Model, crest.Data, strict, { crest.O }, solved);
       ASSERT_EQ(solved.size(), 1u);
       std::printf("  solved 2t = %.7f, eq. 1 %.7f\n", solved[0].Thickness, 2.0 * eq1);
       EXPECT_NE(solved[0].Type, ContactType::Failed);
@@ -577,20 +592,8 @@ TEST(SolverReference, OwnFaceDipNextToO)
   {
     const double a = (1.0 + delta) / (2.0 * t), W = 3.0 * t;
     auto z = [&](double x) { return H - a * x * x; };
-    ConversionOptions conv;
-    conv.Tolerance = tol;
-    conv.MaxPatchSize = 1e3;
-    const BRepModel model = ConvertShape(analytic::CubicRidge(H, a, 0.0, L, W), conv);
-    const SolverData data = PrepareSolver(model, SolverOptions());
-    int top = -1;
-    for (size_t f = 0; f < model.Faces.size(); ++f)
-      if (PatchesAreTheSurface(model, static_cast<int>(f)) && model.Faces[f].DegreeU == 3)
-        top = static_cast<int>(f);
-    ASSERT_GE(top, 0);
-    Sample o;
-    o.Point = { 0.0, 0.5 * W, H };
-    o.Direction = { 0.0, 0.0, -1.0 };
-    o.Face = top;
+    const RidgeCrest crest(H, a, 0.0, L, W);
+    ASSERT_GE(crest.Top, 0);
     double deepest = -1.0, farthest = 0.0;
     for (int j = 0; j <= 200000; ++j)
     {
@@ -600,18 +603,9 @@ TEST(SolverReference, OwnFaceDipNextToO)
       if (depth > 0.0)
         farthest = std::max(farthest, std::fabs(x));
     }
-    SampleResult r;
-    r.Type = ContactType::SurfaceSurface;
-    r.Radius = t;
-    r.Thickness = 2.0 * t;
-    r.OppositeFace = top;
     const double eq1 = 1.0 / (2.0 * a);
-    const NativeSolver native(model, data);
-    const bool holds = native.HoldsBoundary(SolverOptions(), o, r);
-    SampleResult smaller = r;
-    smaller.Radius = 0.999 * eq1;
-    smaller.Thickness = 2.0 * smaller.Radius;
-    const bool holdsSmaller = native.HoldsBoundary(SolverOptions(), o, smaller);
+    const bool holds = crest.Holds(t);
+    const bool holdsSmaller = crest.Holds(0.999 * eq1);
     std::printf("[closed form] top of a ridge curving a little more than the sphere of radius "
                 "%.1f: %.2e deep, within %.3f t of O; certification %s; a thousandth under eq. "
                 "1's sphere %s\n",
