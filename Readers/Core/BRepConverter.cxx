@@ -1859,8 +1859,9 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   }
   // A shape from a STEP file was healed by OpenCASCADE's transfer already (its FixShape, the
   // STEP resource's FromSTEP sequence, with the file's precision): ShapeFix_Shape on it again
-  // changed 1 of 50 files' models and took 0.02-1.5 s a file, a third of their conversion
-  // (docs/Design.md, "Healing"). Where the joining or the sewing above changed it, it is healed.
+  // changed 1 of 50 files' models and took 0.02-1.5 s a file, a quarter of their reading and
+  // conversion (docs/Design.md, "Healing"). Where the joining or the sewing above changed it, it
+  // is healed.
   if (options.Heal && !(healedOnRead && shape.IsEqual(input)))
   {
     const TopoDS_Shape unhealed = shape;
