@@ -538,7 +538,7 @@ bool InsideByCrossings(const BRepModel& model, int face, double u, double v)
   return inside;
 }
 
-struct CrossingIndex::FaceChords
+struct CrossingIndex::FaceBands
 {
   double V0 = 0.0, Step = 1.0;
   int Bands = 0;
@@ -554,18 +554,18 @@ struct CrossingIndex::FaceChords
 
 CrossingIndex::CrossingIndex(const BRepModel& model)
   : Model(model)
-  , Faces(new FaceChords[model.Faces.size()])
+  , Faces(new FaceBands[model.Faces.size()])
   , Built(new std::once_flag[model.Faces.size()])
 {
 }
 
 CrossingIndex::~CrossingIndex() = default;
 
-const CrossingIndex::FaceChords& CrossingIndex::For(int face) const
+const CrossingIndex::FaceBands& CrossingIndex::For(int face) const
 {
   const size_t f = static_cast<size_t>(face);
   std::call_once(Built[f], [&]() {
-    FaceChords& fc = Faces[f];
+    FaceBands& fc = Faces[f];
     const Face& F = Model.Faces[f];
     std::vector<std::pair<int, std::array<double, 3>>> segments;
     for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
@@ -607,7 +607,7 @@ const CrossingIndex::FaceChords& CrossingIndex::For(int face) const
 
 bool CrossingIndex::Inside(int face, double u, double v) const
 {
-  const FaceChords& fc = For(face);
+  const FaceBands& fc = For(face);
   if (fc.Bands == 0)
     return false;
   const int b = fc.Band(v);

@@ -71,12 +71,12 @@ std::vector<TrimCandidate> TrimCandidatesFor(const BRepModel& model,
 /// loops than the chords' error, as a second opinion beside ClassifyPoint.
 bool InsideByCrossings(const BRepModel& model, int face, double u, double v);
 
-/// InsideByCrossings' answers for many points of a model: each face's chords (the same 16 per
-/// segment, evaluated by the same operations) listed once in bands of v, so that a point tests
-/// only the chords of its band, not every segment of its face. The same answer bit for bit (the
-/// same chords and the same arithmetic; a chord counts only where its ends lie on the two sides
-/// of v, and every such chord is listed in v's band). A face's bands are built on its first
-/// query, from any thread.
+/// InsideByCrossings' answers for many points of a model: each face's segments listed once in
+/// bands of v (each in every band its control box spans, widened as InsideByCrossings widens it),
+/// so that a point tests only the segments of its band, each by InsideByCrossings' own steps, not
+/// every segment of its face. The same answer bit for bit: a segment whose box misses v has no
+/// chord across v, and every segment whose box holds v is listed in v's band (the bands are
+/// monotone in v). A face's bands are built on its first query, from any thread.
 class CrossingIndex
 {
 public:
@@ -88,10 +88,10 @@ public:
   bool Inside(int face, double u, double v) const;
 
 private:
-  struct FaceChords;
-  const FaceChords& For(int face) const;
+  struct FaceBands;
+  const FaceBands& For(int face) const;
   const BRepModel& Model;
-  std::unique_ptr<FaceChords[]> Faces;
+  std::unique_ptr<FaceBands[]> Faces;
   std::unique_ptr<std::once_flag[]> Built;
 };
 
