@@ -383,8 +383,9 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   };
   const BlockTrimCandidates blockSegments(model, [&](const Face& F) { return 2.0 * s1Band(F); });
   // The crossing parity's answers (the trim test's at cusps, ties and faces whose loops cross,
-  // and the patch boxes' corners below) from each face's chords listed in bands of v: every
-  // segment of the face scanned per point was a fifth of the thumb trackball body's preparation.
+  // and the patch boxes' corners below) from each face's segments listed in bands of v
+  // (CrossingIndex): every segment of the face scanned per point was a fifth of the thumb
+  // trackball body's preparation.
   const CrossingIndex crossings(model);
   ParallelFor(model.Patches.size(), 0, [&](size_t pi) {
     const BezierPatch& p = model.Patches[pi];
@@ -424,7 +425,9 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
         if (c.Box[0] - band <= uh && c.Box[2] + band >= ul && c.Box[1] - band <= vh &&
           c.Box[3] + band >= vl)
           return -1; // near the trim: each point tested
-      return ClassifyPointAmong(model, 0.5 * (ul + uh), 0.5 * (vl + vh), near, loopsCross, &crossings).Inside
+      return ClassifyPointAmong(
+               model, 0.5 * (ul + uh), 0.5 * (vl + vh), near, loopsCross, &crossings)
+          .Inside
         ? 1
         : 0;
     };
