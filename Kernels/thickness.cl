@@ -144,6 +144,10 @@ typedef struct
   real u[MEMO_DISKS], v[MEMO_DISKS], r[MEMO_DISKS];
   real gap[MEMO_DISKS]; // the face's FACE_TRIM_EDGE_GAP
   int next; // the slot the next new face takes
+  // The sample being solved: its face and (u, v) there (solve_sample), so that the certification
+  // finds O on its own face's patches without a search (certify_patch).
+  int ownFace;
+  real ownU, ownV;
 } ChainMemo;
 
 typedef struct
@@ -2775,11 +2779,17 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // from O each way. Only on such faces: on patches that approximate their face, the curvature
   // at O is the patches' and not the face's (docs/Solver.md, Open items, "Own-face osculating
   // contacts, tried again").
-  if (ownExact && od < REAL_MAX)
+  // O's (u, v) is the sample's own where a chain carries it (a patch that does not hold it has
+  // nothing to do here), else Newton towards O from the grid point nearest O finds it.
+  const int ownKnown = ownExact && m->memo && m->memo->ownFace == ownFace;
+  const int holdsO = ownKnown && m->memo->ownU >= pd[0] && m->memo->ownU <= pd[1] &&
+    m->memo->ownV >= pd[2] && m->memo->ownV <= pd[3];
+  if (ownExact && od < REAL_MAX && (!ownKnown || holdsO))
   {
-    real uo, vo;
+    real uo = ownKnown ? m->memo->ownU : ou, vo = ownKnown ? m->memo->ownV : ov;
     int c0;
-    patch_nearest_newton(m, p, anchor, splat_real3(0), ou, ov, 0, &uo, &vo, &c0);
+    if (!ownKnown)
+      patch_nearest_newton(m, p, anchor, splat_real3(0), ou, ov, 0, &uo, &vo, &c0);
     const PatchEval e = eval_patch(m, p, uo, vo);
     const real3 w0 = anchor + e.P;
     if (dot(w0, w0) <= m->slack * m->slack)
@@ -5501,6 +5511,37 @@ BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point,
   r->t = t;
 }
 
+// An empty memo, for a chain's start (solve_chain).
+inline void memo_clear(ChainMemo* memo)
+{
+  for (int k = 0; k < MEMO_DISKS; ++k)
+  {
+    memo->face[k] = -1;
+    memo->u[k] = memo->v[k] = memo->r[k] = memo->gap[k] = (real)0;
+  }
+  memo->next = 0;
+  memo->ownFace = -1;
+  memo->ownU = memo->ownV = (real)0;
+}
+
+// O's (u, v) on its face for the certification (certify_patch), where the face's patches are its
+// surface and the sample's (u, v) gives O there within the patches' accuracy; else none.
+inline void memo_own_point(const Model* m, ChainMemo* memo, int ownFace, real2 ownUV, real3 Ohi,
+  real3 Olo)
+{
+  memo->ownFace = -1;
+  if (ownFace < 0 || !m->faceInfo[FACE_INTS * ownFace + 10])
+    return;
+  const int p = find_patch(m, ownFace, ownUV.x, ownUV.y);
+  const real3 w =
+    eval_patch_point(m, p, ownUV.x, ownUV.y) + anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
+  if (!(dot(w, w) <= m->slack * m->slack))
+    return;
+  memo->ownFace = ownFace;
+  memo->ownU = ownUV.x;
+  memo->ownV = ownUV.y;
+}
+
 // The whole solve of one sample (the kernel's work-item; the native device's loop body): sp is
 // the sample's SAMPLE_REALS, oR and oI its OUT_REALS and OUT_INTS.
 BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global const int* s1Face,
@@ -5513,6 +5554,8 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   const real3 d = make_real3(sp[6], sp[7], sp[8]);
   const real2 ownUV = make_real2(sp[9], sp[10]);
   int iterations = 0, exactPass = 0;
+  if (mm.memo)
+    memo_own_point(&mm, mm.memo, ownFace, ownUV, Ohi, Olo);
   if ((mm.mode & MODE_EXTERIOR) && (mm.mode & MODE_ALL_SOLIDS))
   {
     // The gap with all solids: where another solid touches or overlaps O's, the gap is 0.
@@ -5609,12 +5652,7 @@ void solve_chain(Model mm, __global const real* s1Point, __global const int* s1F
   hint.face = -1;
   hint.u = hint.v = (real)0;
   ChainMemo memo;
-  for (int k = 0; k < MEMO_DISKS; ++k)
-  {
-    memo.face[k] = -1;
-    memo.u[k] = memo.v[k] = memo.r[k] = memo.gap[k] = (real)0;
-  }
-  memo.next = 0;
+  memo_clear(&memo);
   mm.memo = &memo;
   for (int k = 0; k < n; ++k)
     solve_sample(mm, s1Point, s1Face, s1UV, nodeBox, nodeInfo, sp + SAMPLE_REALS * k, faces[k],

@@ -168,9 +168,15 @@ bool NativeSolver::HoldsBoundary(
     return false;
   KernelScalars s = GetKernelScalars<double>(P->Model, P->Data, options);
   s.Certify = 1;
-  const kernel::Model view = P->View(s);
+  kernel::Model view = P->View(s);
   const SampleFrame f = Frame(P->Data, sample);
   const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
+  // The sample's (u, v) reaches the certification as in a chain's solve (memo_own_point).
+  kernel::ChainMemo memo;
+  kernel::memo_clear(&memo);
+  view.memo = &memo;
+  kernel::memo_own_point(
+    &view, &memo, sample.Face, kernel::real2{ sample.U, sample.V }, Ohi, Olo);
   kernel::PointInside inside;
   return kernel::find_point_inside(&view, sample.Face, Ohi, Olo, d, r.Radius,
            std::max(s.Clearance, s.Slack), &inside) != 0;

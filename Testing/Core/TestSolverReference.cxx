@@ -491,17 +491,42 @@ struct RidgeCrest
     O.Direction = { 0.0, 0.0, -1.0 };
     O.Face = Top;
     Native = std::make_unique<NativeSolver>(Model, Data);
+    if (Top < 0)
+      return;
+    // O's (u, v) on the top's patch (Newton on the patch's x and y), as a mesh sample carries it.
+    const Face& F = Model.Faces[static_cast<size_t>(Top)];
+    const BezierPatch& patch = Model.Patches[static_cast<size_t>(F.FirstPatch)];
+    double u = 0.5 * (F.Domain[0] + F.Domain[1]), v = 0.5 * (F.Domain[2] + F.Domain[3]);
+    for (int it = 0; it < 30; ++it)
+    {
+      const PatchEval e = EvaluatePatch(patch, u, v);
+      const double rx = O.Point[0] - e.P[0], ry = O.Point[1] - e.P[1];
+      const double det = e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0];
+      u += (rx * e.Dv[1] - ry * e.Dv[0]) / det;
+      v += (e.Du[0] * ry - e.Du[1] * rx) / det;
+    }
+    OnPatch = O;
+    OnPatch.U = u;
+    OnPatch.V = v;
+    const PatchEval e = EvaluatePatch(patch, u, v);
+    OffO = std::hypot(e.P[0] - O.Point[0], e.P[1] - O.Point[1], e.P[2] - O.Point[2]);
   }
 
-  bool Holds(double t) const
+  /// The certification's verdict on the sphere of radius t, with O's (u, v) on its face given
+  /// (as a chain's solve gives it, O's point on the patch found from it) or not (then found by
+  /// Newton towards O from the grid).
+  bool Holds(double t, bool withUV = false) const
   {
     SampleResult r;
     r.Type = ContactType::SurfaceSurface;
     r.Radius = t;
     r.Thickness = 2.0 * t;
     r.OppositeFace = Top;
-    return Native->HoldsBoundary(SolverOptions(), O, r);
+    return Native->HoldsBoundary(SolverOptions(), withUV ? OnPatch : O, r);
   }
+
+  Sample OnPatch; ///< O with its (u, v) on the top
+  double OffO = 1.0; ///< the distance from O of the top's point at OnPatch's (u, v)
 };
 
 /// The certification on O's own face where that face stays outside the sphere next to O and
@@ -606,6 +631,10 @@ TEST(SolverReference, OwnFaceDipNextToO)
     const double eq1 = 1.0 / (2.0 * a);
     const bool holds = crest.Holds(t);
     const bool holdsSmaller = crest.Holds(0.999 * eq1);
+    // The same with O's (u, v) given, as a chain's solve gives it (no Newton towards O).
+    ASSERT_LT(crest.OffO, 1e-9) << "t " << t;
+    EXPECT_TRUE(crest.Holds(t, true)) << "t " << t << ", O's (u, v) given";
+    EXPECT_FALSE(crest.Holds(0.999 * eq1, true)) << "t " << t << ", O's (u, v) given";
     std::printf("[closed form] top of a ridge curving a little more than the sphere of radius "
                 "%.1f: %.2e deep, within %.3f t of O; certification %s; a thousandth under eq. "
                 "1's sphere %s\n",
