@@ -4823,7 +4823,13 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
       // (own_face_margin), where their accuracy fixes the radius; with nearOwn, also one of a
       // free-form own face within half the radius of O, counted there beyond its patches'
       // measured deviation (own_face_margin_near), within which the ball then holds it.
+      // With nearOwn 2 (settle_not_maximal's last resort), a point of O's own face a tenth of
+      // the radius or more in front of O counts as well: a round whose own curvature bounds the
+      // sphere, which touches it along its arc (the radius then fixed to the depth over 1 - cos
+      // of the angle at the centre, at most ten depths; the caller's polish refines it).
+      const int round = nearOwn == 2 && c.face == ownFace && !last.onTrim;
       if (c.edge >= 0 ? edge_at_sample(m, ownFace, c.edge, c.foot)
+          : round ? at_sample(m, ownFace, c.face, c.foot) || !(dot(c.foot, d) >= (real)0.1 * t)
           : (last.onTrim || own_face_margin(m, c.face) == (real)0 ||
                 (nearOwn && c.face == ownFace && dot(c.foot, c.foot) < (real)0.25 * t * t &&
                   own_face_margin_near(m, c.face) < own_face_margin(m, c.face))
@@ -4903,9 +4909,12 @@ BRT_SPLIT int settle_not_maximal(const Model* m, __global const real* s1Point,
       (!valid || (on_own_face(m, ownFace, &dr) && !(dot(d, dr.foot) > m->slack)));
     if (!(nearOwn && shrink_ball(m, ownFace, Ohi, Olo, d, depth, 1, &inside, r)))
     {
-      if (!valid)
+      // Last, a round of O's own face whose curvature bounds the sphere: the ball's point on it
+      // well in front of O (shrink_ball, nearOwn 2).
+      if (!valid && !shrink_ball(m, ownFace, Ohi, Olo, d, depth, 2, &inside, r))
         return 0;
-      *r = dr;
+      if (valid)
+        *r = dr;
     }
   }
   for (int k = 0; k < 4; ++k)

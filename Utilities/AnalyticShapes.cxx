@@ -5,6 +5,10 @@
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <Geom_BezierCurve.hxx>
+#include <GC_MakeArcOfEllipse.hxx>
+#include <Geom_TrimmedCurve.hxx>
+#include <gp_Elips.hxx>
+#include <algorithm>
 #include <TColgp_Array1OfPnt.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -217,6 +221,23 @@ TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double
   wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(L, 0, zr), gp_Pnt(L, 0, 0)).Edge());
   wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(L, 0, 0), gp_Pnt(-L, 0, 0)).Edge());
   wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(-L, 0, 0), gp_Pnt(-L, 0, z(-L))).Edge());
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), true);
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, W, 0));
+  return BRepBuilderAPI_NurbsConvert(prism).Shape();
+}
+
+TopoDS_Shape EllipticEndPlate(double L, double h, double b, double W)
+{
+  // The ellipse in the plane y = 0: centre (0, 0, h/2), major axis along x where b > h/2.
+  const double a = 0.5 * h;
+  const gp_Ax2 frame(gp_Pnt(0, 0, a), gp_Dir(0, -1, 0), b >= a ? gp_Dir(1, 0, 0) : gp_Dir(0, 0, 1));
+  const gp_Elips ellipse(frame, std::max(a, b), std::min(a, b));
+  Handle(Geom_TrimmedCurve) arc = GC_MakeArcOfEllipse(ellipse, gp_Pnt(0, 0, 0), gp_Pnt(0, 0, h), true);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(-L, 0, 0), gp_Pnt(0, 0, 0)).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(arc).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, h), gp_Pnt(-L, 0, h)).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(-L, 0, h), gp_Pnt(-L, 0, 0)).Edge());
   const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), true);
   const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, W, 0));
   return BRepBuilderAPI_NurbsConvert(prism).Shape();

@@ -42,6 +42,13 @@ TopoDS_Shape PocketBlock(double side, double h, double slotLength, double slotRa
 /// plateau that runs to x = L: a re-entrant corner where the ridge ends.
 TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt = 0.0,
   double stepHeight = 0.0);
+/// A plate h thick whose end is a half-ellipse: the profile in the plane y = 0 runs along the
+/// bottom z = 0 from x = -L to 0, round the ellipse centred at (0, h/2) with semi-axes b along x
+/// and h/2 along z to (0, h), back along the top z = h to x = -L and down; extruded along y by W.
+/// Every face a B-spline (BRepBuilderAPI_NurbsConvert): the end a rational one that is no
+/// cylinder where b differs from h/2, a free-form round whose own curvature bounds the spheres
+/// tangent to it (the 2D problem in the plane y = const: eq. 1 over the profile).
+TopoDS_Shape EllipticEndPlate(double L, double h, double b, double W);
 /// L profile, legs of length `leg` and thickness `h`, extruded by `width`; inner corner filleted.
 TopoDS_Shape LBracket(double leg, double h, double width, double filletRadius);
 /// Solids whose medial axis is a curve or a point: a rod (cylinder of radius R and length L
