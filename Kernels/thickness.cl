@@ -2708,8 +2708,13 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   const real3 anchor = anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo);
   __global const real* c = m->patches + 48 * p;
   real bu = (real)0.5 * (pd[0] + pd[1]), bv = (real)0.5 * (pd[2] + pd[3]), bd = REAL_MAX;
-  // The grid point nearest O, on O's own face whose patches are its surface (below).
+  // On O's own face whose patches are its surface (below): O's (u, v), the sample's own where a
+  // chain carries it (a patch that does not hold it has nothing to do there), else the grid
+  // point nearest O, from which Newton towards O finds it.
   const int ownExact = face == ownFace && m->faceInfo[FACE_INTS * face + 10];
+  const int ownKnown = ownExact && m->memo && m->memo->ownFace == ownFace;
+  const int holdsO = ownKnown && m->memo->ownU >= pd[0] && m->memo->ownU <= pd[1] &&
+    m->memo->ownV >= pd[2] && m->memo->ownV <= pd[3];
   real ou = bu, ov = bv, od = REAL_MAX;
   // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
   // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
@@ -2736,7 +2741,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
         bu = u;
         bv = v;
       }
-      if (ownExact && dot(w, w) < od)
+      if (ownExact && !ownKnown && dot(w, w) < od)
       {
         od = dot(w, w);
         ou = u;
@@ -2779,12 +2784,7 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // from O each way. Only on such faces: on patches that approximate their face, the curvature
   // at O is the patches' and not the face's (docs/Solver.md, Open items, "Own-face osculating
   // contacts, tried again").
-  // O's (u, v) is the sample's own where a chain carries it (a patch that does not hold it has
-  // nothing to do here), else Newton towards O from the grid point nearest O finds it.
-  const int ownKnown = ownExact && m->memo && m->memo->ownFace == ownFace;
-  const int holdsO = ownKnown && m->memo->ownU >= pd[0] && m->memo->ownU <= pd[1] &&
-    m->memo->ownV >= pd[2] && m->memo->ownV <= pd[3];
-  if (ownExact && od < REAL_MAX && (!ownKnown || holdsO))
+  if (ownExact && (!ownKnown || holdsO))
   {
     real uo = ownKnown ? m->memo->ownU : ou, vo = ownKnown ? m->memo->ownV : ov;
     int c0;
