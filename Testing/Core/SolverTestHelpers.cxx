@@ -21,6 +21,47 @@ Solved SolveShape(const TopoDS_Shape& shape, double tolerance, const SolverOptio
   return s;
 }
 
+double FaceParameters(const BRepModel& model, int face, const std::array<double, 3>& point,
+  double* u, double* v)
+{
+  const Face& F = model.Faces[static_cast<size_t>(face)];
+  double best = std::numeric_limits<double>::infinity();
+  for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+  {
+    const BezierPatch& patch = model.Patches[static_cast<size_t>(p)];
+    const auto& D = patch.Domain;
+    double pu = 0.5 * (D[0] + D[1]), pv = 0.5 * (D[2] + D[3]);
+    for (int it = 0; it < 40; ++it)
+    {
+      const PatchEval e = EvaluatePatch(patch, pu, pv);
+      double a00 = 0, a01 = 0, a11 = 0, b0 = 0, b1 = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double r = point[k] - e.P[k];
+        a00 += e.Du[k] * e.Du[k];
+        a01 += e.Du[k] * e.Dv[k];
+        a11 += e.Dv[k] * e.Dv[k];
+        b0 += e.Du[k] * r;
+        b1 += e.Dv[k] * r;
+      }
+      const double det = a00 * a11 - a01 * a01;
+      if (!(det > 0.0))
+        break;
+      pu = std::clamp(pu + (a11 * b0 - a01 * b1) / det, D[0], D[1]);
+      pv = std::clamp(pv + (a00 * b1 - a01 * b0) / det, D[2], D[3]);
+    }
+    const PatchEval e = EvaluatePatch(patch, pu, pv);
+    const double d = std::hypot(e.P[0] - point[0], e.P[1] - point[1], e.P[2] - point[2]);
+    if (d < best)
+    {
+      best = d;
+      *u = pu;
+      *v = pv;
+    }
+  }
+  return best;
+}
+
 namespace
 {
 /// Distance from p to a cubic 3D segment: best of 17 samples, refined by Newton (clamped).

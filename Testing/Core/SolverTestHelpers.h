@@ -6,6 +6,7 @@
 
 #include <TopoDS_Shape.hxx>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ Solved SolveShape(const TopoDS_Shape& shape, double tolerance, const SolverOptio
 /// Distance from each sample to the nearest rim: an edge that is neither a seam, nor degenerated,
 /// nor the line where two faces of one analytic surface meet.
 std::vector<double> RimDistances(const BRepModel& model, const std::vector<Sample>& samples);
+
+/// The (u, v) on `face`'s patches nearest `point` (Gauss-Newton on |S(u, v) - point|^2 from each
+/// patch's middle, clamped to the patch; the nearest kept), as a mesh sample carries it. Returns
+/// the distance of that patch point from `point`.
+double FaceParameters(const BRepModel& model, int face, const std::array<double, 3>& point,
+  double* u, double* v);
 
 /// Prints failed share and residual percentiles (median, 99th, max) per contact type.
 void PrintResidualSummary(const std::string& name, const std::vector<SampleResult>& results);

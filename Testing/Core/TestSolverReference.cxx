@@ -493,23 +493,9 @@ struct RidgeCrest
     Native = std::make_unique<NativeSolver>(Model, Data);
     if (Top < 0)
       return;
-    // O's (u, v) on the top's patch (Newton on the patch's x and y), as a mesh sample carries it.
-    const Face& F = Model.Faces[static_cast<size_t>(Top)];
-    const BezierPatch& patch = Model.Patches[static_cast<size_t>(F.FirstPatch)];
-    double u = 0.5 * (F.Domain[0] + F.Domain[1]), v = 0.5 * (F.Domain[2] + F.Domain[3]);
-    for (int it = 0; it < 30; ++it)
-    {
-      const PatchEval e = EvaluatePatch(patch, u, v);
-      const double rx = O.Point[0] - e.P[0], ry = O.Point[1] - e.P[1];
-      const double det = e.Du[0] * e.Dv[1] - e.Du[1] * e.Dv[0];
-      u += (rx * e.Dv[1] - ry * e.Dv[0]) / det;
-      v += (e.Du[0] * ry - e.Du[1] * rx) / det;
-    }
+    // O's (u, v) on the top, as a mesh sample carries it.
     OnPatch = O;
-    OnPatch.U = u;
-    OnPatch.V = v;
-    const PatchEval e = EvaluatePatch(patch, u, v);
-    OffO = std::hypot(e.P[0] - O.Point[0], e.P[1] - O.Point[1], e.P[2] - O.Point[2]);
+    OffO = test::FaceParameters(Model, Top, O.Point, &OnPatch.U, &OnPatch.V);
   }
 
   /// The certification's verdict on the sphere of radius t, with O's (u, v) on its face given
@@ -671,7 +657,6 @@ TEST(SolverReference, FreeFormRoundBoundsTheSphere)
       }
     ASSERT_GE(end, 0);
     ASSERT_EQ(model.Faces[static_cast<size_t>(end)].Kind, SurfaceKind::BSplineSurface);
-    const Face& F = model.Faces[static_cast<size_t>(end)];
     const double a = 0.5 * h;
     // The profile, dense: the ellipse (x = b cos phi, z = a + a sin phi) and the two flats.
     std::vector<std::array<double, 2>> profile;
@@ -708,45 +693,8 @@ TEST(SolverReference, FreeFormRoundBoundsTheSphere)
       o.Face = end;
       o.Point = { x0, 0.5 * W, z0 };
       o.Direction = { nx, 0.0, nz };
-      // O's (u, v) on the end's patches (Gauss-Newton from each patch's middle, the nearest kept).
-      double bestD = 1e300;
-      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-      {
-        const BezierPatch& patch = model.Patches[static_cast<size_t>(p)];
-        double u = 0.5 * (patch.Domain[0] + patch.Domain[1]), v = 0.5 * (patch.Domain[2] + patch.Domain[3]);
-        for (int it = 0; it < 40; ++it)
-        {
-          const PatchEval e = EvaluatePatch(patch, u, v);
-          double r[3], g[2][3];
-          for (int k = 0; k < 3; ++k)
-          {
-            r[k] = o.Point[k] - e.P[k];
-            g[0][k] = e.Du[k];
-            g[1][k] = e.Dv[k];
-          }
-          double a00 = 0, a01 = 0, a11 = 0, b0 = 0, b1 = 0;
-          for (int k = 0; k < 3; ++k)
-          {
-            a00 += g[0][k] * g[0][k];
-            a01 += g[0][k] * g[1][k];
-            a11 += g[1][k] * g[1][k];
-            b0 += g[0][k] * r[k];
-            b1 += g[1][k] * r[k];
-          }
-          const double det = a00 * a11 - a01 * a01;
-          u = std::clamp(u + (a11 * b0 - a01 * b1) / det, patch.Domain[0], patch.Domain[1]);
-          v = std::clamp(v + (a00 * b1 - a01 * b0) / det, patch.Domain[2], patch.Domain[3]);
-        }
-        const PatchEval e = EvaluatePatch(patch, u, v);
-        const double dist = std::hypot(e.P[0] - o.Point[0], e.P[1] - o.Point[1], e.P[2] - o.Point[2]);
-        if (dist < bestD)
-        {
-          bestD = dist;
-          o.U = u;
-          o.V = v;
-        }
-      }
-      ASSERT_LT(bestD, ConversionOptions().Tolerance); // (O on the ellipse, the patches within it)
+      // O's (u, v) on the end (O lies on the ellipse, the patches within the tolerance of it).
+      ASSERT_LT(test::FaceParameters(model, end, o.Point, &o.U, &o.V), ConversionOptions().Tolerance);
       samples.push_back(o);
       expected.push_back(2.0 * best);
     }
