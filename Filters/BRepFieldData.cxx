@@ -289,6 +289,21 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
   else
     for (vtkIdType i = 0; i < n; ++i)
       normals->GetTuple(i, &M.Normals[3 * i]);
+  // The principal curvatures (the osculating bound), where the reader gave them.
+  M.Curvatures.clear();
+  if (vtkDataArray* c = pd->GetArray("PrincipalCurvatures"))
+  {
+    if (c->GetNumberOfComponents() != 2 || c->GetNumberOfTuples() != n)
+      Fail("point array PrincipalCurvatures: 2 components per point expected");
+    M.Curvatures.resize(2 * n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      c->GetTuple(i, &M.Curvatures[2 * i]);
+      if (!std::isfinite(M.Curvatures[2 * i]) || !std::isfinite(M.Curvatures[2 * i + 1]))
+        Fail("point array PrincipalCurvatures: a value that is not finite at point " +
+          std::to_string(i));
+    }
+  }
   if (input->GetNumberOfVerts() + input->GetNumberOfLines() + input->GetNumberOfStrips() > 0)
     Fail("the display mesh has vertices, lines or strips; only triangles are expected");
   // The triangles from the cell array's offsets and connectivity (cell by cell through an id

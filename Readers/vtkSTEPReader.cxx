@@ -99,6 +99,9 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
     M.Points.insert(M.Points.end(), &Mfull.Points[3 * i], &Mfull.Points[3 * i] + 3);
     M.Normals.insert(M.Normals.end(), &Mfull.Normals[3 * i], &Mfull.Normals[3 * i] + 3);
     M.UV.insert(M.UV.end(), &Mfull.UV[2 * i], &Mfull.UV[2 * i] + 2);
+    if (Mfull.Curvatures.size() == 2 * Mfull.NumberOfPoints())
+      M.Curvatures.insert(
+        M.Curvatures.end(), &Mfull.Curvatures[2 * i], &Mfull.Curvatures[2 * i] + 2);
   }
   for (size_t t = 0; t < Mfull.TriangleFace.size(); ++t)
   {
@@ -139,7 +142,7 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
     return array;
   };
   vtkNew<vtkIntArray> faceIds, solidIds;
-  vtkNew<vtkDoubleArray> uv, normals;
+  vtkNew<vtkDoubleArray> uv, normals, curvatures;
   std::vector<int> solid(static_cast<size_t>(n));
   for (vtkIdType i = 0; i < n; ++i)
     solid[i] = m.Faces[M.FaceIds[i]].Solid;
@@ -147,6 +150,9 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
   out->GetPointData()->AddArray(pointArray(solidIds.Get(), "SolidId", 1, solid));
   out->GetPointData()->AddArray(pointArray(uv.Get(), "FaceUV", 2, M.UV));
   out->GetPointData()->SetNormals(pointArray(normals.Get(), "Normals", 3, M.Normals));
+  if (M.Curvatures.size() == 2 * M.NumberOfPoints())
+    out->GetPointData()->AddArray(
+      pointArray(curvatures.Get(), "PrincipalCurvatures", 2, M.Curvatures));
   out->GetPointData()->SetActiveScalars("FaceId");
 
   vtkNew<vtkIntArray> cellFace;

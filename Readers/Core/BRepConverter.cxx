@@ -134,6 +134,24 @@ double Since(Clock::time_point t0)
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+/// The principal curvatures of a surface at a point from its derivatives there, n its unit
+/// outward normal: positive where the surface bends away from n (convex seen from outside,
+/// towards the material), the largest first; zeros where the first fundamental form is
+/// singular. The eigenvalues of the shape operator I^-1 II with II taken along -n.
+std::array<double, 2> PrincipalConvexity(const gp_Vec& du, const gp_Vec& dv, const gp_Vec& duu,
+  const gp_Vec& dvv, const gp_Vec& duv, const gp_Vec& n)
+{
+  const double E = du.Dot(du), F = du.Dot(dv), G = dv.Dot(dv);
+  const double L = -duu.Dot(n), M = -duv.Dot(n), N = -dvv.Dot(n);
+  const double A = E * G - F * F;
+  if (!(A > 1e-24 * std::max(1.0, E * G)) || n.Magnitude() < 0.5)
+    return { 0.0, 0.0 };
+  const double H = 0.5 * (E * N + G * L - 2.0 * F * M) / A, K = (L * N - M * M) / A;
+  const double s = std::sqrt(std::max(0.0, H * H - K));
+  const std::array<double, 2> c{ H + s, H - s };
+  return std::isfinite(c[0]) && std::isfinite(c[1]) ? c : std::array<double, 2>{ 0.0, 0.0 };
+}
+
 // ---------------------------------------------------------------------------------------------
 // Surfaces
 // ---------------------------------------------------------------------------------------------
@@ -1732,6 +1750,7 @@ void AddSharedFaceCopies(BRepModel& m, const std::vector<SharedFaceUse>& uses)
       m.FaceExact.push_back(m.FaceExact[f]);
     const double sign = turned ? -1.0 : 1.0;
     const bool withUV = M.UV.size() == 2 * M.FaceIds.size();
+    const bool withCurvatures = M.Curvatures.size() == 2 * M.FaceIds.size();
     std::map<int, int> renumbered;
     for (const int v : vertices[f])
     {
@@ -1743,6 +1762,14 @@ void AddSharedFaceCopies(BRepModel& m, const std::vector<SharedFaceUse>& uses)
       }
       for (int k = 0; k < 2 && withUV; ++k)
         M.UV.push_back(M.UV[2 * static_cast<size_t>(v) + static_cast<size_t>(k)]);
+      if (withCurvatures)
+      {
+        double c[2] = { M.Curvatures[2 * static_cast<size_t>(v)],
+          M.Curvatures[2 * static_cast<size_t>(v) + 1] };
+        if (turned)
+          TurnCurvatures(c);
+        M.Curvatures.insert(M.Curvatures.end(), { c[0], c[1] });
+      }
       M.FaceIds.push_back(copy);
     }
     for (const int t : triangles[f])
@@ -2673,24 +2700,28 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     for (const gp_Pnt2d& uv : fm.UV)
     {
       gp_Pnt p;
-      gp_Vec du, dv;
-      surface->D1(uv.X(), uv.Y(), p, du, dv);
+      gp_Vec du, dv, duu, dvv, duv;
+      surface->D2(uv.X(), uv.Y(), p, du, dv, duu, dvv, duv);
       gp_Vec n = du.Crossed(dv);
       if (n.Magnitude() < 1e-12 * std::max(1.0, du.Magnitude() * dv.Magnitude()))
       {
-        // Singular point (pole, apex): take the normal a little way into the face.
+        // Singular point (pole, apex): take the normal (and the curvatures) a little way into
+        // the face.
         const auto& d = model.Faces[fi].Domain;
         const double cu = 0.5 * (d[0] + d[1]), cv = 0.5 * (d[2] + d[3]);
         gp_Pnt q;
-        surface->D1(uv.X() + 1e-6 * (cu - uv.X()), uv.Y() + 1e-6 * (cv - uv.Y()), q, du, dv);
+        surface->D2(uv.X() + 1e-6 * (cu - uv.X()), uv.Y() + 1e-6 * (cv - uv.Y()), q, du, dv, duu,
+          dvv, duv);
         n = du.Crossed(dv);
       }
       if (n.Magnitude() > 0.0)
         n.Normalize();
       if (model.Faces[fi].Reversed)
         n.Reverse();
+      const std::array<double, 2> c = PrincipalConvexity(du, dv, duu, dvv, duv, n);
       M.Points.insert(M.Points.end(), { p.X(), p.Y(), p.Z() });
       M.Normals.insert(M.Normals.end(), { n.X(), n.Y(), n.Z() });
+      M.Curvatures.insert(M.Curvatures.end(), { c[0], c[1] });
       M.UV.insert(M.UV.end(), { uv.X(), uv.Y() });
       M.FaceIds.push_back(fi);
     }

@@ -113,11 +113,26 @@ struct DisplayMesh
   std::vector<double> Points;    ///< xyz per vertex
   std::vector<double> Normals;   ///< outward unit normal per vertex
   std::vector<double> UV;        ///< (u,v) on the vertex's face
+  /// The principal curvatures of the face's exact surface at each vertex (1 / model units), two
+  /// per vertex, the largest first, positive where the face bends away from its outward normal
+  /// (convex seen from outside: towards the material). Empty where not known (a mesh built by
+  /// hand, a poly data without the PrincipalCurvatures array): the solver then has no osculating
+  /// bound (docs/Solver.md, "Osculating spheres").
+  std::vector<double> Curvatures;
   std::vector<int> FaceIds;      ///< per vertex
   std::vector<int> Triangles;    ///< 3 vertex ids per triangle, counter-clockwise seen from outside
   std::vector<int> TriangleFace; ///< per triangle
   std::size_t NumberOfPoints() const { return FaceIds.size(); }
 };
+
+/// Principal curvatures (c[0] >= c[1], positive bending away from a normal) as seen from the
+/// other side: the normal reversed.
+inline void TurnCurvatures(double* c)
+{
+  const double largest = c[0];
+  c[0] = -c[1];
+  c[1] = -largest;
+}
 
 struct ConversionStatistics
 {

@@ -95,6 +95,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   Put(out, m.FaceExact);
   Put(out, m.LooseVertices);
   Put(out, m.LooseFaces);
+  Put(out, m.Mesh.Curvatures);
   if (!out.flush())
     throw std::runtime_error("cannot write '" + path + "' (disk full?)");
 }
@@ -158,6 +159,7 @@ BRepModel ReadModel(const std::string& path)
     Get(in, m.FaceExact);
     Get(in, m.LooseVertices);
     Get(in, m.LooseFaces);
+    Get(in, m.Mesh.Curvatures);
     ValidateModel(m);
   }
   catch (const std::runtime_error& e)
@@ -247,6 +249,9 @@ void ValidateModel(const BRepModel& m)
   if (!Finite(mesh.Points.data(), mesh.Points.size()) ||
     !Finite(mesh.Normals.data(), mesh.Normals.size()) || !Finite(mesh.UV.data(), mesh.UV.size()))
     Bad("display mesh: non-finite point, normal or (u,v)");
+  if ((!mesh.Curvatures.empty() && mesh.Curvatures.size() != 2 * nv) ||
+    !Finite(mesh.Curvatures.data(), mesh.Curvatures.size()))
+    Bad("display mesh: curvatures");
   for (int f : mesh.FaceIds)
     if (!Index(f, nf))
       Bad("display mesh: vertex face index");
@@ -509,8 +514,12 @@ std::vector<int> OrientSolids(BRepModel& m, const std::vector<SolidCheck>& check
   DisplayMesh& mesh = m.Mesh;
   for (size_t v = 0; v < mesh.FaceIds.size(); ++v)
     if (flipped(mesh.FaceIds[v]))
+    {
       for (int k = 0; k < 3; ++k)
         mesh.Normals[3 * v + static_cast<size_t>(k)] *= -1.0;
+      if (mesh.Curvatures.size() == 2 * mesh.FaceIds.size())
+        TurnCurvatures(&mesh.Curvatures[2 * v]);
+    }
   for (size_t t = 0; t < mesh.TriangleFace.size(); ++t)
     if (flipped(mesh.TriangleFace[t]))
       std::swap(mesh.Triangles[3 * t + 1], mesh.Triangles[3 * t + 2]);

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "AnalyticShapes.h"
+#include "BRepConverter.h"
+
 #include <TopoDS_Face.hxx>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -34,6 +37,7 @@
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Surface.hxx>
+#include <GeomLProp_SLProps.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -123,6 +127,82 @@ TEST_P(DataModel, PatchesTrimsAndTopology)
   }
   EXPECT_LE(worst, 1e-9);
   EXPECT_LE(worstNormal, 1e-9);
+
+  // Principal curvatures at the vertices against OpenCASCADE's own (GeomLProp_SLProps, along the
+  // surface's normal Su x Sv): the same pair, signed along the outward normal.
+  ASSERT_EQ(M.Curvatures.size(), 2 * M.NumberOfPoints());
+  double worstCurvature = 0.0;
+  int compared = 0;
+  for (size_t i = 0; i < M.NumberOfPoints(); i += 7)
+  {
+    Handle(Geom_Surface) surf = BRep_Tool::Surface(faces[M.FaceIds[i]]);
+    GeomLProp_SLProps props(surf, M.UV[2 * i], M.UV[2 * i + 1], 2, 1e-9);
+    if (!props.IsNormalDefined() || !props.IsCurvatureDefined())
+      continue;
+    const gp_Dir n = props.Normal();
+    const double along = n.X() * M.Normals[3 * i] + n.Y() * M.Normals[3 * i + 1] +
+      n.Z() * M.Normals[3 * i + 2];
+    ASSERT_GT(std::abs(along), 0.99) << "vertex " << i;
+    // Bending away from the outward normal is positive: OpenCASCADE's curvature is positive
+    // bending towards its normal.
+    double a = props.MaxCurvature(), b = props.MinCurvature();
+    if (along > 0.0)
+    {
+      a = -a;
+      b = -b;
+    }
+    const double hi = std::max(a, b), lo = std::min(a, b);
+    const double scale = 1.0 + std::max(std::abs(hi), std::abs(lo));
+    worstCurvature = std::max(worstCurvature,
+      std::max(std::abs(M.Curvatures[2 * i] - hi), std::abs(M.Curvatures[2 * i + 1] - lo)) /
+        scale);
+    ++compared;
+  }
+  EXPECT_GT(compared, 0);
+  EXPECT_LE(worstCurvature, 1e-6);
+}
+
+/// The principal curvatures the reader gives each display-mesh vertex, against closed forms: a
+/// toroidal shell (the outer torus convex along its tube, 1 / R, and around the axis cos v / rho;
+/// the inner one, a hole in the material, concave: both negated) and a spherical shell.
+TEST(DisplayMeshCurvatures, ClosedForms)
+{
+  const double major = 10.0, R = 3.0, r = 2.0;
+  {
+    const BRepModel m = ConvertShape(analytic::ToroidalShell(major, R, r), ConversionOptions());
+    const DisplayMesh& M = m.Mesh;
+    ASSERT_EQ(M.Curvatures.size(), 2 * M.NumberOfPoints());
+    double worst = 0.0;
+    for (size_t i = 0; i < M.NumberOfPoints(); ++i)
+    {
+      const double x = M.Points[3 * i], y = M.Points[3 * i + 1], z = M.Points[3 * i + 2];
+      const double rho = std::hypot(x, y), q = std::hypot(rho - major, z);
+      const bool outer = std::abs(q - R) < std::abs(q - r);
+      const double minor = outer ? R : r, sign = outer ? 1.0 : -1.0;
+      const double k1 = sign / minor, k2 = sign * ((rho - major) / q) / rho;
+      worst = std::max(worst, std::max(std::abs(M.Curvatures[2 * i] - std::max(k1, k2)),
+                                std::abs(M.Curvatures[2 * i + 1] - std::min(k1, k2))));
+    }
+    std::printf("[closed form] toroidal shell: %zu vertices, principal curvatures off by up to "
+                "%.2e\n", M.NumberOfPoints(), worst);
+    EXPECT_LE(worst, 1e-9);
+  }
+  {
+    const BRepModel m = ConvertShape(analytic::SphericalShell(5.0, 4.0), ConversionOptions());
+    const DisplayMesh& M = m.Mesh;
+    ASSERT_EQ(M.Curvatures.size(), 2 * M.NumberOfPoints());
+    double worst = 0.0;
+    for (size_t i = 0; i < M.NumberOfPoints(); ++i)
+    {
+      const double d = std::hypot(M.Points[3 * i], M.Points[3 * i + 1], M.Points[3 * i + 2]);
+      const double k = std::abs(d - 5.0) < std::abs(d - 4.0) ? 1.0 / 5.0 : -1.0 / 4.0;
+      worst = std::max(worst,
+        std::max(std::abs(M.Curvatures[2 * i] - k), std::abs(M.Curvatures[2 * i + 1] - k)));
+    }
+    std::printf("[closed form] spherical shell: %zu vertices, principal curvatures off by up to "
+                "%.2e\n", M.NumberOfPoints(), worst);
+    EXPECT_LE(worst, 1e-7); // (next to the poles, where the first form degenerates)
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Data, DataModel, ::testing::ValuesIn(test::DataModels()),
