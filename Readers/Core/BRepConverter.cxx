@@ -2586,6 +2586,9 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     bool Made = false, Flipped = false;
     std::vector<gp_Pnt2d> UV;
     std::vector<std::array<int, 3>> Tris; ///< the refined mesh's live triangles
+    /// Per vertex, the principal curvatures (PrincipalConvexity), zeros at a singular point; on
+    /// the face's boundary taken just inside it (below).
+    std::vector<std::array<double, 2>> Curvatures;
   };
   const int faceCount = faceMap.Extent();
   std::vector<TopoDS_Face> forwardFaces(static_cast<size_t>(faceCount));
@@ -2668,6 +2671,69 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     for (size_t ti = 0; ti < fm.Tris.size(); ++ti)
       if (fm.Alive[ti])
         out.Tris.push_back(fm.Tris[ti]);
+    // The principal curvatures of each vertex (on every core, on this face's own surface).
+    const bool reversed = model.Faces[static_cast<size_t>(fi)].Reversed;
+    auto convexityAt = [&](double u, double v) {
+      gp_Pnt q;
+      gp_Vec du, dv, duu, dvv, duv;
+      surface->D2(u, v, q, du, dv, duu, dvv, duv);
+      gp_Vec n = du.Crossed(dv);
+      if (!(n.Magnitude() >= 1e-12 * std::max(1.0, du.Magnitude() * dv.Magnitude())))
+        return std::array<double, 2>{ 0.0, 0.0 }; // a singular point (pole, apex): none
+      n.Normalize();
+      if (reversed)
+        n.Reverse();
+      return PrincipalConvexity(du, dv, duu, dvv, duv, n);
+    };
+    // Vertices on the face's boundary (on a triangle edge used once): there the curvatures are
+    // taken just inside the face, 1e-2 of the way to each of the vertex's triangles' centroids
+    // (where the solver moves such a sample, SamplesFromMesh), the smallest largest and the
+    // largest smallest of them. At the boundary itself the surface's second derivatives may be
+    // the next span's, beyond the face (a knot there: Hammond's 1590T's fillet read 7e-4 more
+    // curved on its edge than 0.0014 inside it).
+    std::vector<std::pair<int, int>> edges;
+    edges.reserve(3 * out.Tris.size());
+    for (const auto& t : out.Tris)
+      for (int k = 0; k < 3; ++k)
+        edges.push_back(std::minmax(t[k], t[(k + 1) % 3]));
+    std::sort(edges.begin(), edges.end());
+    std::vector<char> onBoundary(out.UV.size(), 0);
+    for (size_t k = 0; k < edges.size();)
+    {
+      size_t e = k + 1;
+      while (e < edges.size() && edges[e] == edges[k])
+        ++e;
+      if (e - k == 1)
+        onBoundary[static_cast<size_t>(edges[k].first)] =
+          onBoundary[static_cast<size_t>(edges[k].second)] = 1;
+      k = e;
+    }
+    out.Curvatures.assign(out.UV.size(),
+      { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() });
+    for (const auto& t : out.Tris)
+    {
+      double cu = 0.0, cv = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        cu += out.UV[static_cast<size_t>(t[k])].X() / 3.0;
+        cv += out.UV[static_cast<size_t>(t[k])].Y() / 3.0;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const size_t vi = static_cast<size_t>(t[k]);
+        if (!onBoundary[vi])
+          continue;
+        const gp_Pnt2d& uv = out.UV[vi];
+        const std::array<double, 2> inside =
+          convexityAt(uv.X() + 1e-2 * (cu - uv.X()), uv.Y() + 1e-2 * (cv - uv.Y()));
+        auto& c = out.Curvatures[vi];
+        c[0] = std::min(c[0], inside[0]);
+        c[1] = std::max(c[1], inside[1]);
+      }
+    }
+    for (size_t vi = 0; vi < out.UV.size(); ++vi)
+      if (!onBoundary[vi] || !std::isfinite(out.Curvatures[vi][0]))
+        out.Curvatures[vi] = convexityAt(out.UV[vi].X(), out.UV[vi].Y());
     out.Made = true;
   };
   OnEveryCore(faceCount, refineFace,
@@ -2697,28 +2763,27 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
     stats.FlippedFaces += fm.Flipped ? 1 : 0;
     Handle(Geom_Surface) surface = BRep_Tool::Surface(forwardFaces[static_cast<size_t>(fi)]);
     const int base = static_cast<int>(M.FaceIds.size());
-    for (const gp_Pnt2d& uv : fm.UV)
+    for (size_t vi = 0; vi < fm.UV.size(); ++vi)
     {
+      const gp_Pnt2d& uv = fm.UV[vi];
       gp_Pnt p;
-      gp_Vec du, dv, duu, dvv, duv;
-      surface->D2(uv.X(), uv.Y(), p, du, dv, duu, dvv, duv);
+      gp_Vec du, dv;
+      surface->D1(uv.X(), uv.Y(), p, du, dv);
       gp_Vec n = du.Crossed(dv);
       if (n.Magnitude() < 1e-12 * std::max(1.0, du.Magnitude() * dv.Magnitude()))
       {
-        // Singular point (pole, apex): take the normal (and the curvatures) a little way into
-        // the face.
+        // Singular point (pole, apex): take the normal a little way into the face.
         const auto& d = model.Faces[fi].Domain;
         const double cu = 0.5 * (d[0] + d[1]), cv = 0.5 * (d[2] + d[3]);
         gp_Pnt q;
-        surface->D2(uv.X() + 1e-6 * (cu - uv.X()), uv.Y() + 1e-6 * (cv - uv.Y()), q, du, dv, duu,
-          dvv, duv);
+        surface->D1(uv.X() + 1e-6 * (cu - uv.X()), uv.Y() + 1e-6 * (cv - uv.Y()), q, du, dv);
         n = du.Crossed(dv);
       }
       if (n.Magnitude() > 0.0)
         n.Normalize();
       if (model.Faces[fi].Reversed)
         n.Reverse();
-      const std::array<double, 2> c = PrincipalConvexity(du, dv, duu, dvv, duv, n);
+      const std::array<double, 2>& c = fm.Curvatures[vi];
       M.Points.insert(M.Points.end(), { p.X(), p.Y(), p.Z() });
       M.Normals.insert(M.Normals.end(), { n.X(), n.Y(), n.Z() });
       M.Curvatures.insert(M.Curvatures.end(), { c[0], c[1] });

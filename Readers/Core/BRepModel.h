@@ -115,9 +115,11 @@ struct DisplayMesh
   std::vector<double> UV;        ///< (u,v) on the vertex's face
   /// The principal curvatures of the face's exact surface at each vertex (1 / model units), two
   /// per vertex, the largest first, positive where the face bends away from its outward normal
-  /// (convex seen from outside: towards the material). Empty where not known (a mesh built by
-  /// hand, a poly data without the PrincipalCurvatures array): the solver then has no osculating
-  /// bound (docs/Solver.md, "Osculating spheres").
+  /// (convex seen from outside: towards the material); on the face's boundary taken just inside
+  /// it (the smallest largest and the largest smallest of the points 1e-2 of the way to each of
+  /// the vertex's triangles' centroids), zeros at a singular point. Empty where not known (a mesh
+  /// built by hand, a poly data without the PrincipalCurvatures array): the solver then has no
+  /// osculating bound (docs/Solver.md, item 21).
   std::vector<double> Curvatures;
   std::vector<int> FaceIds;      ///< per vertex
   std::vector<int> Triangles;    ///< 3 vertex ids per triangle, counter-clockwise seen from outside
