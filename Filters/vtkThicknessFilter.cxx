@@ -33,6 +33,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -588,6 +589,7 @@ int vtkThicknessFilter::RequestData(
       row("SurfaceSurface", sums[Stats::PerType + 1], "samples");
       row("SurfaceEdge", sums[Stats::PerType + 2], "samples");
       row("SurfaceVertex", sums[Stats::PerType + 3], "samples");
+      row("Osculating", sums[Stats::PerType + 5], "samples");
     }
     if (!gapOnly)
       row("Failed", sums[Stats::PerType + 0], "samples");
@@ -681,10 +683,13 @@ int vtkThicknessFilter::RequestData(
     else
     {
       // The gap with all solids adds the samples on another solid (ContactType::OtherSolid).
-      char other[64] = "";
+      // Osculating spheres (ContactType::Osculating), where there are any.
+      char other[96] = "";
+      if (sums[Stats::PerType + 5] > 0.0)
+        std::snprintf(other, sizeof(other), "%.0f osculating, ", sums[Stats::PerType + 5]);
       if (sums[Stats::PerType + 4] > 0.0)
-        std::snprintf(other, sizeof(other), "%.0f on another solid (gap 0), ",
-          sums[Stats::PerType + 4]);
+        std::snprintf(other + std::strlen(other), sizeof(other) - std::strlen(other),
+          "%.0f on another solid (gap 0), ", sums[Stats::PerType + 4]);
       std::snprintf(counts, sizeof(counts),
         "%.0f samples: %.0f surface/surface, %.0f surface/edge, %.0f surface/vertex, %s%.0f "
         "failed%s",
@@ -887,8 +892,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
     // or a sphere beyond its solid's bounding box), flagged, never a value.
     std::vector<brt::Sample> outward = samples;
     for (brt::Sample& sample : outward)
-      for (double& c : sample.Direction)
-        c = -c;
+      brt::ReverseSample(sample);
     brt::SolverOptions gapOptions = options;
     gapOptions.Exterior = true;
     gapOptions.AllSolids = this->GapScope == ALL_SOLIDS;

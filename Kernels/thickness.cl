@@ -51,6 +51,7 @@ typedef float3 real3;
 #define CONTACT_SURFACE_EDGE 2
 #define CONTACT_SURFACE_VERTEX 3
 #define CONTACT_OTHER_SOLID 4 // the gap with all solids: O lies on or in another solid (gap 0)
+#define CONTACT_OSCULATING 5  // the sphere osculates O's own face at O (osculating_bound)
 #define FAIL_NONE 0
 #define FAIL_NO_OPPOSITE 1
 #define FAIL_NOT_CONVERGED 2
@@ -110,8 +111,8 @@ typedef float3 real3;
 #define EXACT_SPHERE 4
 #define EXACT_TORUS 5
 // Per sample: O as hi (3) + lo (3) parts relative to the model's centre, the inward normal d (3),
-// and (u, v) on its face.
-#define SAMPLE_REALS 11
+// (u, v) on its face, and the largest curvature of its face at O towards d (0: none known).
+#define SAMPLE_REALS 12
 // Per result: t, foot - O (3), residual, the foot's parameters (u, v on the face; T, 0 on the
 // edge).
 #define OUT_REALS 7
@@ -5081,7 +5082,8 @@ BRT_SPLIT int polish_result(const Model* m, int ownFace, real3 Ohi, real3 Olo, r
   real stepTol, real newtonTol, int maxIterations, int maxEdgeIterations, int* iterations,
   Result* r)
 {
-  if (r->type == CONTACT_FAILED || r->type == CONTACT_OTHER_SOLID)
+  if (r->type == CONTACT_FAILED || r->type == CONTACT_OTHER_SOLID ||
+    r->type == CONTACT_OSCULATING)
     return 0;
   const real reported = sphere_radius(d, r->foot, (real)0);
   const real tDelta = sphere_radius(d, r->foot, m->delta);
@@ -5409,7 +5411,8 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
 void write_result(const Result* r, real3 d, int iterations, int exactPass, __global real* oR,
   __global int* oI)
 {
-  oR[0] = r->type != CONTACT_FAILED && r->type != CONTACT_OTHER_SOLID
+  oR[0] = r->type == CONTACT_OSCULATING ? r->t
+    : r->type != CONTACT_FAILED && r->type != CONTACT_OTHER_SOLID
     ? sphere_radius(d, r->foot, (real)0)
     : (real)0;
   oR[1] = r->foot.x;
@@ -5520,6 +5523,95 @@ BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point,
   r->t = t;
 }
 
+// The osculating bound (docs/Solver.md, "Osculating spheres"): no sphere tangent at O lies in
+// the material beyond radius 1 / kappa, kappa the largest curvature of O's own face at O towards
+// d (of the exact surface: the reader's, carried with the sample). Where the solve's sphere is
+// larger than that, or the solve failed at a sphere that touches only next to O (LeftModel,
+// NotMaximal, a Newton that did not converge), the sphere of radius 1 / kappa tangent at O is
+// the maximal one when nothing lies in it deeper than the checks' depth (the verification's and
+// the certification's tests, as self_contact_sphere's): it touches O's own face at O itself to
+// second order (CONTACT_OSCULATING, the foot at O). Where something does, a sphere the solve
+// found larger than the bound fails NotMaximal: it is not the maximal sphere, and the one inside
+// the bound was not found. A sphere the solve found and certified holds the osculating one (both
+// tangent at O, along d), so nothing lies deeper in that one than the checks allowed in its own:
+// the checks run only where the solve failed or certified nothing. Points of O's own face next to
+// O may lie in the osculating sphere less deep than the checks see, a quarter of its radius from
+// O changing eq. 1's radius by 16 times their depth: where the solve's contact was on O's own
+// face, descents of eq. 1 over that face (descend) from the two points that far from O along its
+// more curved parameter take a contact away from O whose radius is smaller by more than the
+// patches' accuracy (on a cylinder's round every point of the arc is such a contact to within
+// it).
+BRT_SPLIT void osculating_bound(const Model* m, __global const real* s1Point,
+  __global const int* s1Face, __global const real* nodeBox, __global const int* nodeInfo,
+  int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d, real scale, real newtonTol,
+  int maxIterations, int maxEdgeIterations, real kappa, int* iterations, Result* r)
+{
+  if (!(kappa > (real)0) || r->type == CONTACT_OTHER_SOLID || r->type == CONTACT_OSCULATING)
+    return;
+  const real t = (real)1 / kappa;
+  if (r->type == CONTACT_FAILED)
+  {
+    if (r->reason != FAIL_LEFT_MODEL && r->reason != FAIL_NOT_MAXIMAL &&
+      r->reason != FAIL_NOT_CONVERGED && r->reason != FAIL_EDGE_NOT_CONVERGED &&
+      r->reason != FAIL_SINGULAR)
+      return;
+    if (!(t < scale))
+      return;
+  }
+  else if (!(sphere_radius(d, r->foot, (real)0) * kappa > (real)1 + (real)1e-5))
+    return;
+  const int ownContact = r->type == CONTACT_SURFACE_SURFACE && r->face == ownFace;
+  const real depth = check_depth(m, scale);
+  real tt;
+  PointInside inside;
+  if ((r->type == CONTACT_FAILED || !(m->mode & MODE_CERTIFY)) &&
+    (verify_s1(m, s1Point, s1Face, nodeBox, nodeInfo, Ohi + Olo, d, scope_solid(m, ownFace),
+       scale, t, depth, &tt) >= 0 ||
+      find_point_inside(m, ownFace, Ohi, Olo, d, t, depth, &inside)))
+  {
+    if (r->type != CONTACT_FAILED)
+    {
+      r->type = CONTACT_FAILED;
+      r->reason = FAIL_NOT_MAXIMAL;
+    }
+    return;
+  }
+  const int patch = find_patch(m, ownFace, ownUV.x, ownUV.y);
+  *r = no_result();
+  r->type = CONTACT_OSCULATING;
+  r->face = ownFace;
+  r->patch = patch;
+  r->param = ownUV;
+  r->foot = make_real3((real)0, (real)0, (real)0);
+  r->t = t;
+  if (!ownContact)
+    return;
+  const PatchEval e = eval_patch(m, patch, ownUV.x, ownUV.y);
+  const real lu = length(e.Du), lv = length(e.Dv);
+  if (!(lu > (real)0) || !(lv > (real)0))
+    return;
+  // The more curved parameter: the larger |S_uu . d| / |S_u|^2 (the patches' curvature is off
+  // by percents, its direction is not).
+  const int alongU = fabs(dot(e.Duu, d)) * lv * lv >= fabs(dot(e.Dvv, d)) * lu * lu;
+  real best = t - m->slack;
+  for (int k = 0; k < 2; ++k)
+  {
+    const real step = (real)0.25 * t * (k ? (real)-1 : (real)1);
+    const real u = ownUV.x + (alongU ? step / lu : (real)0);
+    const real v = ownUV.y + (alongU ? (real)0 : step / lv);
+    const Result c = descend(m, ownFace, ownFace, Ohi, Olo, d, u, v, scale, newtonTol,
+      maxIterations, maxEdgeIterations, iterations);
+    if (c.type == CONTACT_FAILED)
+      continue;
+    const real tc = sphere_radius(d, c.foot, (real)0);
+    if (tc < best)
+    {
+      best = tc;
+      *r = c;
+    }
+  }
+}
+
 // An empty memo, for a chain's start (solve_chain).
 inline void memo_clear(ChainMemo* memo)
 {
@@ -5626,6 +5718,8 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   }
   exact_finish(&mm, ownFace, Ohi, Olo, d, stepTol, &r);
   reject_contact_from_outside(&mm, ownFace, Ohi, Olo, d, scale, &r);
+  osculating_bound(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, ownUV, Ohi, Olo, d, scale,
+    newtonTol, maxIterations, maxEdgeIterations, sp[11], &iterations, &r);
   flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
   write_result(&r, d, iterations, exactPass, oR, oI);
   // The next sample of the chain starts from this one's contact across: its point on the face,
@@ -5765,7 +5859,18 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
   r.param = make_real2(fR[5], fR[6]);
   r.t = sphere_radius(d, r.foot, mm.delta);
   int iterations = fI[5], again = r.type == CONTACT_FAILED;
-  if (!again && r.type != CONTACT_OTHER_SOLID)
+  if (r.type == CONTACT_OSCULATING)
+  {
+    // The float solve's osculating sphere, checked again in double at its double radius.
+    Result c = no_result();
+    c.type = CONTACT_FAILED;
+    c.reason = FAIL_NOT_MAXIMAL;
+    osculating_bound(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, make_real2(sp[9], sp[10]),
+      Ohi, Olo, d, scale, newtonTol, maxIterations, maxEdgeIterations, sp[11], &iterations, &c);
+    r = c;
+    again = r.type == CONTACT_FAILED;
+  }
+  else if (!again && r.type != CONTACT_OTHER_SOLID)
   {
     polish_result(&mm, ownFace, Ohi, Olo, d, scale, stepTol, newtonTol, maxIterations,
       maxEdgeIterations, &iterations, &r);

@@ -56,6 +56,8 @@
 #include <BRepBndLib.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
+#include <GeomLProp_SLProps.hxx>
+#include <Geom_Surface.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <Bnd_Box.hxx>
 #include <TopExp_Explorer.hxx>
@@ -257,8 +259,7 @@ int main(int argc, char** argv)
     std::vector<brt::Sample> all = brt::SamplesFromMesh(m, data);
     if (gap)
       for (brt::Sample& s : all)
-        for (double& c : s.Direction)
-          c = -c; // the outward normal
+        brt::ReverseSample(s); // the outward normal
     std::mt19937 rng(seed);
     std::vector<size_t> pick(all.size());
     for (size_t i = 0; i < pick.size(); ++i)
@@ -802,7 +803,8 @@ int main(int argc, char** argv)
       size_t checked = 0, agree = 0;
       std::vector<std::pair<double, size_t>> diffs;
       std::vector<double> clearanceValue(samples.size(), 0.0); // before the shrinking ball
-      size_t agreeClearance = 0, agreeStrict = 0, missEdgeZone = 0;
+      std::vector<double> strictValue(samples.size(), 0.0);    // after it
+      size_t agreeClearance = 0, agreeStrict = 0, missEdgeZone = 0, osculatingStrict = 0;
       for (size_t k = 0; k < samples.size() && checked < exactCount; ++k)
       {
         const brt::SampleResult& r = res[k];
@@ -857,6 +859,26 @@ int main(int argc, char** argv)
           if (settled)
             break;
         }
+        // The shrinking ball leaves out the points next to O's tangent plane, so it cannot see O's
+        // own face bound the sphere by its curvature at O: no sphere tangent at O is in the
+        // material beyond the radius 1 / kappa, kappa the face's largest curvature at O towards
+        // d (OpenCASCADE's GeomLProp_SLProps on the face's exact surface at the sample's (u, v)).
+        {
+          Handle(Geom_Surface) S = BRep_Tool::Surface(faces[static_cast<size_t>(samples[k].Face)]);
+          GeomLProp_SLProps props(S, samples[k].U, samples[k].V, 2, 1e-9);
+          if (props.IsNormalDefined() && props.IsCurvatureDefined())
+          {
+            const gp_Dir n = props.Normal();
+            const double along = n.X() * samples[k].Direction[0] +
+              n.Y() * samples[k].Direction[1] + n.Z() * samples[k].Direction[2];
+            const double kappa = along > 0.0 ? props.MaxCurvature() : -props.MinCurvature();
+            if (kappa > 0.0 && 2.0 / kappa < exact)
+            {
+              exact = 2.0 / kappa;
+              ++osculatingStrict;
+            }
+          }
+        }
         // Two definitions, each a value of its own: the clearance's sphere (the solver's
         // definition, docs/Solver.md step 0) and the strict maximal sphere after the shrinking
         // ball (what the exact finish reports on analytic faces). They differ by up to
@@ -871,6 +893,7 @@ int main(int argc, char** argv)
             samples[k].Point[2], brt::FailReasonName(r.Reason), exact, clearanceValue[k]);
           continue;
         }
+        strictValue[k] = exact;
         const double relC = std::fabs(r.Thickness - clearanceValue[k]) / std::max(clearanceValue[k], 1e-12);
         const double relS = std::fabs(r.Thickness - exact) / std::max(exact, 1e-12);
         ++checked;
@@ -887,17 +910,18 @@ int main(int argc, char** argv)
       std::sort(diffs.begin(), diffs.end(),
         [](const auto& x, const auto& y) { return std::fabs(x.first) > std::fabs(y.first); });
       std::printf("    exact thickness on %zu solved samples: %zu within 1e-4 relative (%.1f%%) of "
-                  "the clearance's or the strict sphere (%zu and %zu of each); of the others, %zu "
-                  "in edge zones\n",
+                  "the clearance's or the strict sphere (%zu and %zu of each; the strict one "
+                  "bounded by O's own face's curvature at O on %zu); of the others, %zu in edge "
+                  "zones\n",
         checked, agree, 100.0 * agree / std::max<size_t>(checked, 1), agreeClearance, agreeStrict,
-        missEdgeZone);
+        osculatingStrict, missEdgeZone);
       for (size_t w = 0; w < diffs.size() && static_cast<int>(w) < list; ++w)
       {
         const size_t k = diffs[w].second;
         std::printf("    sample %zu (face %d): ours 2t = %.6g, exact %.6g (%s; clearance's "
-                    "sphere %.6g%s)\n",
+                    "sphere %.6g, strict %.6g%s)\n",
           pick[k], samples[k].Face, res[k].Thickness, res[k].Thickness - diffs[w].first,
-          brt::ContactTypeName(res[k].Type), clearanceValue[k],
+          brt::ContactTypeName(res[k].Type), clearanceValue[k], strictValue[k],
           brt::IsEdgeZone(samples[k].Point.data(), res[k]) ? "; edge zone" : "");
       }
     }

@@ -318,8 +318,9 @@ def main(argv=None):
     elif args.gap_only:
         pass
     else:
-        print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% failed"
-              % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"), share("Failed")))
+        print("  contacts: %.1f%% surface/surface, %.1f%% surface/edge, %.1f%% surface/vertex, %.2f%% osculating, "
+              "%.2f%% failed" % (share("SurfaceSurface"), share("SurfaceEdge"), share("SurfaceVertex"),
+                                 share("Osculating") if "Osculating" in stats else 0.0, share("Failed")))
     failed = [(k[len("Failed"):], int(v)) for k, v in stats.items() if k.startswith("Failed") and k != "Failed" and v]
     if failed:
         print("  failed: " + ", ".join("%s %d" % kv for kv in failed))

@@ -895,6 +895,7 @@ void PackSample(const SolverData& data, const Sample& s, T* out)
   }
   out[9] = static_cast<T>(s.U);
   out[10] = static_cast<T>(s.V);
+  out[11] = static_cast<T>(s.Curvature[0]);
 }
 
 template <class T>

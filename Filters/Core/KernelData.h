@@ -13,8 +13,9 @@
 namespace brt
 {
 
-/// Reals per sample (SAMPLE_REALS in thickness.cl): O as hi + lo parts, the inward normal, (u, v).
-constexpr size_t KernelSampleReals = 11;
+/// Reals per sample (SAMPLE_REALS in thickness.cl): O as hi + lo parts, the inward normal, (u, v),
+/// and the largest curvature of the face at O towards the normal (Sample::Curvature[0]).
+constexpr size_t KernelSampleReals = 12;
 /// Reals per result (OUT_REALS): t, foot - O (3), residual, the foot's parameters.
 constexpr size_t KernelOutReals = 7;
 /// Ints per result (OUT_INTS): type, reason, face, patch, edge, iterations, exact pass.

@@ -281,10 +281,25 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
   const kernel::real3 Ohi = f.Ohi, Olo = f.Olo, d = f.d;
   kernel::Result k = ToKernel(sample, r, s.Clearance);
   int iterations = 0;
-  kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
-    s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
-  kernel::exact_finish(&view, sample.Face, Ohi, Olo, d, s.StepTol, &k);
-  kernel::reject_contact_from_outside(&view, sample.Face, Ohi, Olo, d, s.Scale, &k);
+  if (r.Type == ContactType::Osculating)
+  {
+    // An osculating sphere has no contact to polish: it is checked again in double, at its
+    // double radius, as the device's finish does (brt_finish).
+    const KernelModel<double>& K = P->K;
+    k = kernel::no_result();
+    k.type = static_cast<int>(ContactType::Failed);
+    k.reason = static_cast<int>(FailReason::NotMaximal);
+    kernel::osculating_bound(&view, K.S1Point.data(), K.S1Face.data(), K.NodeBox.data(),
+      K.NodeInfo.data(), sample.Face, kernel::real2{ sample.U, sample.V }, Ohi, Olo, d, s.Scale,
+      s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, sample.Curvature[0], &iterations, &k);
+  }
+  else
+  {
+    kernel::polish_result(&view, sample.Face, Ohi, Olo, d, s.Scale, s.StepTol, s.NewtonTol,
+      s.MaxIterations, s.MaxEdgeIterations, &iterations, &k);
+    kernel::exact_finish(&view, sample.Face, Ohi, Olo, d, s.StepTol, &k);
+    kernel::reject_contact_from_outside(&view, sample.Face, Ohi, Olo, d, s.Scale, &k);
+  }
   // Back through the kernel's own output layout, so that one function reads results; a contact
   // the polish kept gets its radius from its foot in double, as brt_finish gives it.
   double outR[KernelOutReals];

@@ -25,6 +25,7 @@ const char* ContactTypeName(ContactType type)
     case ContactType::SurfaceEdge: return "surface/edge";
     case ContactType::SurfaceVertex: return "surface/vertex";
     case ContactType::OtherSolid: return "on or in another solid";
+    case ContactType::Osculating: return "osculating";
     case ContactType::Failed: break;
   }
   return "failed";
@@ -1245,7 +1246,8 @@ std::vector<size_t> SpatialOrder(const std::vector<Sample>& samples, const std::
 std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& data)
 {
   const DisplayMesh& M = model.Mesh;
-  std::vector<Sample> out(M.NumberOfPoints());
+  const size_t nPoints = M.NumberOfPoints();
+  std::vector<Sample> out(nPoints);
   for (size_t i = 0; i < out.size(); ++i)
   {
     out[i].Face = M.FaceIds[i];
@@ -1253,6 +1255,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     out[i].V = M.UV[2 * i + 1];
     out[i].Point = { M.Points[3 * i], M.Points[3 * i + 1], M.Points[3 * i + 2] };
     out[i].Direction = { -M.Normals[3 * i], -M.Normals[3 * i + 1], -M.Normals[3 * i + 2] };
+    if (M.Curvatures.size() == 2 * nPoints)
+      out[i].Curvature = { M.Curvatures[2 * i], M.Curvatures[2 * i + 1] };
   }
   // Vertices on a face's boundary: at a convex edge the sphere tangent there has radius 0 and
   // Newton would chase t -> 0. Move them 1e-2 of the way to an adjacent triangle's centroid
@@ -1355,6 +1359,8 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
       s.U = u0;
       s.V = v0;
     }
+    // (The sample keeps its vertex's curvatures: on a face's boundary the reader takes them
+    // where such a sample moves, just inside the face, the smallest largest of them.)
     const PatchEval e =
       EvaluatePatch(model.Patches[FindPatchFast(model, data, s.Face, s.U, s.V)], s.U, s.V);
     Vec3 n{ e.Du[1] * e.Dv[2] - e.Du[2] * e.Dv[1], e.Du[2] * e.Dv[0] - e.Du[0] * e.Dv[2],

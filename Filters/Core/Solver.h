@@ -24,7 +24,23 @@ struct Sample
   double U = 0.0, V = 0.0;
   std::array<double, 3> Point{};
   std::array<double, 3> Direction{}; ///< inward unit normal (into the material)
+  /// The principal curvatures of the face's exact surface at O, the largest first, positive
+  /// where the face bends towards Direction (towards the sphere's centre); zeros where not known.
+  /// No sphere tangent at O is inside the material beyond radius 1 / Curvature[0]: the solver
+  /// bounds it there (the osculating sphere, docs/Solver.md).
+  std::array<double, 2> Curvature{};
 };
+
+/// The sample seen from the other side of its face: Direction and Curvature reversed (the
+/// exterior gap's samples).
+inline void ReverseSample(Sample& s)
+{
+  for (double& c : s.Direction)
+    c = -c;
+  const double largest = s.Curvature[0];
+  s.Curvature[0] = -s.Curvature[1];
+  s.Curvature[1] = -largest;
+}
 
 enum class ContactType : int
 {
@@ -35,7 +51,12 @@ enum class ContactType : int
   /// The gap with all solids (SolverOptions::Exterior and AllSolids) only: O lies on or inside
   /// another solid, which touches or overlaps its own there. The gap is 0 (radius 0, the centre
   /// and the foot at O); OppositeFace is the other solid's face that the test's rays left it by.
-  OtherSolid = 4
+  OtherSolid = 4,
+  /// The sphere osculates O's own face at O: the face's largest curvature there towards the
+  /// material (Sample::Curvature) bounds it, radius 1 / curvature, and nothing else does (the
+  /// tip of a rounded wall end more curved than the wall is thick: a medial-axis end). The foot
+  /// is O itself; OppositeFace is O's face.
+  Osculating = 5
 };
 const char* ContactTypeName(ContactType type);
 

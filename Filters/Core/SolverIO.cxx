@@ -3,6 +3,7 @@
 #include "BinaryIO.h"
 #include "ModelIO.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -17,6 +18,17 @@ constexpr std::uint64_t Magic = 0x32564C4F53545242ull; // "BRTSOLV2": S1Point::O
 constexpr std::uint64_t MagicV1 = 0x31564C4F53545242ull; // "BRTSOLV1": no edge points
 // Version 1 files stay readable because OnEdge took the padding after Face.
 static_assert(sizeof(S1Point) == 48, "S1Point layout changed: bump the solve file version");
+
+/// A sample as the files store it (Sample before its Curvature, which follows the rest of a
+/// file: files written before it stay readable).
+struct SampleRecord
+{
+  int Face = -1;
+  double U = 0.0, V = 0.0;
+  std::array<double, 3> Point{};
+  std::array<double, 3> Direction{};
+};
+static_assert(sizeof(SampleRecord) == 72, "SampleRecord layout changed: bump the solve file version");
 
 using binary::Get;
 using binary::Put;
@@ -47,11 +59,25 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
   Put(out, d.Nodes);
   Put(out, d.Breaks);
   Put(out, d.FaceBreaks);
-  Put(out, samples);
+  std::vector<SampleRecord> records(samples.size());
+  std::vector<std::array<double, 2>> curvatures(samples.size());
+  if (!records.empty())
+    std::memset(static_cast<void*>(records.data()), 0, records.size() * sizeof(SampleRecord));
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    records[i].Face = samples[i].Face;
+    records[i].U = samples[i].U;
+    records[i].V = samples[i].V;
+    records[i].Point = samples[i].Point;
+    records[i].Direction = samples[i].Direction;
+    curvatures[i] = samples[i].Curvature;
+  }
+  Put(out, records);
   const std::vector<double> scalars{ d.Scale, d.Centre[0], d.Centre[1], d.Centre[2], d.S1Spacing,
     m.Tolerance };
   Put(out, scalars);
   Put(out, m.FaceExact); // after everything else: older files end before it
+  Put(out, curvatures);  // and then the samples' curvatures: older files end before them
 }
 
 void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector<Sample>& samples)
@@ -71,7 +97,17 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     Get(in, d.Nodes);
     Get(in, d.Breaks);
     Get(in, d.FaceBreaks);
-    Get(in, samples);
+    std::vector<SampleRecord> records;
+    Get(in, records);
+    samples.assign(records.size(), Sample());
+    for (size_t i = 0; i < records.size(); ++i)
+    {
+      samples[i].Face = records[i].Face;
+      samples[i].U = records[i].U;
+      samples[i].V = records[i].V;
+      samples[i].Point = records[i].Point;
+      samples[i].Direction = records[i].Direction;
+    }
     std::vector<double> scalars;
     Get(in, scalars);
     if (scalars.size() < 4 || scalars.size() > 6)
@@ -93,6 +129,20 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
         finite = finite && std::isfinite(x);
     if (!finite)
       throw std::runtime_error("corrupt solve file (exact surfaces)");
+    // Files written before the samples' curvatures were kept end here: no osculating bound.
+    if (in.peek() != std::char_traits<char>::eof())
+    {
+      std::vector<std::array<double, 2>> curvatures;
+      Get(in, curvatures);
+      if (curvatures.size() != samples.size())
+        throw std::runtime_error("corrupt solve file (curvatures)");
+      for (size_t i = 0; i < samples.size(); ++i)
+      {
+        if (!std::isfinite(curvatures[i][0]) || !std::isfinite(curvatures[i][1]))
+          throw std::runtime_error("corrupt solve file (curvatures)");
+        samples[i].Curvature = curvatures[i];
+      }
+    }
   }
   catch (const std::runtime_error& e)
   {

@@ -29,6 +29,8 @@ double ContactAngle(const double O[3], const SampleResult& r)
 {
   if (r.Type == ContactType::Failed)
     return std::numeric_limits<double>::quiet_NaN();
+  if (r.Type == ContactType::Osculating)
+    return 0.0; // the sphere touches at O itself
   double a[3], b[3], aa = 0.0, bb = 0.0, ab = 0.0;
   for (int k = 0; k < 3; ++k)
   {

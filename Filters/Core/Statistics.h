@@ -29,7 +29,8 @@ constexpr double DefaultEdgeZoneAngle = 60.0;
 
 /// The angle (degrees, 0..180) at the sphere's centre M between the sample point O and the
 /// contact point P of a solved result: 180 where the sphere spans a wall (P opposite O), 180 - a
-/// at a corner of material angle a (90 at a right-angled convex edge). NaN for a failed sample.
+/// at a corner of material angle a (90 at a right-angled convex edge); 0 for an osculating sphere,
+/// which touches at O itself (the end of a rounded wall: an edge zone). NaN for a failed sample.
 double ContactAngle(const double O[3], const SampleResult& r);
 
 /// Edge zone (docs/Solver.md, "Edge zones"): a solved sample whose sphere is bounded by boundary
@@ -49,7 +50,7 @@ std::vector<double> VertexAreas(const std::vector<double>& points, const std::ve
 
 struct ThicknessStatistics
 {
-  static constexpr int ContactTypes = 5; ///< brt::ContactType values 0..4
+  static constexpr int ContactTypes = 6; ///< brt::ContactType values 0..5
   static constexpr int FailReasons = 13; ///< brt::FailReason values 0..12
   /// log10 |R| histogram: ResidualBins bins over [ResidualLow, ResidualHigh]; residuals outside
   /// (and 0) go to the end bins.

@@ -39,8 +39,7 @@ GapRun SolveGap(const TopoDS_Shape& shape, bool allSolids, OpenCLSolver* cl = nu
   g.Data = PrepareSolver(g.Model, options);
   g.Samples = SamplesFromMesh(g.Model, g.Data);
   for (Sample& s : g.Samples)
-    for (double& c : s.Direction)
-      c = -c;
+    ReverseSample(s);
   if (cl)
   {
     cl->Upload(g.Model, g.Data);

@@ -149,7 +149,8 @@ size_t AtTheSample(const BRepModel& m, const SolverData& data, const std::vector
   size_t bad = 0;
   for (size_t i = 0; i < res.size(); ++i)
   {
-    if (res[i].Type == ContactType::Failed)
+    // (An osculating sphere touches O's own face at O by definition.)
+    if (res[i].Type == ContactType::Failed || res[i].Type == ContactType::Osculating)
       continue;
     double d2 = 0.0;
     for (int k = 0; k < 3; ++k)

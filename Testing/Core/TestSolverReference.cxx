@@ -635,11 +635,14 @@ TEST(SolverReference, OwnFaceDipNextToO)
 
 /// A plate h thick whose end is a half-ellipse (EllipticEndPlate), samples on the end: the sphere
 /// tangent there is bounded by the end itself, the round's own curvature, and touches it along an
-/// arc or at two points of the profile. A free-form round whose own face bounds the sphere held
-/// a sample of a real part failed (Annex Engineering's microswitch dock, its rational B-spline
-/// round of radius about 1: NotMaximal; docs/Solver.md, Open items, "A free-form tube's own face
-/// across"). The answer: eq. 1 over the profile (the ellipse and the flats, dense), an
-/// independent 2D computation.
+/// arc or at two points of the profile, or osculates it at O (at the tip where b > 1, next to the
+/// flats where b < 1). A free-form round whose own face bounds the sphere held a sample of a real
+/// part failed (Annex Engineering's microswitch dock, its rational B-spline round of radius about
+/// 1: NotMaximal; docs/Solver.md, Open items, "A free-form tube's own face across"). The answer:
+/// eq. 1 over the profile (the ellipse and the flats, dense), an independent 2D computation, which
+/// near O gives the osculating radius. Asked twice: at points of the ellipse with the end's
+/// curvature in closed form (the kernel's bound), and at the display mesh's own samples with the
+/// reader's curvature (the whole chain).
 TEST(SolverReference, FreeFormRoundBoundsTheSphere)
 {
   const double L = 8, h = 2, W = 12;
@@ -671,6 +674,17 @@ TEST(SolverReference, FreeFormRoundBoundsTheSphere)
       profile.push_back({ x, 0.0 });
       profile.push_back({ x, h });
     }
+    // Eq. 1 over the profile from (x0, z0) along (nx, nz), points within 1e-3 of O left out.
+    auto eq1 = [&](double x0, double z0, double nx, double nz) {
+      double best = 1e300;
+      for (const auto& P : profile)
+      {
+        const double wx = P[0] - x0, wz = P[1] - z0, e = wx * nx + wz * nz;
+        if (std::hypot(wx, wz) > 1e-3 && e > 0.0)
+          best = std::min(best, 0.5 * (wx * wx + wz * wz) / e);
+      }
+      return 2.0 * best;
+    };
     std::vector<Sample> samples;
     std::vector<double> expected;
     for (int i = 1; i < 96; ++i)
@@ -681,48 +695,69 @@ TEST(SolverReference, FreeFormRoundBoundsTheSphere)
       const double ln = std::hypot(nx, nz);
       nx /= ln;
       nz /= ln;
-      // Eq. 1 over the profile, points within 1e-3 of O left out.
-      double best = 1e300;
-      for (const auto& P : profile)
-      {
-        const double wx = P[0] - x0, wz = P[1] - z0, e = wx * nx + wz * nz;
-        if (std::hypot(wx, wz) > 1e-3 && e > 0.0)
-          best = std::min(best, 0.5 * (wx * wx + wz * wz) / e);
-      }
       Sample o;
       o.Face = end;
       o.Point = { x0, 0.5 * W, z0 };
       o.Direction = { nx, 0.0, nz };
+      // The end's curvature at O: the ellipse's, towards the material; none along the width.
+      const double sp = b * std::sin(phi), cp = a * std::cos(phi);
+      o.Curvature = { a * b / std::pow(sp * sp + cp * cp, 1.5), 0.0 };
       // O's (u, v) on the end (O lies on the ellipse, the patches within the tolerance of it).
       ASSERT_LT(test::FaceParameters(model, end, o.Point, &o.U, &o.V), ConversionOptions().Tolerance);
       samples.push_back(o);
-      expected.push_back(2.0 * best);
+      expected.push_back(eq1(x0, z0, nx, nz));
     }
+    const size_t asked = samples.size();
+    // The display mesh's samples on the end, away from its edges with the flats (where the
+    // sphere is an edge zone's) and from the plate's sides: as the filter takes them.
+    for (const Sample& s : SamplesFromMesh(model, data))
+    {
+      const double x0 = s.Point[0], z0 = s.Point[2];
+      if (s.Face != end || x0 < 0.02 || s.Point[1] < 1.5 || s.Point[1] > W - 1.5)
+        continue;
+      // The reader's curvature against the ellipse's at the nearest angle.
+      const double phi = std::atan2((z0 - a) / a, x0 / b);
+      const double sp = b * std::sin(phi), cp = a * std::cos(phi);
+      EXPECT_NEAR(s.Curvature[0], a * b / std::pow(sp * sp + cp * cp, 1.5), 1e-3) << "b " << b;
+      EXPECT_NEAR(s.Curvature[1], 0.0, 1e-6) << "b " << b;
+      samples.push_back(s);
+      expected.push_back(eq1(x0, z0, s.Direction[0], s.Direction[2]));
+    }
+    ASSERT_GT(samples.size(), asked + 20) << "b " << b;
     std::vector<SampleResult> results;
     SolveReference(model, data, SolverOptions(), samples, results);
-    int failed = 0;
-    double over = 0.0, under = 0.0;
-    for (size_t i = 0; i < samples.size(); ++i)
+    for (int pass = 0; pass < 2; ++pass)
     {
-      if (results[i].Type == ContactType::Failed)
+      const size_t first = pass == 0 ? 0 : asked, last = pass == 0 ? asked : samples.size();
+      int failed = 0, osculating = 0;
+      double over = 0.0, under = 0.0;
+      for (size_t i = first; i < last; ++i)
       {
-        ++failed;
-        continue;
+        if (results[i].Type == ContactType::Failed)
+        {
+          ++failed;
+          continue;
+        }
+        osculating += results[i].Type == ContactType::Osculating;
+        const double rel = results[i].Thickness / expected[i] - 1.0;
+        over = std::max(over, rel);
+        under = std::max(under, -rel);
       }
-      const double rel = results[i].Thickness / expected[i] - 1.0;
-      over = std::max(over, rel);
-      under = std::max(under, -rel);
+      std::printf("[closed form] plate end a half-ellipse, semi-axes %.3f and %.1f: %zu samples "
+                  "on the end (%s), failed %d, osculating %d, 2t over eq. 1 over the profile by "
+                  "up to %.2e, under by up to %.2e\n",
+        b, a, last - first, pass == 0 ? "points of the ellipse" : "the display mesh's", failed,
+        osculating, over, under);
+      EXPECT_EQ(failed, 0) << "b " << b << " pass " << pass;
+      EXPECT_GT(osculating, 0) << "b " << b << " pass " << pass;
+      // Never smaller than the maximal sphere beyond the patches' accuracy. Larger by what the
+      // clearance lets through: a point of the end less deep in the sphere than the clearance
+      // (2e-4) at a small angle from O round the centre changes the radius by many times its
+      // depth (up to 1.3e-3 measured; 9.5e-3 with the osculating spheres fixed only to the
+      // certification's depth, before the bound: docs/Solver.md, "Osculating spheres").
+      EXPECT_LE(under, 2e-4) << "b " << b << " pass " << pass;
+      EXPECT_LE(over, 1.6e-3) << "b " << b << " pass " << pass;
     }
-    std::printf("[closed form] plate end a half-ellipse, semi-axes %.3f and %.1f: %zu samples on "
-                "the end, failed %d, 2t over eq. 1 over the profile by up to %.2e, under by up to "
-                "%.2e\n",
-      b, a, samples.size(), failed, over, under);
-    EXPECT_EQ(failed, 0) << "b " << b;
-    // Never smaller than the maximal sphere beyond the patches' accuracy; larger where the end's
-    // own curvature at O bounds the sphere (an osculating sphere, fixed to the certification's
-    // depth only: docs/Solver.md, Open items).
-    EXPECT_LE(under, 2e-4) << "b " << b;
-    EXPECT_LE(over, 1.2e-2) << "b " << b;
   }
 }
 
@@ -2054,8 +2089,7 @@ TEST(NativeDevice, WideBuildSameBitsAsBaseline)
       std::vector<Sample> asked = samples;
       if (exterior)
         for (Sample& sample : asked)
-          for (double& c : sample.Direction)
-            c = -c;
+          ReverseSample(sample);
       std::vector<SampleResult> a, b;
       wide.Solve(options, asked, a);
       baseline.Solve(options, asked, b);

@@ -87,13 +87,13 @@ def check_consistency(model, mesh, medial, residuals, summary, tables):
     pd = mesh.PointData
     for name in ("Thickness", "Radius", "SphereCenter", "FootPoint", "ContactType", "FailReason",
                  "Residual", "Iterations", "OppositeFaceId", "FaceId", "FaceUV", "Normals",
-                 "ContactAngle", "EdgeZone", "ThicknessClass", "SolidId"):
+                 "ContactAngle", "EdgeZone", "ThicknessClass", "SolidId", "PrincipalCurvatures"):
         check(name in pd.keys(), "%s: point array %s missing" % (model, name))
     T, ct, reason = pd["Thickness"], pd["ContactType"], pd["FailReason"]
     n = mesh.GetNumberOfPoints()
     solved = ct > 0
     check(n > 0, "%s: no samples" % model)
-    check(np.all((ct >= 0) & (ct <= 3)), "%s: ContactType out of 0..3" % model)
+    check(np.all(((ct >= 0) & (ct <= 3)) | (ct == 5)), "%s: ContactType out of 0..3, 5" % model)
     check(np.all(np.isfinite(T[solved])) and np.all(T[solved] > 0), "%s: solved thickness not finite/positive" % model)
     check(np.all(np.isnan(T[~solved])), "%s: failed samples must have Thickness NaN" % model)
     check(np.all(reason[~solved] > 0) and np.all(reason[solved] == 0), "%s: FailReason inconsistent" % model)
@@ -110,8 +110,18 @@ def check_consistency(model, mesh, medial, residuals, summary, tables):
     # Summary, recomputed from the arrays.
     s = table_rows(summary)
     check(int(s["Samples"]) == n, "%s: Summary Samples" % model)
-    for k, name in ((0, "Failed"), (1, "SurfaceSurface"), (2, "SurfaceEdge"), (3, "SurfaceVertex")):
+    for k, name in ((0, "Failed"), (1, "SurfaceSurface"), (2, "SurfaceEdge"), (3, "SurfaceVertex"),
+                    (5, "Osculating")):
         check(int(s[name]) == int((ct == k).sum()), "%s: Summary %s" % (model, name))
+    # An osculating sphere: its foot at the sample, its radius the reciprocal of the largest
+    # principal curvature there (the reader's), an edge zone (contact angle 0).
+    osc = ct == 5
+    if osc.any():
+        k1 = pd["PrincipalCurvatures"][:, 0]
+        check(np.allclose(pd["Radius"][osc] * k1[osc], 1.0, rtol=1e-9, atol=0),
+              "%s: osculating radius is not 1 / curvature" % model)
+        check(np.all(pd["ContactAngle"][osc] == 0) and np.all(pd["EdgeZone"][osc] == 1),
+              "%s: osculating foot is not the sample (contact angle 0, an edge zone)" % model)
     if solved.any():
         check(s["ThicknessMin"] == T[solved].min() and s["ThicknessMax"] == T[solved].max(),
               "%s: Summary min/max" % model)
