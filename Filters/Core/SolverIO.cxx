@@ -30,6 +30,17 @@ struct SampleRecord
 };
 static_assert(sizeof(SampleRecord) == 72, "SampleRecord layout changed: bump the solve file version");
 
+/// The fields a Sample and a SampleRecord share, from one to the other.
+template <class From, class To>
+void CopySampleFields(const From& from, To& to)
+{
+  to.Face = from.Face;
+  to.U = from.U;
+  to.V = from.V;
+  to.Point = from.Point;
+  to.Direction = from.Direction;
+}
+
 using binary::Get;
 using binary::Put;
 } // namespace
@@ -65,11 +76,7 @@ void WriteSolve(const std::string& path, const BRepModel& m, const SolverData& d
     std::memset(static_cast<void*>(records.data()), 0, records.size() * sizeof(SampleRecord));
   for (size_t i = 0; i < samples.size(); ++i)
   {
-    records[i].Face = samples[i].Face;
-    records[i].U = samples[i].U;
-    records[i].V = samples[i].V;
-    records[i].Point = samples[i].Point;
-    records[i].Direction = samples[i].Direction;
+    CopySampleFields(samples[i], records[i]);
     curvatures[i] = samples[i].Curvature;
   }
   Put(out, records);
@@ -101,13 +108,7 @@ void ReadSolve(const std::string& path, BRepModel& m, SolverData& d, std::vector
     Get(in, records);
     samples.assign(records.size(), Sample());
     for (size_t i = 0; i < records.size(); ++i)
-    {
-      samples[i].Face = records[i].Face;
-      samples[i].U = records[i].U;
-      samples[i].V = records[i].V;
-      samples[i].Point = records[i].Point;
-      samples[i].Direction = records[i].Direction;
-    }
+      CopySampleFields(records[i], samples[i]);
     std::vector<double> scalars;
     Get(in, scalars);
     if (scalars.size() < 4 || scalars.size() > 6)

@@ -42,6 +42,7 @@
 #include <memory>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <tuple>
@@ -1537,6 +1538,16 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   for (size_t f = 0; f < m2.Faces.size(); ++f)
     cylinders += m2.Faces[f].Kind == SurfaceKind::Cylinder && std::fabs(m2.FaceExact[f][6] - 10.0) < 1e-12;
   EXPECT_GT(cylinders, 0u);
+  // The samples, and their curvatures after everything else (the hole's cylinder curves).
+  ASSERT_EQ(s2.size(), samples.size());
+  size_t curved = 0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    EXPECT_EQ(s2[i].Point, samples[i].Point);
+    EXPECT_EQ(s2[i].Curvature, samples[i].Curvature);
+    curved += samples[i].Curvature[0] != 0.0 || samples[i].Curvature[1] != 0.0;
+  }
+  EXPECT_GT(curved, 0u);
   size_t onEdge2 = 0;
   for (const S1Point& p : d2.S1)
     onEdge2 += p.OnEdge;
@@ -1553,6 +1564,17 @@ TEST(SolverData, EdgePointsAndSolveFiles)
   for (const S1Point& p : d2.S1)
     onEdge2 += p.OnEdge;
   EXPECT_EQ(onEdge2, 0u);
+  // A file written before the curvatures were kept (the same file cut before them): read with
+  // none, so no osculating bound.
+  std::filesystem::resize_file(
+    path, std::filesystem::file_size(path) - sizeof(std::uint64_t) - 16 * samples.size());
+  ReadSolve(path, m2, d2, s2);
+  ASSERT_EQ(s2.size(), samples.size());
+  size_t none = 0;
+  for (const Sample& s : s2)
+    none += s.Curvature[0] == 0.0 && s.Curvature[1] == 0.0;
+  EXPECT_EQ(none, samples.size());
+  EXPECT_EQ(m2.FaceExact, m.FaceExact);
   std::remove(path.c_str());
 }
 
