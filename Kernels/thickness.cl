@@ -5718,6 +5718,7 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   }
   exact_finish(&mm, ownFace, Ohi, Olo, d, stepTol, &r);
   reject_contact_from_outside(&mm, ownFace, Ohi, Olo, d, scale, &r);
+  const Result found = r;
   osculating_bound(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, ownUV, Ohi, Olo, d, scale,
     newtonTol, maxIterations, maxEdgeIterations, sp[11], &iterations, &r);
   flag_thin_wall(&mm, ownFace, Ohi, Olo, d, scale, &r);
@@ -5725,14 +5726,17 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   // The next sample of the chain starts from this one's contact across: its point on the face,
   // or for an edge or vertex contact, the edge's point on the edge's first face (where the
   // previous sample's edge contact is the next one's too, eq. 4 from there runs onto the edge).
-  hint->face = r.type == CONTACT_SURFACE_SURFACE ? r.face : -1;
-  hint->u = r.param.x;
-  hint->v = r.param.y;
-  if ((r.type == CONTACT_SURFACE_EDGE || r.type == CONTACT_SURFACE_VERTEX) && r.edge >= 0)
+  // An osculating sphere has none: the contact the solve found before the bound, where it found
+  // one (the next sample along a round is likely bounded by the same face again).
+  const Result h = r.type == CONTACT_OSCULATING ? found : r;
+  hint->face = h.type == CONTACT_SURFACE_SURFACE ? h.face : -1;
+  hint->u = h.param.x;
+  hint->v = h.param.y;
+  if ((h.type == CONTACT_SURFACE_EDGE || h.type == CONTACT_SURFACE_VERTEX) && h.edge >= 0)
   {
-    const int f0 = mm.edgeInfo[4 * r.edge + 2];
+    const int f0 = mm.edgeInfo[4 * h.edge + 2];
     real u, v;
-    if (f0 >= 0 && edge_point_on_face(&mm, f0, r.edge, r.param.x, &u, &v))
+    if (f0 >= 0 && edge_point_on_face(&mm, f0, h.edge, h.param.x, &u, &v))
     {
       hint->face = f0;
       hint->u = u;
