@@ -5612,6 +5612,21 @@ BRT_SPLIT void osculating_bound(const Model* m, __global const real* s1Point,
   }
 }
 
+// A float solve's osculating sphere checked again in this precision (brt_finish on the device,
+// NativeSolver::Polish on the host): the bound from a failed result, so that the checks run at
+// this precision's radius; failed NotMaximal where they find something.
+BRT_SPLIT void recheck_osculating(const Model* m, __global const real* s1Point,
+  __global const int* s1Face, __global const real* nodeBox, __global const int* nodeInfo,
+  int ownFace, real2 ownUV, real3 Ohi, real3 Olo, real3 d, real scale, real newtonTol,
+  int maxIterations, int maxEdgeIterations, real kappa, int* iterations, Result* r)
+{
+  *r = no_result();
+  r->type = CONTACT_FAILED;
+  r->reason = FAIL_NOT_MAXIMAL;
+  osculating_bound(m, s1Point, s1Face, nodeBox, nodeInfo, ownFace, ownUV, Ohi, Olo, d, scale,
+    newtonTol, maxIterations, maxEdgeIterations, kappa, iterations, r);
+}
+
 // An empty memo, for a chain's start (solve_chain).
 inline void memo_clear(ChainMemo* memo)
 {
@@ -5865,13 +5880,8 @@ __kernel void brt_finish(MODEL_PARAMS, LAUNCH_PARAMS, __global const float* floa
   int iterations = fI[5], again = r.type == CONTACT_FAILED;
   if (r.type == CONTACT_OSCULATING)
   {
-    // The float solve's osculating sphere, checked again in double at its double radius.
-    Result c = no_result();
-    c.type = CONTACT_FAILED;
-    c.reason = FAIL_NOT_MAXIMAL;
-    osculating_bound(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, make_real2(sp[9], sp[10]),
-      Ohi, Olo, d, scale, newtonTol, maxIterations, maxEdgeIterations, sp[11], &iterations, &c);
-    r = c;
+    recheck_osculating(&mm, s1Point, s1Face, nodeBox, nodeInfo, ownFace, make_real2(sp[9], sp[10]),
+      Ohi, Olo, d, scale, newtonTol, maxIterations, maxEdgeIterations, sp[11], &iterations, &r);
     again = r.type == CONTACT_FAILED;
   }
   else if (!again && r.type != CONTACT_OTHER_SOLID)

@@ -286,10 +286,7 @@ void NativeSolver::Polish(const SolverOptions& options, const Sample& sample, Sa
     // An osculating sphere has no contact to polish: it is checked again in double, at its
     // double radius, as the device's finish does (brt_finish).
     const KernelModel<double>& K = P->K;
-    k = kernel::no_result();
-    k.type = static_cast<int>(ContactType::Failed);
-    k.reason = static_cast<int>(FailReason::NotMaximal);
-    kernel::osculating_bound(&view, K.S1Point.data(), K.S1Face.data(), K.NodeBox.data(),
+    kernel::recheck_osculating(&view, K.S1Point.data(), K.S1Face.data(), K.NodeBox.data(),
       K.NodeInfo.data(), sample.Face, kernel::real2{ sample.U, sample.V }, Ohi, Olo, d, s.Scale,
       s.NewtonTol, s.MaxIterations, s.MaxEdgeIterations, sample.Curvature[0], &iterations, &k);
   }
