@@ -126,6 +126,9 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
   const auto period = Get(fd, "FacePeriod", 2, nf);
   const auto uvTol = Get(fd, "FaceUVTolerance", 1, nf);
   const auto dev = Get(fd, "FaceMaxDeviation", 1, nf, false);
+  // Optional: without it (a file saved before it existed) no face counts as its patches (the
+  // certification then keeps its margins on O's own face, brt::PatchesAreTheSurface).
+  const auto degrees = Get(fd, "FaceDegrees", 2, nf, false);
   m.Faces.resize(NF);
   for (int f = 0; f < NF; ++f)
   {
@@ -151,6 +154,11 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
     F.Period = { period[2 * f], period[2 * f + 1] };
     F.UVTolerance = uvTol[f];
     F.MaxDeviation = dev.empty() ? -1.0 : dev[f];
+    if (!degrees.empty())
+    {
+      F.DegreeU = Index(degrees[2 * f], 0, 64, "FaceDegrees", f);
+      F.DegreeV = Index(degrees[2 * f + 1], 0, 64, "FaceDegrees", f);
+    }
   }
   // Optional: without it (a file saved before it existed) the solver keeps the patches' contacts.
   const auto exact = Get(fd, "FaceExactSurface", 8, nf, false);

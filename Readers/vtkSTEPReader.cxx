@@ -176,6 +176,10 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
       f.PatchesU, f.PatchesV, f.FirstLoop, f.LoopCount, f.Rational ? 1 : 0 };
     std::copy(v, v + 9, o);
   });
+  AddArray<vtkIntArray>(fd, "FaceDegrees", 2, m.Faces, [](const brt::Face& f, int* o) {
+    o[0] = f.DegreeU;
+    o[1] = f.DegreeV;
+  });
   AddArray<vtkDoubleArray>(fd, "FaceDomain", 4, m.Faces,
     [](const brt::Face& f, double* o) { std::copy(f.Domain.begin(), f.Domain.end(), o); });
   AddArray<vtkDoubleArray>(fd, "FacePeriod", 2, m.Faces,

@@ -39,7 +39,7 @@ int main(int argc, char** argv)
     (help ? std::cout : std::cerr)
       << "usage: " << argv[0] << " OUTPUT_DIR\n"
       << "Writes the analytic models of Data/ (plate, tube, spherical and toroidal shells, hole\n"
-         "plate, L-bracket; thicknesses in Data/README.md) as STEP files into OUTPUT_DIR.\n";
+         "plate, L-bracket, T profile, cubic ridge; thicknesses in Data/README.md) as STEP files into OUTPUT_DIR.\n";
     return help ? 0 : 2;
   }
   const std::string dir = argv[1];
@@ -54,5 +54,6 @@ int main(int argc, char** argv)
   ok &= Write(HolePlate(80.0, 6.0, 10.0), dir + "/hole_plate.step", "AP214IS");
   ok &= Write(LBracket(60.0, 8.0, 40.0, 5.0), dir + "/l_bracket.step", "AP214IS");
   ok &= Write(TProfile(80.0, 6.0, 40.0, 4.0, 30.0), dir + "/t_profile.step", "AP214IS");
+  ok &= Write(CubicRidge(10.0, 0.5, 0.3, 2.0, 4.0, 0.6, 1.0), dir + "/cubic_ridge.step", "AP214IS");
   return ok ? 0 : 1;
 }

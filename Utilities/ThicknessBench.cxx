@@ -1,6 +1,6 @@
 // Benchmark of the maximal-sphere solver (a program that prints figures, not a test).
 //   brt_thickness_bench [--device NAME|cpu|gpu|none] [--double] [--no-native]
-//                       [--counts N1,N2,...] [--export DIR] FILE.step|FILE.brtsolve ...
+//                       [--counts N1,N2,...] [--export DIR] [--values DIR] FILE.step|FILE.brtsolve ...
 // For each model and sample count: samples/s of the native CPU device (the kernel source in double
 // on every core, the reference) and of the OpenCL kernels,
 // failed share, peak host memory and the kernels' device memory, as a table. --export writes
@@ -74,7 +74,7 @@ int main(int argc, char** argv)
 {
   std::vector<size_t> counts{ 1000, 10000, 100000 };
   std::vector<std::string> files;
-  std::string device = "any", exportDir;
+  std::string device = "any", exportDir, valuesDir;
   [[maybe_unused]] bool useDouble = false;
   bool finishOnHost = false, native = true, help = false, certify = true, phases = false;
   [[maybe_unused]] bool delaunay = false;
@@ -93,6 +93,8 @@ int main(int argc, char** argv)
       finishOnHost = true;
     else if (!std::strcmp(argv[i], "--export") && i + 1 < argc)
       exportDir = argv[++i];
+    else if (!std::strcmp(argv[i], "--values") && i + 1 < argc)
+      valuesDir = argv[++i];
     else if (!std::strcmp(argv[i], "--tolerance") && i + 1 < argc)
       tolerance = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--max-edge") && i + 1 < argc)
@@ -135,6 +137,8 @@ int main(int argc, char** argv)
       "                    the diagonal); a smaller L gives more distinct samples\n"
       "  --delaunay        display mesh (the samples) refined with Delaunay flips\n"
       "  --export DIR      write each prepared model as DIR/<name>.brtsolve\n"
+      "  --values DIR      write the native device's 2t of every sample (the row of count 0,\n"
+      "                    in the mesh's order, NaN where failed) as DIR/<name>.txt\n"
       "  --phases          after each OpenCL row, where its solve's time went (host and device)\n"
       "  --help            this text\n",
       argv[0]);
@@ -231,6 +235,21 @@ int main(int argc, char** argv)
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         refRate = n / s;
         refFail = FailedPercent(results, "native");
+        if (!valuesDir.empty() && n == all.size())
+        {
+          std::string base = file.substr(file.find_last_of('/') + 1);
+          const std::string path = valuesDir + "/" + base.substr(0, base.find_last_of('.')) + ".txt";
+          FILE* out = std::fopen(path.c_str(), "w");
+          if (!out)
+          {
+            std::fprintf(stderr, "error: cannot write %s\n", path.c_str());
+            return 1;
+          }
+          for (const brt::SampleResult& r : results)
+            std::fprintf(out, "%.17g\n",
+              r.Type == brt::ContactType::Failed ? std::nan("") : r.Thickness);
+          std::fclose(out);
+        }
       }
 #ifdef BRT_HAVE_OPENCL
       if (cl)

@@ -37,7 +37,7 @@ for name in models:
     faces, patches = int(scalar("NumberOfFaces")), int(scalar("NumberOfPatches"))
     sizes = {
         "BezierPatches": (patches, 48), "PatchFace": (patches, 1), "PatchDomain": (patches, 4),
-        "FaceInfo": (faces, 9), "FaceDomain": (faces, 4),
+        "FaceInfo": (faces, 9), "FaceDegrees": (faces, 2), "FaceDomain": (faces, 4),
         "TrimSegments": (int(scalar("NumberOfTrimSegments")), 8),
         "TrimSegmentInfo": (int(scalar("NumberOfTrimSegments")), 4),
         "TrimLoops": (int(scalar("NumberOfLoops")), 4),
@@ -57,6 +57,24 @@ for name in models:
                if (abs(math.sqrt(sum(exact.GetComponent(f, 3 + k) ** 2 for k in range(3))) - 1.0) > 1e-9)
                != (info.GetComponent(f, 2) > 4)]
         check(name, not bad, "FaceExactSurface axis of faces %s" % bad[:5])
+    # The surface's degrees: a B-spline or Bezier surface's (kinds 5, 6, and 0-4 where such a face
+    # is analytic), an extruded B-spline or Bezier curve's (kind 8: the curve's, 1 along the line),
+    # none for the other kinds.
+    deg = fd.GetArray("FaceDegrees")
+    if deg is not None:
+        bad = []
+        for f in range(faces):
+            kind, du, dv = int(info.GetComponent(f, 2)), deg.GetComponent(f, 0), deg.GetComponent(f, 1)
+            ok = 0 <= du <= 25 and 0 <= dv <= 25
+            if kind in (5, 6):
+                ok = ok and du >= 1 and dv >= 1
+            elif kind == 8:
+                ok = ok and ((du, dv) == (0, 0) or (du >= 1 and dv == 1))
+            elif kind > 6:
+                ok = ok and (du, dv) == (0, 0)
+            if not ok:
+                bad.append((f, kind, du, dv))
+        check(name, not bad, "FaceDegrees of faces (face, kind, degrees) %s" % bad[:5])
     check(name, scalar("MaxPatchDeviation") <= scalar("Tolerance"), "patch deviation")
     check(name, int(scalar("OpenLoops")) == 0, "open trimming loops")
     face_ids = pd.GetArray("FaceId")
