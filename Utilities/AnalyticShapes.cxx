@@ -192,7 +192,7 @@ TopoDS_Shape PocketBlock(double side, double h, double slotLength, double slotRa
 }
 
 TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt,
-  double stepHeight)
+  double stepHeight, bool nurbs)
 {
   // z(x) = H - a x^2 - c x^3 on [-L, e] (e = stepAt, or L without a step) as a cubic Bezier curve
   // in x = -L + (e + L) s: its control points from the polynomial's values and derivatives at
@@ -223,7 +223,7 @@ TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double
   wire.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(-L, 0, 0), gp_Pnt(-L, 0, z(-L))).Edge());
   const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), true);
   const TopoDS_Shape prism = BRepPrimAPI_MakePrism(profile, gp_Vec(0, W, 0));
-  return BRepBuilderAPI_NurbsConvert(prism).Shape();
+  return nurbs ? BRepBuilderAPI_NurbsConvert(prism).Shape() : prism;
 }
 
 TopoDS_Shape EllipticEndPlate(double L, double h, double b, double W)

@@ -39,9 +39,11 @@ TopoDS_Shape PocketBlock(double side, double h, double slotLength, double slotRa
 /// degree 3 along x. A sphere tangent to the top is bounded by the top itself wherever the ridge
 /// bends down faster than the sphere (the 2D problem in the plane y = const: eq. 1 over the curve).
 /// With stepHeight > 0 the ridge ends at x = stepAt, where a wall rises by stepHeight to a
-/// plateau that runs to x = L: a re-entrant corner where the ridge ends.
+/// plateau that runs to x = L: a re-entrant corner where the ridge ends. With nurbs = false the
+/// faces stay as the prism made them: the top a surface of linear extrusion of the cubic Bezier
+/// curve, the others planes.
 TopoDS_Shape CubicRidge(double H, double a, double c, double L, double W, double stepAt = 0.0,
-  double stepHeight = 0.0);
+  double stepHeight = 0.0, bool nurbs = true);
 /// A plate h thick whose end is a half-ellipse: the profile in the plane y = 0 runs along the
 /// bottom z = 0 from x = -L to 0, round the ellipse centred at (0, h/2) with semi-axes b along x
 /// and h/2 along z to (0, h), back along the top z = h to x = -L and down; extruded along y by W.

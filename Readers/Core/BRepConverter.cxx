@@ -257,8 +257,28 @@ void Classify(const Handle(Geom_Surface)& surface, Face& face, std::array<double
   }
   else if (s->IsKind(STANDARD_TYPE(Geom_SurfaceOfRevolution)))
     face.Kind = SurfaceKind::SurfaceOfRevolution;
-  else if (s->IsKind(STANDARD_TYPE(Geom_SurfaceOfLinearExtrusion)))
+  else if (auto ex = Handle(Geom_SurfaceOfLinearExtrusion)::DownCast(s))
+  {
     face.Kind = SurfaceKind::SurfaceOfExtrusion;
+    // A B-spline or Bezier curve swept along a line is a B-spline surface of degree 1 along the
+    // line (v): the degrees tell the solver where the patches are the surface
+    // (PatchesAreTheSurface: an extruded polynomial cubic converts exactly).
+    Handle(Geom_Curve) c = ex->BasisCurve();
+    while (auto tc = Handle(Geom_TrimmedCurve)::DownCast(c))
+      c = tc->BasisCurve();
+    if (auto bc = Handle(Geom_BSplineCurve)::DownCast(c))
+    {
+      face.Rational = bc->IsRational();
+      face.DegreeU = bc->Degree();
+      face.DegreeV = 1;
+    }
+    else if (auto zc = Handle(Geom_BezierCurve)::DownCast(c))
+    {
+      face.Rational = zc->IsRational();
+      face.DegreeU = zc->Degree();
+      face.DegreeV = 1;
+    }
+  }
   else if (s->IsKind(STANDARD_TYPE(Geom_OffsetSurface)))
     face.Kind = SurfaceKind::OffsetSurface;
   else

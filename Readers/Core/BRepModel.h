@@ -38,8 +38,10 @@ struct Face
   /// sphere or torus within a thousandth of the tolerance gets that kind and its FaceExact row
   /// (ConversionStatistics::AnalyticFromSpline; DegreeU/V, non-zero, still tell the file's).
   SurfaceKind Kind = SurfaceKind::Other;
-  bool Rational = false;        ///< original surface is rational (NURBS)
-  int DegreeU = 0, DegreeV = 0; ///< original degrees (B-spline/Bezier only, else 0)
+  bool Rational = false;        ///< the surface is rational (NURBS, or an extruded rational curve)
+  /// The surface's degrees: a B-spline or Bezier surface's, and an extrusion of a B-spline or
+  /// Bezier curve (the curve's along u, 1 along v); 0 for every other surface.
+  int DegreeU = 0, DegreeV = 0;
   std::array<double, 4> Domain{}; ///< u0, u1, v0, v1 : the face's UV bounds
   int FirstPatch = 0, PatchCount = 0;
   int PatchesU = 0, PatchesV = 0; ///< patches form a PatchesU x PatchesV grid, u fastest
