@@ -33,7 +33,9 @@ double ExtremaDistance(const std::vector<TopoDS_Face>& faces, const std::vector<
 /// The nearest point to X of face F's surface among the cell centres of an n x n grid over its
 /// parameter box that both of OpenCASCADE's face classifiers keep (BRepClass_FaceClassifier and
 /// BRepTopAdaptor_FClass2d), refined three times by a 9 x 9 grid over the neighbouring cells of
-/// the best; independent of OpenCASCADE's extremum searches, which can
+/// the best, and likewise around up to 8 more cells on the face whose distance is a local minimum
+/// of the grid within a cell's reach of the best (another basin, narrower than a cell);
+/// independent of OpenCASCADE's extremum searches, which can
 /// both miss a face's nearest point (a round's saddle: docs/Solver.md, Open items, "Their failed
 /// samples"). An upper bound of the face's distance (the largest double where no grid point lies
 /// on the face); *at gets the point.
