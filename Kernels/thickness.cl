@@ -94,7 +94,8 @@ typedef float3 real3;
 // Per patch of a cylindrical face, the sector of the cylinder its control points lie in
 // (cylinder_patch_gap); of a toroidal face, its range of angles around the tube and its wedge
 // around the axis (torus_patch_gap); of a spherical face, its cone from the centre
-// (sphere_patch_gap; brt::KernelPatchSectorReals).
+// (sphere_patch_gap); of a face with no exact surface, the tube that holds it (tube_patch_gap;
+// brt::KernelPatchSectorReals).
 #define PATCH_SECTOR_REALS 12
 // Reals per patch of its control net's constants: the control points' mean relative to the anchor,
 // the unit normal of the net's diagonals, the least and greatest offset of the control points
@@ -3301,6 +3302,29 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
   return gap - allow;
 }
 
+// A lower bound of the distance from M to patch p of a face with no exact surface, from the tube
+// that holds it (docs/Solver.md, item 22; packed on the host, brt::PackPatchTube): every point of
+// the patch lies within s[8] of the distance s[7] from its spine (a point, a line or a circle:
+// s[9] 1, 2, 3; centre s[0..2] relative to the patch's anchor, axis s[3..5], circle radius s[6]),
+// so no point of it is nearer to M than |M's distance from the spine - s[7]| - s[8]. Tight on a
+// free-form round where the sphere is the round's own ball (its centre on the spine), whose
+// control net's hull lets every patch of the round through. Less the rounding of M's position.
+// Negative where the patch has no tube.
+inline real tube_patch_gap(const Model* m, int p, real3 Ohi, real3 Olo, real3 mr, real t)
+{
+  __global const real* s = m->patchSector + PATCH_SECTOR_REALS * p;
+  if (!(s[9] > (real)0))
+    return (real)-1;
+  const real3 X = mr - anchor_minus(m->patchAnchor + 6 * p, Ohi, Olo) - make_real3(s[0], s[1], s[2]);
+  const real3 ax = make_real3(s[3], s[4], s[5]);
+  const real z = dot(X, ax);
+  const real rho = sqrt(fmax(dot(X, X) - z * z, (real)0));
+  const real dist = s[9] < (real)1.5 ? length(X)
+    : s[9] < (real)2.5              ? rho
+                                    : sqrt((rho - s[6]) * (rho - s[6]) + z * z);
+  return fabs(dist - s[7]) - s[8] - (real)64 * REAL_EPS * (length(X) + s[6] + s[7] + t);
+}
+
 // A lower bound of the distance from M to patch p of a spherical face, tighter than exact_gap
 // where the sphere's centre lies near the ball's (a ball end, a dimple: the whole ball is then
 // about its radius from M) or the ball continues beyond the patch (a corner's round). The
@@ -3731,6 +3755,7 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
             (kind != EXACT_CYLINDER || cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
             (kind != EXACT_TORUS || torus_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
             (kind != EXACT_SPHERE || sphere_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
+            (kind != EXACT_NONE || tube_patch_gap(m, item, Ohi, Olo, mr, t) < need) &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
             ahead > depth)

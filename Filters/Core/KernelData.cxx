@@ -284,6 +284,199 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
   out[7] = T(1);
 }
 
+/// The tube that holds a patch of a face with no exact surface (tube_patch_gap, docs/Solver.md
+/// item 22): a free-form round (a rolling ball's blend, a pipe) is swept by circular arcs of one
+/// radius about a spine, and over one patch the spine is nearly a point (a ball's corner), a line
+/// or a circle. Each way across the patch, the circles through the patch's points at the start,
+/// middle and end of three of its parameter lines (at 0, 1/2 and 1 of the other parameter) give
+/// three centres on the spine; the spine is the point (their mean), the line (through the first
+/// and the last) or the circle through all three, whichever the patch follows most closely: the
+/// patch's distances from it at a 13 x 13 grid, r their middle and the allowance 1.5 times their
+/// half-spread (as the faces' deviation takes its measure) and the rounding. (Centres of
+/// curvature instead moved with the patches' second derivatives, several per cent off a
+/// converted rational round's, and the spines through them missed the ball's centre by 0.006 on
+/// a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the point; a point of
+/// the line; the circle's centre) relative to the patch's anchor, stored as T; its unit axis (the
+/// line's direction, the circle's normal); the circle's radius; r; the allowance; the kind (1
+/// point, 2 line, 3 circle; 0 none: no allowance below the slack, where the bound would not
+/// help). The kernel reads these where the face has no exact surface.
+template <class T>
+void PackPatchTube(const double* cp, double slack, T* out)
+{
+  std::fill(out, out + KernelPatchSectorReals, T(0));
+  // The patch's points on a 13 x 13 grid (i along u, j along v), by the tensor product: the
+  // control net's rows first. Only the 3 x 3 at 0, 1/2 and 1 until the screen below passes.
+  constexpr int G = 13;
+  double pts[G * G][3];
+  auto basis = [](double x, double* b) {
+    b[0] = (1 - x) * (1 - x) * (1 - x);
+    b[1] = 3 * x * (1 - x) * (1 - x);
+    b[2] = 3 * x * x * (1 - x);
+    b[3] = x * x * x;
+  };
+  auto fill = [&](int step) {
+    for (int i = 0; i < G; i += step)
+    {
+      double bs[4], row[4][3];
+      basis(i / (G - 1.0), bs);
+      for (int b = 0; b < 4; ++b)
+        for (int k = 0; k < 3; ++k)
+          row[b][k] = bs[0] * cp[3 * b + k] + bs[1] * cp[3 * (4 + b) + k] +
+            bs[2] * cp[3 * (8 + b) + k] + bs[3] * cp[3 * (12 + b) + k];
+      for (int j = 0; j < G; j += step)
+      {
+        double br[4];
+        basis(j / (G - 1.0), br);
+        for (int k = 0; k < 3; ++k)
+          pts[G * i + j][k] = br[0] * row[0][k] + br[1] * row[1][k] + br[2] * row[2][k] +
+            br[3] * row[3][k];
+      }
+    }
+  };
+  fill(6);
+  auto sub = [](const double* a, const double* b, double* o) {
+    for (int c = 0; c < 3; ++c)
+      o[c] = a[c] - b[c];
+  };
+  auto cross = [](const double* a, const double* b, double* o) {
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  auto dot = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  // The circle through a, b, c: its centre and unit normal; false where they are (nearly) on a
+  // line.
+  auto circle = [&](const double* a, const double* b, const double* c, double* centre,
+                  double* normal) {
+    double ab[3], ac[3], n[3], nab[3], acn[3];
+    sub(b, a, ab);
+    sub(c, a, ac);
+    cross(ab, ac, n);
+    const double l2 = dot(n, n), a2 = dot(ab, ab), c2 = dot(ac, ac);
+    if (!(l2 > 1e-16 * a2 * c2))
+      return false;
+    cross(n, ab, nab);
+    cross(ac, n, acn);
+    for (int k = 0; k < 3; ++k)
+    {
+      centre[k] = a[k] + (c2 * nab[k] + a2 * acn[k]) / (2.0 * l2);
+      normal[k] = n[k] / std::sqrt(l2);
+    }
+    return true;
+  };
+  struct Spine
+  {
+    int kind;
+    double c[3], a[3], R;
+  };
+  Spine cand[6];
+  int nc = 0;
+  for (int dir = 0; dir < 2; ++dir)
+  {
+    // Three parameter lines across (u varying at v = 0, 1/2, 1; then the other way).
+    double C[3][3], nrm[3], radius[3];
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k)
+    {
+      const int fixed = 6 * k;
+      auto at = [&](int run) { return dir == 0 ? pts[G * run + fixed] : pts[G * fixed + run]; };
+      ok = circle(at(0), at(6), at(12), C[k], nrm);
+      double w[3];
+      sub(at(0), C[k], w);
+      radius[k] = std::sqrt(dot(w, w));
+    }
+    // The screen: a round's arcs across have one radius (within 2% here); elsewhere no tube is
+    // fitted (most free-form patches, at the cost of 9 points).
+    if (!ok ||
+      std::max({ radius[0], radius[1], radius[2] }) >
+        1.02 * std::min({ radius[0], radius[1], radius[2] }))
+      continue;
+    Spine pt{ 1, { 0, 0, 0 }, { 0, 0, 0 }, 0.0 };
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        pt.c[c] += C[k][c] / 3.0;
+    cand[nc++] = pt;
+    double ab[3];
+    sub(C[2], C[0], ab);
+    const double lab = std::sqrt(dot(ab, ab));
+    if (lab > 0.0)
+    {
+      Spine l{ 2, { C[0][0], C[0][1], C[0][2] }, { ab[0] / lab, ab[1] / lab, ab[2] / lab }, 0.0 };
+      cand[nc++] = l;
+    }
+    Spine t{ 3, {}, {}, 0.0 };
+    if (circle(C[0], C[1], C[2], t.c, t.a))
+    {
+      double w[3];
+      sub(C[0], t.c, w);
+      t.R = std::sqrt(dot(w, w));
+      cand[nc++] = t;
+    }
+  }
+  if (nc == 0)
+    return;
+  fill(1);
+  // Each candidate as the kernel reads it (rounded to T): measured on the 7 x 7 grid (every
+  // other point), the best of them then on the whole 13 x 13.
+  auto measure = [&](const Spine& sp, int step, T* stored, double& allow) {
+    double c[3], a[3];
+    for (int j = 0; j < 3; ++j)
+    {
+      const volatile T sc = static_cast<T>(sp.c[j] - cp[j]); // as in PackCylinderSector
+      stored[j] = sc;
+      c[j] = cp[j] + static_cast<double>(sc);
+      const volatile T sa = static_cast<T>(sp.a[j]);
+      stored[3 + j] = sa;
+      a[j] = static_cast<double>(sa);
+    }
+    const volatile T sR = static_cast<T>(sp.R);
+    stored[6] = sR;
+    const double R = static_cast<double>(sR);
+    double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin, size = 0.0;
+    for (int i = 0; i < G; i += step)
+      for (int j = 0; j < G; j += step)
+      {
+        double x[3];
+        sub(pts[G * i + j], c, x);
+        const double z = dot(x, a), xx = dot(x, x);
+        const double rho = std::sqrt(std::max(0.0, xx - z * z));
+        const double dist = sp.kind == 1 ? std::sqrt(xx)
+          : sp.kind == 2               ? rho
+                                       : std::sqrt((rho - R) * (rho - R) + z * z);
+        dmin = std::min(dmin, dist);
+        dmax = std::max(dmax, dist);
+        size = std::max(size, std::sqrt(xx));
+      }
+    const T r = static_cast<T>(0.5 * (dmin + dmax));
+    stored[7] = r;
+    const double spread = std::max(static_cast<double>(r) - dmin, dmax - static_cast<double>(r));
+    allow = 1.5 * spread +
+      64.0 * std::numeric_limits<T>::epsilon() * (size + R + static_cast<double>(r));
+  };
+  int best = -1;
+  double bestAllow = std::numeric_limits<double>::infinity();
+  T stored[8];
+  for (int k = 0; k < nc; ++k)
+  {
+    double allow;
+    measure(cand[k], 2, stored, allow);
+    if (allow < bestAllow)
+    {
+      bestAllow = allow;
+      best = k;
+    }
+  }
+  if (best < 0 || !(bestAllow < slack))
+    return;
+  double allow;
+  measure(cand[best], 1, stored, allow);
+  if (!(allow < slack))
+    return;
+  std::copy(stored, stored + 8, out);
+  out[8] = Rounded<T>(allow, true);
+  out[9] = static_cast<T>(cand[best].kind);
+}
+
 /// A torus patch's arc of the tube (torus_patch_gap), as KernelPatchSectorReals: the unit
 /// vectors of its ends in the meridian half-plane (cos, sin of v0 and of v1: radial, axial), its
 /// middle direction as T, the cosine of the half-span around that stored direction (rounded
@@ -690,6 +883,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
   k.PatchDomain.reserve(4 * np);
   k.PatchFace.reserve(np);
   k.PatchSector.assign(KernelPatchSectorReals * np, T(0));
+  std::vector<int> tubePatches; // of faces with no exact surface (PackPatchTube)
   k.PatchHull.resize(KernelPatchHullReals * np);
   k.FaceInfo.reserve(KernelFaceInts * nf);
   k.FaceDomain.reserve(KernelFaceReals * nf);
@@ -773,6 +967,11 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     // the axis (twice the measure; none where the face has no measure).
     const bool torus = kind == 5 && exact[9] > exact[10];
     const bool native = F.DegreeU == 0 && F.DegreeV == 0;
+    // Per patch of a face with no exact surface, the tube that holds it (tube_patch_gap; fitted
+    // on every core below).
+    if (kind == 0)
+      for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+        tubePatches.push_back(p);
     if (kind == 2 || torus || kind == 4)
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
       {
@@ -793,6 +992,11 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
         }
       }
   }
+  ParallelFor(tubePatches.size(), 0, [&](size_t i) {
+    const int p = tubePatches[i];
+    PackPatchTube<T>(m.Patches[static_cast<size_t>(p)].ControlPoints.data(), 2.0 * m.Tolerance,
+      &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+  });
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });
   for (const auto& s : m.TrimSegments)

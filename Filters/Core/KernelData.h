@@ -46,7 +46,10 @@ constexpr size_t KernelTrimReals = 12;
 /// (TorusArcOfPatch); then the wedge around the axis that holds its
 /// control points (PackDirectionCone: its middle direction (3) and the cosine of its half-angle,
 /// 0 where none). On a sphere: zeros but for the last four, the cone from the centre that holds
-/// its control points, the same way. Rounded outwards to T; zeros on faces of other kinds.
+/// its control points, the same way. On a face with no exact surface: the tube that holds the
+/// patch (PackPatchTube: its spine's centre relative to the patch's anchor (3), axis (3), circle
+/// radius, the tube's radius, the allowance, the spine's kind 1-3; zeros where none). Rounded
+/// outwards to T; zeros on faces of other kinds.
 constexpr size_t KernelPatchSectorReals = 12;
 /// Reals per patch of its control net's constants (PATCH_HULL_REALS; the certification's
 /// patch_gap): the control points' mean relative to the patch's anchor (3) and the unit normal of

@@ -1176,6 +1176,77 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
   CheckSectors(m, PackKernelModel<double>(m, data), "double");
 }
 
+/// Every patch of a face with no exact surface that got a tube (PackPatchTube, tube_patch_gap:
+/// the certification passes the patch over where M's distance from the tube's spine, less r and
+/// the allowance, clears the sphere) lies within the allowance of distance r from the spine, as
+/// the kernel reads it (the stored values in T): on a 41 x 41 grid of the patch's own points,
+/// three times as fine as the 13 x 13 the fit was measured on, and the patch's corners and
+/// middle. Data/'s real parts, whose free-form rounds (rational B-spline fillets) get them; a
+/// point, a line and a circle spine each among them.
+template <class T>
+void CheckTubes(const BRepModel& m, const KernelModel<T>& k, const char* name, const char* precision,
+  int kinds[4])
+{
+  SCOPED_TRACE(std::string(name) + ", " + precision);
+  double worst = 0.0;
+  size_t tubes = 0;
+  for (size_t p = 0; p < m.Patches.size(); ++p)
+  {
+    const int face = m.Patches[p].Face;
+    if (k.FaceInfo[KernelFaceInts * static_cast<size_t>(face) + 8] != 0)
+      continue;
+    const T* s = &k.PatchSector[KernelPatchSectorReals * p];
+    const int kind = static_cast<int>(s[9]);
+    if (kind == 0)
+      continue;
+    ASSERT_TRUE(kind >= 1 && kind <= 3) << "patch " << p;
+    ++kinds[kind];
+    ++tubes;
+    const auto& cp = m.Patches[p].ControlPoints;
+    const double c[3] = { cp[0] + static_cast<double>(s[0]), cp[1] + static_cast<double>(s[1]),
+      cp[2] + static_cast<double>(s[2]) };
+    const double a[3] = { static_cast<double>(s[3]), static_cast<double>(s[4]),
+      static_cast<double>(s[5]) };
+    const double R = static_cast<double>(s[6]), r = static_cast<double>(s[7]),
+                 allow = static_cast<double>(s[8]);
+    EXPECT_LT(allow, 2.0 * m.Tolerance) << "patch " << p;
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j)
+      {
+        const PatchEval e = EvaluatePatchLocal(cp, i / 40.0, j / 40.0);
+        const double x[3] = { e.P[0] - c[0], e.P[1] - c[1], e.P[2] - c[2] };
+        const double z = x[0] * a[0] + x[1] * a[1] + x[2] * a[2];
+        const double xx = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+        const double rho = std::sqrt(std::max(0.0, xx - z * z));
+        const double dist = kind == 1 ? std::sqrt(xx)
+          : kind == 2               ? rho
+                                    : std::sqrt((rho - R) * (rho - R) + z * z);
+        worst = std::max(worst, std::fabs(dist - r) / allow);
+        ASSERT_LE(std::fabs(dist - r), allow) << "patch " << p << " at " << i << ", " << j;
+      }
+  }
+  std::printf("[tubes] %-34s %-6s %5zu patches with a tube; a 41 x 41 grid of each within %.2f "
+              "of its allowance at most\n",
+    name, precision, tubes, worst);
+  EXPECT_GT(tubes, 100u);
+}
+
+TEST(KernelData, PatchTubesHoldTheirPatches)
+{
+  int kinds[4] = { 0, 0, 0, 0 };
+  for (const char* name :
+    { "FRAMEWORK_DESKTOP_BLANK_TILE.stp", "ExpansionCard_SelfTapping.stp", "fw13_hinge_l_assy.stp" })
+  {
+    const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
+    const SolverData data = PrepareSolver(m, SolverOptions());
+    CheckTubes(m, PackKernelModel<double>(m, data), name, "double", kinds);
+    CheckTubes(m, PackKernelModel<float>(m, data), name, "float", kinds);
+  }
+  EXPECT_GT(kinds[1], 0);
+  EXPECT_GT(kinds[2], 0);
+  EXPECT_GT(kinds[3], 0);
+}
+
 /// The certification's tree names, in each inner node, the face whose patches are all of its
 /// subtree's items (-1 where edge segments or several faces are among them): the walk skips such
 /// a subtree whole where that face's exact surface clears the sphere (find_point_inside).
