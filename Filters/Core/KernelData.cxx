@@ -289,10 +289,13 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
 /// radius about a spine, and over one patch the spine is nearly a point (a ball's corner), a line
 /// or a circle. Each way across the patch, the circles through the patch's points at the start,
 /// middle and end of three of its parameter lines (at 0, 1/2 and 1 of the other parameter) give
-/// three centres on the spine; the spine is the point (their mean), the line (through the first
-/// and the last) or the circle through all three, whichever the patch follows most closely: the
-/// patch's distances from it at a 13 x 13 grid, r their middle and the allowance 1.5 times their
-/// half-spread (as the faces' deviation takes its measure) and the rounding. (Centres of
+/// three centres on the spine (where the three arcs' radii agree within 2%, as a round's do;
+/// elsewhere no tube, at the cost of 9 points); the spine is the point where they meet, the line
+/// where the middle one lies on the line through the others (within a hundredth of the slack),
+/// else the circle through all three; of the two ways, the one the patch follows more closely on
+/// a 5 x 5 grid. Then the patch's distances from that spine at a 9 x 9 grid: r their middle,
+/// the allowance 1.5 times their half-spread (as the faces' deviation takes its measure) and the
+/// rounding. (Centres of
 /// curvature instead moved with the patches' second derivatives, several per cent off a
 /// converted rational round's, and the spines through them missed the ball's centre by 0.006 on
 /// a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the point; a point of
@@ -304,9 +307,9 @@ template <class T>
 void PackPatchTube(const double* cp, double slack, T* out)
 {
   std::fill(out, out + KernelPatchSectorReals, T(0));
-  // The patch's points on a 13 x 13 grid (i along u, j along v), by the tensor product: the
+  // The patch's points on a 9 x 9 grid (i along u, j along v), by the tensor product: the
   // control net's rows first. Only the 3 x 3 at 0, 1/2 and 1 until the screen below passes.
-  constexpr int G = 13;
+  constexpr int G = 9;
   double pts[G * G][3];
   auto basis = [](double x, double* b) {
     b[0] = (1 - x) * (1 - x) * (1 - x);
@@ -333,7 +336,7 @@ void PackPatchTube(const double* cp, double slack, T* out)
       }
     }
   };
-  fill(6);
+  fill(4);
   auto sub = [](const double* a, const double* b, double* o) {
     for (int c = 0; c < 3; ++c)
       o[c] = a[c] - b[c];
@@ -369,7 +372,7 @@ void PackPatchTube(const double* cp, double slack, T* out)
     int kind;
     double c[3], a[3], R;
   };
-  Spine cand[6];
+  Spine cand[2];
   int nc = 0;
   for (int dir = 0; dir < 2; ++dir)
   {
@@ -378,9 +381,9 @@ void PackPatchTube(const double* cp, double slack, T* out)
     bool ok = true;
     for (int k = 0; k < 3 && ok; ++k)
     {
-      const int fixed = 6 * k;
+      const int fixed = 4 * k;
       auto at = [&](int run) { return dir == 0 ? pts[G * run + fixed] : pts[G * fixed + run]; };
-      ok = circle(at(0), at(6), at(12), C[k], nrm);
+      ok = circle(at(0), at(4), at(8), C[k], nrm);
       double w[3];
       sub(at(0), C[k], w);
       radius[k] = std::sqrt(dot(w, w));
@@ -391,33 +394,39 @@ void PackPatchTube(const double* cp, double slack, T* out)
       std::max({ radius[0], radius[1], radius[2] }) >
         1.02 * std::min({ radius[0], radius[1], radius[2] }))
       continue;
-    Spine pt{ 1, { 0, 0, 0 }, { 0, 0, 0 }, 0.0 };
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c)
-        pt.c[c] += C[k][c] / 3.0;
-    cand[nc++] = pt;
-    double ab[3];
+    // One spine per way: the point where the three centres meet (within a hundredth of the
+    // slack), the line where the middle one lies that near the line through the others, else the
+    // circle through all three.
+    double ab[3], am[3], x[3];
     sub(C[2], C[0], ab);
-    const double lab = std::sqrt(dot(ab, ab));
-    if (lab > 0.0)
+    sub(C[1], C[0], am);
+    const double lab = std::sqrt(dot(ab, ab)), near = 1e-2 * slack;
+    cross(am, ab, x);
+    Spine sp{ 1, { 0, 0, 0 }, { 0, 0, 0 }, 0.0 };
+    if (lab < near && std::sqrt(dot(am, am)) < near)
     {
-      Spine l{ 2, { C[0][0], C[0][1], C[0][2] }, { ab[0] / lab, ab[1] / lab, ab[2] / lab }, 0.0 };
-      cand[nc++] = l;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c)
+          sp.c[c] += C[k][c] / 3.0;
     }
-    Spine t{ 3, {}, {}, 0.0 };
-    if (circle(C[0], C[1], C[2], t.c, t.a))
+    else if (lab > 0.0 && std::sqrt(dot(x, x)) / lab < near)
+      sp = Spine{ 2, { C[0][0], C[0][1], C[0][2] }, { ab[0] / lab, ab[1] / lab, ab[2] / lab }, 0.0 };
+    else
     {
+      sp.kind = 3;
+      if (!circle(C[0], C[1], C[2], sp.c, sp.a))
+        continue;
       double w[3];
-      sub(C[0], t.c, w);
-      t.R = std::sqrt(dot(w, w));
-      cand[nc++] = t;
+      sub(C[0], sp.c, w);
+      sp.R = std::sqrt(dot(w, w));
     }
+    cand[nc++] = sp;
   }
   if (nc == 0)
     return;
   fill(1);
-  // Each candidate as the kernel reads it (rounded to T): measured on the 7 x 7 grid (every
-  // other point), the best of them then on the whole 13 x 13.
+  // Each candidate as the kernel reads it (rounded to T): measured on the 5 x 5 grid (every
+  // other point), the better then on the whole 9 x 9.
   auto measure = [&](const Spine& sp, int step, T* stored, double& allow) {
     double c[3], a[3];
     for (int j = 0; j < 3; ++j)

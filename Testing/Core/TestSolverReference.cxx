@@ -1179,10 +1179,10 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
 /// Every patch of a face with no exact surface that got a tube (PackPatchTube, tube_patch_gap:
 /// the certification passes the patch over where M's distance from the tube's spine, less r and
 /// the allowance, clears the sphere) lies within the allowance of distance r from the spine, as
-/// the kernel reads it (the stored values in T): on a 41 x 41 grid of the patch's own points,
-/// three times as fine as the 13 x 13 the fit was measured on, and the patch's corners and
-/// middle. Data/'s real parts, whose free-form rounds (rational B-spline fillets) get them; a
-/// point, a line and a circle spine each among them.
+/// the kernel reads it (the stored values in T): on a 41 x 41 grid of the patch's own points
+/// (corners and middle among them), five times as fine as the 9 x 9 the fit was measured on.
+/// Data/'s real parts, whose free-form rounds (rational B-spline fillets) get them; a point, a
+/// line and a circle spine each among them.
 template <class T>
 void CheckTubes(const BRepModel& m, const KernelModel<T>& k, const char* name, const char* precision,
   int kinds[4])
