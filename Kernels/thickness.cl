@@ -2702,6 +2702,29 @@ inline void grid_row(__global const real* c, const real* Bu, real3* row)
   }
 }
 
+// Newton's nearest point (u, v) of patch p, clamped to the face's own parameter border where the
+// face's nearest point to M lies beyond it, was passed over (off the trim, which runs along that
+// border, or not deep enough): the face's point a thousandth of the patch inside the border is
+// asked too. Where that border is an edge of O's own face, the edge's points count only a slack
+// deeper than the face's (certify_edge), and the face's points next to it were never asked: the
+// unseen FRAMEWORK cover's face 24 held a sphere of its neighbour face 488 3.9e-4 mm deep along
+// their common edge, 0.04 mm from O (sample 57651; docs/Solver.md, item 22's session). Not across
+// a seam (a periodic parameter), where the border is inside the face.
+inline void consider_inside_face_border(const Model* m, int p, int ownFace, int face, real3 anchor,
+  real u, real v, real3 w, real3 mr, real3 d, real depth, real reach, PointInside* st)
+{
+  __global const real* pd = m->patchDomain + 4 * p;
+  __global const real* fd = m->faceDomain + FACE_REALS * face;
+  const int lowU = !(fd[4] > (real)0) && u <= fd[0], highU = !(fd[4] > (real)0) && u >= fd[1];
+  const int lowV = !(fd[5] > (real)0) && v <= fd[2], highV = !(fd[5] > (real)0) && v >= fd[3];
+  if (!(lowU || highU || lowV || highV) || !(length(w - mr) < st->best))
+    return;
+  const real hu = (real)1e-3 * (pd[1] - pd[0]), hv = (real)1e-3 * (pd[3] - pd[2]);
+  const real nu = lowU ? u + hu : (highU ? u - hu : u), nv = lowV ? v + hv : (highV ? v - hv : v);
+  const real3 wn = anchor + eval_patch_point(m, p, nu, nv);
+  consider_point(m, ownFace, face, nu, nv, wn, mr, d, depth, reach, st);
+}
+
 BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real3 Olo, real3 d, real3 mr,
   real depth, real reach, PointInside* st)
 {
@@ -2762,7 +2785,11 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   int concave;
   int converged = patch_nearest_newton(m, p, anchor, mr, bu, bv, 0, &nearU, &nearV, &concave);
   real3 wn = anchor + eval_patch_point(m, p, nearU, nearV);
+  const real bestBefore = st->best;
   consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
+  if (st->best == bestBefore)
+    consider_inside_face_border(m, p, ownFace, face, anchor, nearU, nearV, wn, mr, d, depth, reach,
+      st);
   // Newton stopped at its cap still getting nearer after a concave step: along a valley that the
   // sphere osculates, its steps crept (a 1 mm bore's ring, 4e-4 to 6e-4 inside the sphere 0.35
   // to 0.46 from O, missed). It goes on from its nearest point with the valley's longer steps.
