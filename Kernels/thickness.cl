@@ -2708,8 +2708,8 @@ inline void grid_row(__global const real* c, const real* Bu, real3* row)
 // asked too. Where that border is an edge of O's own face, the edge's points count only a slack
 // deeper than the face's (certify_edge), and the face's points next to it were never asked: the
 // unseen FRAMEWORK cover's face 24 held a sphere of its neighbour face 488 3.9e-4 mm deep along
-// their common edge, 0.04 mm from O (sample 57651; docs/Solver.md, item 22's session). Not across
-// a seam (a periodic parameter), where the border is inside the face.
+// their common edge, 0.04 mm from O (sample 57651; docs/Solver.md, "A face's border along O's own
+// edge"). Not across a seam (a periodic parameter), where the border is inside the face.
 inline void consider_inside_face_border(const Model* m, int p, int ownFace, int face, real3 anchor,
   real u, real v, real3 w, real3 mr, real3 d, real depth, real reach, PointInside* st)
 {
