@@ -295,10 +295,9 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
 /// else the circle through all three; of the two ways, the one the patch follows more closely on
 /// a 5 x 5 grid. Then the patch's distances from that spine at a 9 x 9 grid: r their middle,
 /// the allowance 1.5 times their half-spread (as the faces' deviation takes its measure) and the
-/// rounding. (Centres of
-/// curvature instead moved with the patches' second derivatives, several per cent off a
-/// converted rational round's, and the spines through them missed the ball's centre by 0.006 on
-/// a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the point; a point of
+/// rounding. (Centres of curvature instead moved with the patches' second derivatives, several
+/// per cent off a converted rational round's, and the spines through them missed the ball's
+/// centre by 0.006 on a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the point; a point of
 /// the line; the circle's centre) relative to the patch's anchor, stored as T; its unit axis (the
 /// line's direction, the circle's normal); the circle's radius; r; the allowance; the kind (1
 /// point, 2 line, 3 circle; 0 none: no allowance below the slack, where the bound would not
@@ -384,9 +383,12 @@ void PackPatchTube(const double* cp, double slack, T* out)
       const int fixed = 4 * k;
       auto at = [&](int run) { return dir == 0 ? pts[G * run + fixed] : pts[G * fixed + run]; };
       ok = circle(at(0), at(4), at(8), C[k], nrm);
-      double w[3];
-      sub(at(0), C[k], w);
-      radius[k] = std::sqrt(dot(w, w));
+      if (ok)
+      {
+        double w[3];
+        sub(at(0), C[k], w);
+        radius[k] = std::sqrt(dot(w, w));
+      }
     }
     // The screen: a round's arcs across have one radius (within 2% here); elsewhere no tube is
     // fitted (most free-form patches, at the cost of 9 points).
