@@ -81,8 +81,10 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
   // parameter box on the face where BRepTopAdaptor_FClass2d and the face's distance did not (the
   // Ventilator's face 10: a point 0.75 mm "inside" a sphere that is 0.6 mm clear of the face).
   // The nearest of the cell centres of an m x m grid over [ua, ub] x [va, vb] that are on the
-  // face: candidates by distance, each classified in turn until one is on it.
-  auto nearestOn = [&](double ua, double ub, double va, double vb, int m, double& bu, double& bv) {
+  // face: candidates by distance, each classified in turn until one is on it. *cells (where
+  // given) gets every cell centre's distance, cell (i, j) at i m + j.
+  auto nearestOn = [&](double ua, double ub, double va, double vb, int m, double& bu, double& bv,
+                     std::vector<double>* cells = nullptr) {
     std::vector<std::pair<double, std::pair<double, double>>> cand;
     cand.reserve(static_cast<size_t>(m * m));
     for (int i = 0; i < m; ++i)
@@ -91,6 +93,12 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
         const double u = ua + (ub - ua) * (i + 0.5) / m, v = va + (vb - va) * (j + 0.5) / m;
         cand.push_back({ X.Distance(S->Value(u, v)), { u, v } });
       }
+    if (cells)
+    {
+      cells->resize(cand.size());
+      for (size_t k = 0; k < cand.size(); ++k)
+        (*cells)[k] = cand[k].first;
+    }
     std::sort(cand.begin(), cand.end());
     for (const auto& c : cand)
     {
@@ -124,22 +132,19 @@ double GridDistance(const TopoDS_Face& F, const gp_Pnt& X, int n, gp_Pnt* at)
     return best;
   };
   double bu = 0.0, bv = 0.0;
-  double best = nearestOn(u0, u1, v0, v1, n, bu, bv);
+  std::vector<double> g; // the grid's distances, for its local minima below
+  double best = nearestOn(u0, u1, v0, v1, n, bu, bv, &g);
   if (!(best < std::numeric_limits<double>::max()))
     return best;
   best = refine(bu, bv, best);
   // The grid's nearest cell is one basin of the distance; another, narrower than a cell, can
   // hold the nearest point (the unseen cover's extruded face 24, 93 mm long: a dip 0.08 mm from
-  // O, between the grid's columns, while the cell at O itself, barely farther, won; the check
-  // then read 2t = 0.8556 where the face reaches 0.7961 -- found with a 200 x 200 grid). So
-  // every other cell on the face whose distance is a local minimum of the grid (no neighbour
-  // nearer) and within a cell's reach of the best is refined too, the 8 nearest of them.
+  // O, between the grid's columns, while the cell at O itself, barely farther, won). So every
+  // other cell on the face whose distance is a local minimum of the grid (no neighbour nearer)
+  // and within a cell's reach of the best is refined too, the 8 nearest of them. Not enough on
+  // that face: its nearest points can lie between its border and the first column, and a 30 x
+  // 30 grid then finds them in some runs and not in others (docs/Solver.md, "A third opinion").
   {
-    std::vector<double> g(static_cast<size_t>(n * n));
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        g[static_cast<size_t>(i * n + j)] = X.Distance(
-          S->Value(u0 + (u1 - u0) * (i + 0.5) / n, v0 + (v1 - v0) * (j + 0.5) / n));
     std::vector<std::pair<double, std::pair<int, int>>> minima;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
