@@ -1,5 +1,6 @@
 #include "BRepConverter.h"
 #include "CurvesOnFaces.h"
+#include "FaceSide.h"
 
 #include "Bezier.h"
 #include "TouchingBodies.h"
@@ -1506,8 +1507,7 @@ private:
     return -1;
   }
   /// The new vertex at the middle of (a, b): on a boundary chord on its pcurve, on an inner
-  /// edge at the UV midpoint; -1 where that lies outside the face (BRepTopAdaptor_FClass2d, made
-  /// on first use).
+  /// edge at the UV midpoint; -1 where that lies outside the face (FaceSide, made on first use).
   int Midpoint(int a, int b)
   {
     const ChordKey k = Key(a, b);
@@ -1515,9 +1515,9 @@ private:
     const gp_Pnt2d& pb = UV[b];
     gp_Pnt2d m((pa.X() + pb.X()) / 2, (pa.Y() + pb.Y()) / 2);
     auto outside = [&](const gp_Pnt2d& p) {
-      if (!Classifier)
-        Classifier = std::make_shared<BRepTopAdaptor_FClass2d>(TheFace, 1e-9);
-      return Classifier->Perform(p) == TopAbs_OUT;
+      if (!Side)
+        Side = std::make_shared<FaceSide>(TheFace);
+      return Side->Outside(p);
     };
     auto ch = Chords.find(k);
     if (ch == Chords.end())
@@ -1606,7 +1606,7 @@ private:
   double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
   std::unordered_map<ChordKey, EdgeTriangles, ChordKeyHash> EdgeTris;
   std::unordered_map<ChordKey, BoundaryChord, ChordKeyHash> Chords;
-  std::shared_ptr<BRepTopAdaptor_FClass2d> Classifier;
+  std::shared_ptr<FaceSide> Side;
 };
 
 /// Solids, and shells outside solids (a surface model's), that are open only where two of their

@@ -3,7 +3,9 @@
 // alone keeps OpenCASCADE's slivers (docs/Design.md, "Display mesh").
 #include "AnalyticShapes.h"
 #include "BRepConverter.h"
+#include "FaceSide.h"
 #include "SolverTestHelpers.h"
+#include "StepFile.h"
 #include "TestHelpers.h"
 #include "TrimClassifier.h"
 
@@ -29,6 +31,9 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Pln.hxx>
 #include <Geom_Surface.hxx>
 #include <Geom_Curve.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
@@ -530,4 +535,69 @@ TEST(DisplayMesh, BSplineCopyMeshLiesOnTheFace)
     }
   }
   EXPECT_GT(seams, 0);
+}
+
+// FaceSide, the refinement's side test (docs/Design.md, "Every vertex on its face"): where it keeps
+// an answer for a cell, every point of the cell gets the classifier's own. On a plate with 48
+// round holes of three sizes (a 97 x 97 grid over its UV box, and 32 points on circles 1e-3
+// outside and inside each hole's), and on every face of the FRAMEWORK tile (a 29 x 29 grid over
+// each face's UV box, off the cells' lines): the same answer as BRepTopAdaptor_FClass2d at every
+// point, and the answers kept on the plate and on most faces. Fails where the cells a pcurve
+// crosses keep answers (each pcurve marking only its start's cell: 1,556 points of the plate).
+TEST(DisplayMesh, FaceSideAgreesWithTheClassifier)
+{
+  auto check = [](const TopoDS_Face& face, const std::vector<gp_Pnt2d>& points,
+                 const std::string& what) {
+    brt::FaceSide side(face);
+    const BRepTopAdaptor_FClass2d reference(face, 1e-9);
+    long differ = 0;
+    for (const gp_Pnt2d& p : points)
+      differ += side.Outside(p) != (reference.Perform(p) == TopAbs_OUT);
+    EXPECT_EQ(differ, 0) << what;
+    return side.Cached();
+  };
+  auto grid = [](const TopoDS_Face& face, int n) {
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    std::vector<gp_Pnt2d> points;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        points.emplace_back(u0 + (u1 - u0) * (i + 0.37) / n, v0 + (v1 - v0) * (j + 0.61) / n);
+    return points;
+  };
+  {
+    BRepBuilderAPI_MakeFace plate(gp_Pln(gp::XOY()), -50.0, 50.0, -30.0, 30.0);
+    std::vector<std::pair<gp_Pnt2d, double>> holes;
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 6; ++j)
+      {
+        const gp_Pnt2d c(-42.0 + 12.0 * i, -25.0 + 10.0 * j);
+        const double r = 1.5 + 0.75 * ((i + j) % 3);
+        TopoDS_Wire w = BRepBuilderAPI_MakeWire(
+          BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(c.X(), c.Y(), 0.0), gp::DZ()), r)));
+        w.Reverse();
+        plate.Add(w);
+        holes.emplace_back(c, r);
+      }
+    ASSERT_TRUE(plate.IsDone());
+    const TopoDS_Face face = plate.Face();
+    std::vector<gp_Pnt2d> points = grid(face, 97);
+    for (const auto& h : holes)
+      for (int k = 0; k < 32; ++k)
+        for (const double r : { h.second - 1e-3, h.second + 1e-3 })
+          points.emplace_back(h.first.X() + r * std::cos(0.1 + k * M_PI / 16),
+            h.first.Y() + r * std::sin(0.1 + k * M_PI / 16));
+    EXPECT_TRUE(check(face, points, "the plate with 48 holes"));
+  }
+  for (const char* name : { "FRAMEWORK_DESKTOP_BLANK_TILE.stp" })
+  {
+    const TopoDS_Shape shape = brt::ReadStepFile(brt::test::DataFile(name));
+    int faces = 0, cached = 0;
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next(), ++faces)
+    {
+      const TopoDS_Face face = TopoDS::Face(TopoDS::Face(ex.Current()).Oriented(TopAbs_FORWARD));
+      cached += check(face, grid(face, 29), std::string(name) + " face " + std::to_string(faces));
+    }
+    EXPECT_GT(cached, 9 * faces / 10) << name;
+  }
 }
