@@ -880,7 +880,8 @@ double PlaneTrimEdgeGap(const BRepModel& m, int f)
 } // namespace
 
 template <class T>
-KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
+KernelModel<T> PackKernelModel(
+  const BRepModel& m, const SolverData& data, const PackOptions& options)
 {
   KernelModel<T> k;
   const auto& c = data.Centre;
@@ -920,9 +921,12 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     for (int i = 0; i < 48; ++i)
       k.Patches.push_back(static_cast<T>(p.ControlPoints[i] - c[i % 3] - a[i % 3]));
     k.PatchDomain.insert(k.PatchDomain.end(), p.Domain.begin(), p.Domain.end());
-    PackPatchHull(&k.Patches[k.Patches.size() - 48], &k.PatchHull[KernelPatchHullReals * k.PatchFace.size()]);
     k.PatchFace.push_back(p.Face);
   }
+  // The control nets' constants (PackPatchHull), on every core.
+  ParallelFor(np, 0, [&](size_t p) {
+    PackPatchHull(&k.Patches[48 * p], &k.PatchHull[KernelPatchHullReals * p]);
+  });
   for (size_t f = 0; f < m.Faces.size(); ++f)
   {
     const Face& F = m.Faces[f];
@@ -980,7 +984,7 @@ KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data)
     const bool native = F.DegreeU == 0 && F.DegreeV == 0;
     // Per patch of a face with no exact surface, the tube that holds it (tube_patch_gap; fitted
     // on every core below).
-    if (kind == 0)
+    if (kind == 0 && options.Tubes)
       for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
         tubePatches.push_back(p);
     if (kind == 2 || torus || kind == 4)
@@ -1138,8 +1142,10 @@ bool UnpackResult(const Sample& s, const T* oR, const int* oI, SampleResult& r)
   return oI[6] != 0;
 }
 
-template KernelModel<float> PackKernelModel<float>(const BRepModel&, const SolverData&);
-template KernelModel<double> PackKernelModel<double>(const BRepModel&, const SolverData&);
+template KernelModel<float> PackKernelModel<float>(
+  const BRepModel&, const SolverData&, const PackOptions&);
+template KernelModel<double> PackKernelModel<double>(
+  const BRepModel&, const SolverData&, const PackOptions&);
 template KernelScalars GetKernelScalars<float>(const BRepModel&, const SolverData&, const SolverOptions&);
 template KernelScalars GetKernelScalars<double>(const BRepModel&, const SolverData&, const SolverOptions&);
 template void PackSample<float>(const SolverData&, const Sample&, float*);

@@ -118,8 +118,18 @@ struct KernelScalars
 int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
   std::array<double, 12>& out);
 
+/// What PackKernelModel leaves out. Tubes: the tubes that hold the patches of faces with no exact
+/// surface (PackPatchTube), a bound that only spares the certification searches, so that a query
+/// answers the same without them: the wall partners' probes (BuildWallPartners) pack without,
+/// where fitting them was most of their packing (the small headband: 23.5 of 33.5 ms).
+struct PackOptions
+{
+  bool Tubes = true;
+};
+
 template <class T>
-KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data);
+KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data,
+  const PackOptions& options = PackOptions());
 
 template <class T>
 KernelScalars GetKernelScalars(const BRepModel& m, const SolverData& data, const SolverOptions& options);

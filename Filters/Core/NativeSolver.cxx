@@ -32,10 +32,10 @@ struct NativeSolver::Impl
   const SolverData& Data;
   KernelModel<double> K;
 
-  Impl(const BRepModel& m, const SolverData& d)
+  Impl(const BRepModel& m, const SolverData& d, const PackOptions& pack)
     : Model(m)
     , Data(d)
-    , K(PackKernelModel<double>(m, d))
+    , K(PackKernelModel<double>(m, d, pack))
   {
   }
 
@@ -50,8 +50,8 @@ struct NativeSolver::Impl
   }
 };
 
-NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data)
-  : P(std::make_unique<Impl>(model, data))
+NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data, const PackOptions& pack)
+  : P(std::make_unique<Impl>(model, data, pack))
 {
 }
 

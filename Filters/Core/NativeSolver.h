@@ -4,6 +4,7 @@
 // OpenCL-free.
 #pragma once
 
+#include "KernelData.h"
 #include "Solver.h"
 
 #include <array>
@@ -19,7 +20,8 @@ class NativeSolver
 {
 public:
   /// Packs the model and its solver data (KernelData.h); both must outlive this object.
-  NativeSolver(const BRepModel& model, const SolverData& data);
+  NativeSolver(
+    const BRepModel& model, const SolverData& data, const PackOptions& pack = PackOptions());
   ~NativeSolver();
   NativeSolver(const NativeSolver&) = delete;
   NativeSolver& operator=(const NativeSolver&) = delete;
