@@ -219,12 +219,15 @@ bool EdgePointOnFace(const BRepModel& m, int face, int edge, double T, double& u
 /// not maximal. Edge points are what such a corner exposes first.
 void AddEdgePoints(const BRepModel& m, double spacing, std::vector<S1Point>& s1)
 {
-  for (int edge = 0; edge < static_cast<int>(m.Edges.size()); ++edge)
-  {
-    const Edge& E = m.Edges[edge];
+  // Each edge's points on every core, then appended in the edges' order.
+  std::vector<std::vector<S1Point>> perEdge(m.Edges.size());
+  ParallelFor(m.Edges.size(), 0, [&](size_t e) {
+    const int edge = static_cast<int>(e);
+    const Edge& E = m.Edges[e];
     const int face = E.Faces[0];
     if (face < 0 || m.Faces[face].PatchCount == 0)
-      continue;
+      return;
+    std::vector<S1Point>& out = perEdge[e];
     for (int k = E.FirstSegment; k < E.FirstSegment + E.SegmentCount; ++k)
     {
       const EdgeSegment& seg = m.EdgeSegments[k];
@@ -243,10 +246,16 @@ void AddEdgePoints(const BRepModel& m, double spacing, std::vector<S1Point>& s1)
         double u = 0.0, v = 0.0;
         if (!EdgePointOnFace(m, face, edge, T, u, v))
           continue;
-        s1.push_back({ EvaluateEdge(m, edge, T).C, face, true, u, v });
+        out.push_back({ EvaluateEdge(m, edge, T).C, face, true, u, v });
       }
     }
-  }
+  });
+  size_t total = s1.size();
+  for (const auto& v : perEdge)
+    total += v.size();
+  s1.reserve(total);
+  for (const auto& v : perEdge)
+    s1.insert(s1.end(), v.begin(), v.end());
 }
 
 /// Each face's trimming segments (FaceTrimCandidates), and for each block of up to 4 x 4
@@ -495,12 +504,13 @@ void BuildWallPartners(const BRepModel& model, SolverData& data)
     return;
   // The probes: a 4 x 4 grid over each face's (u, v) bounds, where inside its trim (nothing of s1,
   // so that a solve file read back gives the same partners).
-  std::vector<Sample> probes;
-  for (size_t f = 0; f < nf; ++f)
-  {
+  // (Each face's on every core, then joined in the faces' order.)
+  std::vector<std::vector<Sample>> perFace(nf);
+  ParallelFor(nf, 0, [&](size_t f) {
     const Face& F = model.Faces[f];
     if (F.PatchCount == 0)
-      continue;
+      return;
+    std::vector<Sample>& probes = perFace[f];
     const int face = static_cast<int>(f);
     const double sign = F.Reversed ? 1.0 : -1.0; // inward = -outward
     for (int i = 0; i < 4; ++i)
@@ -527,7 +537,10 @@ void BuildWallPartners(const BRepModel& model, SolverData& data)
         p.Direction = { sign * nrm[0] / len, sign * nrm[1] / len, sign * nrm[2] / len };
         probes.push_back(p);
       }
-  }
+  });
+  std::vector<Sample> probes;
+  for (const auto& v : perFace)
+    probes.insert(probes.end(), v.begin(), v.end());
   if (probes.empty())
     return;
   std::vector<double> wall;
