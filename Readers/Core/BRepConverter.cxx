@@ -1299,13 +1299,15 @@ struct EdgeTriangles
 class FaceRefiner
 {
 public:
+  /// `side`: the face's side test, shared by the face's refinements (made on first use).
   FaceRefiner(const Handle(Geom_Surface)& s, const TopoDS_Face& face, bool delaunay,
-    double deflection, double angular)
+    double deflection, double angular, std::shared_ptr<FaceSide>& side)
     : Surface(s)
     , TheFace(face)
     , Delaunay(delaunay)
     , Deflection(deflection)
     , Angular(angular)
+    , Side(&side)
   {
   }
 
@@ -1507,7 +1509,8 @@ private:
     return -1;
   }
   /// The new vertex at the middle of (a, b): on a boundary chord on its pcurve, on an inner
-  /// edge at the UV midpoint; -1 where that lies outside the face (FaceSide, made on first use).
+  /// edge at the UV midpoint; -1 where that lies outside the face (FaceSide, made on first use
+  /// and kept for the face's other refinements).
   int Midpoint(int a, int b)
   {
     const ChordKey k = Key(a, b);
@@ -1515,9 +1518,9 @@ private:
     const gp_Pnt2d& pb = UV[b];
     gp_Pnt2d m((pa.X() + pb.X()) / 2, (pa.Y() + pb.Y()) / 2);
     auto outside = [&](const gp_Pnt2d& p) {
-      if (!Side)
-        Side = std::make_shared<FaceSide>(TheFace);
-      return Side->Outside(p);
+      if (!*Side)
+        *Side = std::make_shared<FaceSide>(TheFace);
+      return (*Side)->Outside(p);
     };
     auto ch = Chords.find(k);
     if (ch == Chords.end())
@@ -1606,7 +1609,7 @@ private:
   double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
   std::unordered_map<ChordKey, EdgeTriangles, ChordKeyHash> EdgeTris;
   std::unordered_map<ChordKey, BoundaryChord, ChordKeyHash> Chords;
-  std::shared_ptr<FaceSide> Side;
+  std::shared_ptr<FaceSide>* Side; ///< the face's, shared by its refinements
 };
 
 /// Solids, and shells outside solids (a surface model's), that are open only where two of their
@@ -2634,8 +2637,10 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       basis->IsKind(STANDARD_TYPE(Geom_SurfaceOfRevolution)) ||
       basis->IsKind(STANDARD_TYPE(Geom_SurfaceOfLinearExtrusion)))
       surface = Handle(Geom_Surface)::DownCast(surface->Copy());
+    // The side test's kept answers serve each refinement of the face (bisection, flipped).
+    std::shared_ptr<FaceSide> side;
     auto meshFace = [&](bool delaunay, size_t cap) {
-      FaceRefiner fm(surface, ff, delaunay, deflection, options.AngularDeflection);
+      FaceRefiner fm(surface, ff, delaunay, deflection, options.AngularDeflection, side);
       for (int i = 1; i <= tri->NbNodes(); ++i)
         fm.AddVertex(tri->UVNode(i));
       for (int i = 1; i <= tri->NbTriangles(); ++i)
