@@ -297,11 +297,11 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
 /// the allowance 1.5 times their half-spread (as the faces' deviation takes its measure) and the
 /// rounding. (Centres of curvature instead moved with the patches' second derivatives, several
 /// per cent off a converted rational round's, and the spines through them missed the ball's
-/// centre by 0.006 on a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the point; a point of
-/// the line; the circle's centre) relative to the patch's anchor, stored as T; its unit axis (the
-/// line's direction, the circle's normal); the circle's radius; r; the allowance; the kind (1
-/// point, 2 line, 3 circle; 0 none: no allowance below the slack, where the bound would not
-/// help). The kernel reads these where the face has no exact surface.
+/// centre by 0.006 on a round of radius 0.8.) As KernelPatchSectorReals: the spine's centre (the
+/// point; a point of the line; the circle's centre) relative to the patch's anchor, stored as T;
+/// its unit axis (the line's direction, the circle's normal); the circle's radius; r; the
+/// allowance; the kind (1 point, 2 line, 3 circle; 0 none: no allowance below the slack, where
+/// the bound would not help). The kernel reads these where the face has no exact surface.
 template <class T>
 void PackPatchTube(const double* cp, double slack, T* out)
 {

@@ -193,15 +193,13 @@ std::vector<int> FaceSegmentsOnEdge(const BRepModel& m, int face, int edge)
   return list;
 }
 
-/// (u, v) on a face of the point at edge parameter T of an edge, from that face's trimming
-/// segments on the edge (`onEdge`, FaceSegmentsOnEdge's list: the first that covers T), with the
-/// unit direction (nu, nv) in (u, v) that points from the edge into the face (the face lies on
-/// the left of its trimming loops; 0 where the segment's tangent vanishes); false if no segment
-/// covers T. The list is made once per edge (AddEdgePoints): scanned per point, a face with many
-/// holes (a perforated card guide's plates, thousands of segments each) made s1's edge points 28%
-/// of its preparation.
-bool EdgePointIntoFaceAmong(const BRepModel& m, const std::vector<int>& onEdge, double T,
-  double& u, double& v, double& nu, double& nv)
+/// (u, v) on a face of the point at edge parameter T of an edge: on the first of that face's
+/// trimming segments on the edge (`onEdge`, FaceSegmentsOnEdge's list) that covers T; false
+/// where none does. The list is made once per edge (AddEdgePoints): scanned per point, a face
+/// with many holes (a perforated card guide's plates, thousands of segments each) made s1's edge
+/// points 28% of its preparation.
+bool EdgePointOnFace(
+  const BRepModel& m, const std::vector<int>& onEdge, double T, double& u, double& v)
 {
   for (const int s : onEdge)
   {
@@ -210,16 +208,12 @@ bool EdgePointIntoFaceAmong(const BRepModel& m, const std::vector<int>& onEdge, 
     if (T < lo || T > hi || hi <= lo)
       continue;
     const auto e = EvaluateCubic<2>(ts.ControlPoints.data(), (T - ts.T0) / (ts.T1 - ts.T0));
-    const double len = std::hypot(e.D1[0], e.D1[1]);
     u = e.P[0];
     v = e.P[1];
-    nu = len > 0.0 ? -e.D1[1] / len : 0.0;
-    nv = len > 0.0 ? e.D1[0] / len : 0.0;
     return true;
   }
   return false;
 }
-
 
 /// s1 along the edges, `spacing` apart (by each cubic segment's control polygon), on the first
 /// face of each edge. A convex edge can cut into a sphere over a cap narrower than the spacing of
@@ -254,8 +248,8 @@ void AddEdgePoints(const BRepModel& m, double spacing, std::vector<S1Point>& s1)
       for (int i = 0; i < n; ++i)
       {
         const double T = seg.T0 + (seg.T1 - seg.T0) * (i + 0.5) / n;
-        double u = 0.0, v = 0.0, nu = 0.0, nv = 0.0;
-        if (!EdgePointIntoFaceAmong(m, onEdge, T, u, v, nu, nv))
+        double u = 0.0, v = 0.0;
+        if (!EdgePointOnFace(m, onEdge, T, u, v))
           continue;
         out.push_back({ EvaluateEdge(m, edge, T).C, face, true, u, v });
       }
@@ -1351,13 +1345,12 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
   // body, whose faces have up to thousands of segments).
   const BlockTrimCandidates blocks(model, [](const Face&) { return 0.0; });
   const CrossingIndex crossings(model);
-  // A face with many segments (a plate of hundreds of holes, one patch and so one block) and
-  // many samples on its boundary also gets them by the cells of a Cells x Cells grid over its UV
-  // bounds, each cell's list the
-  // candidates that can hold the nearest trimming point of some point of the cell
-  // (TrimCandidatesFor: the same answers as the face's every segment): a sample whose tries all
-  // lie in one cell searches that cell's. Scanning the block's thousands at every sample was
-  // 1 s of a perforated card guide's 100,645 samples.
+  // A face with many segments and many samples on its boundary (a plate of hundreds of holes,
+  // one patch and so one block, whose list is the face's every segment) also gets them by the
+  // cells of a Cells x Cells grid over its UV bounds, each cell's list the candidates that can
+  // hold the nearest trimming point of some point of the cell (TrimCandidatesFor: the same
+  // answers): a sample whose tries all lie in one cell searches that cell's. Scanning the
+  // block's thousands at every sample was 1 s of a perforated card guide's 100,645 samples.
   // The grid costs Cells^2 scans of the face's segments, each sample's search a scan of its
   // block's list: it is made where those lists add up to more than twice the grid's cost.
   constexpr int Cells = 16;
@@ -1371,12 +1364,11 @@ std::vector<Sample> SamplesFromMesh(const BRepModel& model, const SolverData& da
     if (adjacent[i] < 0 || model.Faces[f].PatchCount == 0 ||
       blocks.OfFace(f).size() < ManySegments)
       continue;
-    if (data.FaceBreaks.empty())
-      scans[f] += static_cast<double>(blocks.OfFace(f).size());
-    else
-      scans[f] += static_cast<double>(
-        blocks.For(model, static_cast<size_t>(FindPatchFast(model, data, out[i].Face, out[i].U, out[i].V)))
-          .size());
+    const std::vector<TrimCandidate>& list = data.FaceBreaks.empty()
+      ? blocks.OfFace(f)
+      : blocks.For(model,
+          static_cast<size_t>(FindPatchFast(model, data, out[i].Face, out[i].U, out[i].V)));
+    scans[f] += static_cast<double>(list.size());
   }
   std::vector<std::vector<std::vector<TrimCandidate>>> cellCandidates(model.Faces.size());
   ParallelFor(model.Faces.size(), 0, [&](size_t f) {
