@@ -704,14 +704,35 @@ int vtkThicknessFilter::RequestData(
       anySolved ? stats.Max : NaN, mm.c_str(), stats.Mean(), mm.c_str(),
       solvedArea > 0.0 ? 100.0 * sums[Stats::EdgeZoneArea] / solvedArea : NaN,
       this->EdgeZoneAngle);
+    // The limits that are set (0 is off): the share of the area beyond each; none where neither
+    // is set (a share of "nan%" said nothing to the user). The gap alone has its own rows.
+    std::string limitsText;
+    const struct
+    {
+      const char* What;
+      double Value;
+      int Walls, All;
+    } setLimits[2] = { { "below minimum", minimum, Stats::AreaBelowWalls, Stats::AreaBelowAll },
+      { "above maximum", maximum, Stats::AreaAboveWalls, Stats::AreaAboveAll } };
+    for (const auto& l : setLimits)
+    {
+      if (gapOnly || !(l.Value > 0.0))
+        continue;
+      char line[256];
+      std::snprintf(line, sizeof(line),
+        "  %s %g %s: %.2f%% of the area without edge zones, %.2f%% with them\n", l.What, l.Value,
+        mm.c_str(), 100.0 * share(sums[l.Walls], l.Value, solvedArea),
+        100.0 * share(sums[l.All], l.Value, solvedArea));
+      limitsText += line;
+    }
+    if (!gapOnly && limitsText.empty())
+      limitsText = "  no thickness limits set (MinimumThickness, MaximumThickness)\n";
     char text[2048];
     std::snprintf(text, sizeof(text),
-      "B-Rep Thickness: %s\n  device: %s\n  %s\n  %s\n"
-      "  below minimum %g %s: %.2f%% of the area without edge zones, %.2f%% with them\n"
+      "B-Rep Thickness: %s\n  device: %s\n  %s\n  %s\n%s"
       "  prepare %.3f s, solve %.3f s\n",
-      I.SourceFile.c_str(), I.DeviceUsed.c_str(), counts, answer, minimum, mm.c_str(),
-      100.0 * share(sums[Stats::AreaBelowWalls], minimum, solvedArea),
-      100.0 * share(sums[Stats::AreaBelowAll], minimum, solvedArea), times[0], times[1]);
+      I.SourceFile.c_str(), I.DeviceUsed.c_str(), counts, answer, limitsText.c_str(), times[0],
+      times[1]);
     vtkOutputWindowDisplayText(text);
   }
   return 1;

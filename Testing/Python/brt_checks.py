@@ -1,7 +1,7 @@
 """Shared by the pvpython tests (imported from the script's own folder): checks that record their
 failures, the end of a test, and the Summary table as a dict.
 
-    from brt_checks import check, finish, messages, summary_rows, table_rows
+    from brt_checks import check, finish, messages, output_text, summary_rows, table_rows
 """
 import sys
 
@@ -52,3 +52,18 @@ def messages(proxy, event="WarningEvent"):
 
     proxy.GetClientSideObject().AddObserver(event, on_message)
     return got
+
+
+def output_text(run):
+    """The text that ParaView's Output Messages would show while run() runs (vtkOutputWindow: the
+    filter's summary message among them). pvpython prints through the same window, so nothing is
+    printed in between."""
+    from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+    previous = vtkOutputWindow.GetInstance()
+    window = vtkStringOutputWindow()
+    vtkOutputWindow.SetInstance(window)
+    try:
+        run()
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    return window.GetOutput()

@@ -16,7 +16,7 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager as sm
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
-from brt_checks import check, finish, summary_rows
+from brt_checks import check, finish, output_text, summary_rows
 
 plugin, model = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, ns=globals())
@@ -54,7 +54,7 @@ def exact_ray(p, d):
 
 reader = STEPReader(FileName=model)
 f = BRepThickness(Input=reader, Device="native", Method="Sphere and ray")
-f.UpdatePipeline()
+first_text = output_text(lambda: f.UpdatePipeline())
 mesh = dsa.WrapDataObject(sm.Fetch(f, idx=0))
 ray = np.asarray(mesh.PointData["RayThickness"])
 sphere = np.asarray(mesh.PointData["Thickness"])
@@ -95,8 +95,14 @@ check(rows["RayMissed"] == missed, "RayMissed differs from the array")
 # faces, the sides and the hole's wall entirely: 2 (80^2 - pi 10^2 - (74^2 - pi 13^2)) + 4 80 6
 # + 2 pi 10 6 of 2 (80^2 - pi 10^2) + 4 80 6 + 2 pi 10 6 = 0.3164 of the area (the samples' vertex
 # areas make the Summary's share a discretisation of it).
+# The summary message names the limits that are set, never a share of "nan%" (first run above:
+# none set).
+check("no thickness limits set" in first_text and "below minimum" not in first_text and
+      "nan" not in first_text, "summary message without limits: %r" % first_text)
 f.MinimumThickness = 5.5
-f.UpdatePipeline()
+text = output_text(lambda: f.UpdatePipeline())
+check("below minimum 5.5 mm: 0.00% of the area without edge zones" in text and
+      "above maximum" not in text and "nan" not in text, "summary message with a minimum: %r" % text)
 rows = summary_rows(f)
 m = dsa.WrapDataObject(sm.Fetch(f, idx=0))
 cls, zone, T = (np.asarray(m.PointData[k]) for k in ("ThicknessClass", "EdgeZone", "Thickness"))
