@@ -246,9 +246,16 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     }
   };
   // Each segment's box distance once (the s1 sampling classifies every candidate point of every
-  // patch: this scan was a sixth of a filter's preparation on NIST_MBE_PMI_11).
-  thread_local std::vector<double> boxGap;
-  boxGap.clear();
+  // patch: this scan was a sixth of a filter's preparation on NIST_MBE_PMI_11), on the stack for
+  // the short lists of TrimCandidatesFor. (A thread_local vector cost the plugin, a shared
+  // library, a call of __tls_get_addr each time: the filter's preparation took 5-17% longer on
+  // four free-form parts, docs/Solver.md, "Host layer".)
+  constexpr size_t stackGaps = 256;
+  double gapsOnStack[stackGaps];
+  std::vector<double> gapsOnHeap;
+  if (count > stackGaps)
+    gapsOnHeap.resize(count);
+  double* boxGap = count > stackGaps ? gapsOnHeap.data() : gapsOnStack;
   size_t first = count;
   double firstBound = std::numeric_limits<double>::max();
   for (size_t k = 0; k < count; ++k)
@@ -257,7 +264,7 @@ TrimProjection Classify(const BRepModel& model, double u, double v,
     const double du = u < bx[0] ? bx[0] - u : (u > bx[2] ? u - bx[2] : 0.0);
     const double dv = v < bx[1] ? bx[1] - v : (v > bx[3] ? v - bx[3] : 0.0);
     const double b = du * du + dv * dv;
-    boxGap.push_back(b);
+    boxGap[k] = b;
     if (b < firstBound)
     {
       firstBound = b;
