@@ -692,35 +692,48 @@ double PatchBoxBand(const Face& F)
   return 2.0 * F.UVTolerance + 1e-8 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
 }
 
-/// Patch p's box narrowed to the part of it inside its face's trim (b: its control points' box,
-/// narrowed in place). That part lies in the UV box of the trimming segments' pieces within the
-/// patch's domain (their control points' boxes, clipped to it) and of the domain's corners
-/// inside the face: the boundary of the face within the domain is made of those pieces and of
-/// the domain's sides between them and the corners. The box is that of the control points of
-/// the patch restricted to that UV box (de Casteljau). A plane's patch under a boss or across a
-/// hole is then boxed by its face alone. Returns false where no part of the patch is inside
-/// the face (the certification never searches it). The UV box is widened by the face's UV
-/// tolerance, the trim test's own band (1e-9 of the face's domain) and rounding
-/// (PatchBoxBand).
-bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
-  const std::vector<TrimCandidate>& faceSegments, const CrossingIndex& crossings, double* b)
+/// What TrimmedPatchBox's first half finds in a patch's domain (ScanPatchTrim): the UV box of
+/// the trimming segments' pieces within it, and its corners' answers (inside the face or within
+/// the band of its trim: 1; else 0; -1 not asked). Whole: the patch keeps its control points'
+/// box (no face, no loops, an empty domain).
+struct PatchTrimScan
 {
+  double Lo[2] = { 1e300, 1e300 }, Hi[2] = { -1e300, -1e300 };
+  signed char Corner[4] = { -1, -1, -1, -1 };
+  bool Whole = false;
+};
+
+/// Corners in TrimmedPatchBox's order: (u0, v0), (u0, v1), (u1, v0), (u1, v1).
+inline double CornerU(const BezierPatch& p, int k) { return p.Domain[k < 2 ? 0 : 1]; }
+inline double CornerV(const BezierPatch& p, int k) { return p.Domain[(k & 1) ? 3 : 2]; }
+
+/// The first half of TrimmedPatchBox: the segments' pieces within the patch's domain, and the
+/// corners k where ask[k] (the trim test at each among the segments that can be nearest to a
+/// point of the domain).
+PatchTrimScan ScanPatchTrim(const BRepModel& model, const BezierPatch& patch,
+  const std::vector<TrimCandidate>& faceSegments, const CrossingIndex& crossings,
+  const bool ask[4])
+{
+  PatchTrimScan scan;
   if (patch.Face < 0 || patch.Face >= static_cast<int>(model.Faces.size()))
-    return true;
+  {
+    scan.Whole = true;
+    return scan;
+  }
   const Face& F = model.Faces[static_cast<size_t>(patch.Face)];
-  if (F.LoopCount <= 0)
-    return true;
   const double u0 = patch.Domain[0], u1 = patch.Domain[1], v0 = patch.Domain[2],
                v1 = patch.Domain[3];
-  if (!(u1 > u0) || !(v1 > v0))
-    return true;
+  if (F.LoopCount <= 0 || !(u1 > u0) || !(v1 > v0))
+  {
+    scan.Whole = true;
+    return scan;
+  }
   const double band = PatchBoxBand(F);
-  double lo[2] = { 1e300, 1e300 }, hi[2] = { -1e300, -1e300 };
   auto add = [&](double u, double v) {
-    lo[0] = std::min(lo[0], u);
-    hi[0] = std::max(hi[0], u);
-    lo[1] = std::min(lo[1], v);
-    hi[1] = std::max(hi[1], v);
+    scan.Lo[0] = std::min(scan.Lo[0], u);
+    scan.Hi[0] = std::max(scan.Hi[0], u);
+    scan.Lo[1] = std::min(scan.Lo[1], v);
+    scan.Hi[1] = std::max(scan.Hi[1], v);
   };
   // The segments that can be nearest to a point of the domain, with every one within the band
   // of it (TrimCandidatesFor): the others neither reach into the domain nor decide a corner.
@@ -737,13 +750,43 @@ bool TrimmedPatchBox(const BRepModel& model, const BezierPatch& patch,
       add(ch[0], ch[1]);
     }
   }
-  for (const double u : { u0, u1 })
-    for (const double v : { v0, v1 })
+  for (int k = 0; k < 4; ++k)
+    if (ask[k])
     {
+      const double u = CornerU(patch, k), v = CornerV(patch, k);
       const TrimProjection tp = ClassifyPointAmong(model, u, v, near, -1.0, &crossings);
-      if (tp.Inside || tp.Distance <= band || crossings.Inside(patch.Face, u, v))
-        add(u, v);
+      scan.Corner[k] = tp.Inside || tp.Distance <= band || crossings.Inside(patch.Face, u, v);
     }
+  return scan;
+}
+
+/// Patch p's box narrowed to the part of it inside its face's trim (b: its control points' box,
+/// narrowed in place), from its scan and its corners' answers (corner[k]: 1 inside). That part
+/// lies in the UV box of the trimming segments' pieces within the patch's domain (their control
+/// points' boxes, clipped to it) and of the domain's corners inside the face: the boundary of
+/// the face within the domain is made of those pieces and of the domain's sides between them and
+/// the corners. The box is that of the control points of the patch restricted to that UV box
+/// (de Casteljau). A plane's patch under a boss or across a hole is then boxed by its face
+/// alone. Returns false where no part of the patch is inside the face (the certification never
+/// searches it). The UV box is widened by the face's UV tolerance, the trim test's own band
+/// (1e-9 of the face's domain) and rounding (PatchBoxBand).
+bool TrimmedPatchBox(const BezierPatch& patch, const PatchTrimScan& scan, const signed char corner[4],
+  double* b)
+{
+  if (scan.Whole)
+    return true;
+  double lo[2] = { scan.Lo[0], scan.Lo[1] }, hi[2] = { scan.Hi[0], scan.Hi[1] };
+  for (int k = 0; k < 4; ++k)
+    if (corner[k] == 1)
+    {
+      const double u = CornerU(patch, k), v = CornerV(patch, k);
+      lo[0] = std::min(lo[0], u);
+      hi[0] = std::max(hi[0], u);
+      lo[1] = std::min(lo[1], v);
+      hi[1] = std::max(hi[1], v);
+    }
+  const double u0 = patch.Domain[0], u1 = patch.Domain[1], v0 = patch.Domain[2],
+               v1 = patch.Domain[3];
   if (!(lo[0] <= hi[0]))
     return false;
   const double a0 = std::clamp((lo[0] - u0) / (u1 - u0), 0.0, 1.0);
@@ -800,10 +843,46 @@ static void BuildPatchBoxesWith(
   // (BlockTrimCandidates), for all of its patches.
   const BlockTrimCandidates blockSegments(model, [](const Face& F) { return 2.0 * PatchBoxBand(F); });
   std::vector<char> trimmedAway(model.Patches.size(), 0);
+  // A corner of a face's patch grid is shared by up to four patches: the patch whose (u0, v0)
+  // corner it is answers for all of them (its trim test's candidates hold the segments nearest
+  // to it, as each neighbour's do, so every neighbour's test gives the same answer). A corner's
+  // answer comes from that patch where it lies in the grid with exactly this corner; else the
+  // patch asks itself.
+  auto provider = [&](size_t p, int k) -> size_t {
+    const BezierPatch& P = model.Patches[p];
+    if (k == 0 || P.Face < 0 || P.Face >= static_cast<int>(model.Faces.size()))
+      return p;
+    const Face& F = model.Faces[static_cast<size_t>(P.Face)];
+    if (!(F.PatchesU > 0 && F.PatchesV > 0 && F.PatchCount == F.PatchesU * F.PatchesV))
+      return p;
+    const int at = static_cast<int>(p) - F.FirstPatch;
+    const int i = at % F.PatchesU + (k >= 2 ? 1 : 0), j = at / F.PatchesU + (k & 1);
+    if (i >= F.PatchesU || j >= F.PatchesV)
+      return p;
+    const size_t q = static_cast<size_t>(F.FirstPatch + i + j * F.PatchesU);
+    const BezierPatch& Q = model.Patches[q];
+    if (Q.Face != P.Face || !(Q.Domain[1] > Q.Domain[0]) || !(Q.Domain[3] > Q.Domain[2]) ||
+      Q.Domain[0] != CornerU(P, k) || Q.Domain[2] != CornerV(P, k))
+      return p;
+    return q;
+  };
+  std::vector<PatchTrimScan> scans(model.Patches.size());
   ParallelFor(model.Patches.size(), 0, [&](size_t p) {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
-    trimmedAway[p] = !TrimmedPatchBox(model, model.Patches[p], blockSegments.For(model, p),
-      crossings, &data.PatchBoxes[6 * p]);
+    bool ask[4];
+    for (int k = 0; k < 4; ++k)
+      ask[k] = provider(p, k) == p;
+    scans[p] = ScanPatchTrim(model, model.Patches[p], blockSegments.For(model, p), crossings, ask);
+  });
+  ParallelFor(model.Patches.size(), 0, [&](size_t p) {
+    signed char corner[4];
+    for (int k = 0; k < 4; ++k)
+    {
+      const size_t q = provider(p, k);
+      corner[k] = q == p ? scans[p].Corner[k] : scans[q].Corner[0];
+    }
+    trimmedAway[p] =
+      !TrimmedPatchBox(model.Patches[p], scans[p], corner, &data.PatchBoxes[6 * p]);
   });
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)
