@@ -343,8 +343,12 @@ int FindPatchFast(const BRepModel& model, const SolverData& data, int face, doub
     static_cast<int>(std::upper_bound(bv + 1, bv + f.PatchesV, v) - (bv + 1)), 0, f.PatchesV - 1);
   return f.FirstPatch + iu + iv * f.PatchesU;
 }
-static void BuildPatchBoxesWith(
-  const BRepModel& model, const CrossingIndex& crossings, SolverData& data);
+namespace
+{
+double PatchBoxBand(const Face& F);
+}
+static void BuildPatchBoxesWith(const BRepModel& model, const CrossingIndex& crossings,
+  const BlockTrimCandidates& blockSegments, SolverData& data);
 
 SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
 {
@@ -396,7 +400,10 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   auto s1Band = [](const Face& F) {
     return F.UVTolerance + 1e-9 * ((F.Domain[1] - F.Domain[0]) + (F.Domain[3] - F.Domain[2]));
   };
-  const BlockTrimCandidates blockSegments(model, [&](const Face& F) { return 2.0 * s1Band(F); });
+  // The blocks' candidates with the patch boxes' reach (BuildPatchBoxesWith, below), twice
+  // s1's band or more: a list kept for a wider reach holds every segment the narrower keeps, so
+  // the patches' lists here are the same (one construction of the blocks' lists, not two).
+  const BlockTrimCandidates blockSegments(model, [](const Face& F) { return 2.0 * PatchBoxBand(F); });
   // The crossing parity's answers (the trim test's at cusps, ties and faces whose loops cross,
   // and the patch boxes' corners below) from each face's segments listed in bands of v
   // (CrossingIndex): every segment of the face scanned per point was a fifth of the thumb
@@ -488,7 +495,7 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   AddEdgePoints(model, edgeSpacing, data.S1);
   BuildS1Tree(model, data);
   BuildVertices(model, data);
-  BuildPatchBoxesWith(model, crossings, data);
+  BuildPatchBoxesWith(model, crossings, blockSegments, data);
   BuildWallPartners(model, data);
   return data;
 }
@@ -822,9 +829,10 @@ bool TrimmedPatchBox(const BezierPatch& patch, const PatchTrimScan& scan, const 
 }
 } // namespace
 
-/// BuildPatchBoxes with the crossing index PrepareSolver's s1 sampling built too.
-static void BuildPatchBoxesWith(
-  const BRepModel& model, const CrossingIndex& crossings, SolverData& data)
+/// BuildPatchBoxes with the crossing index and the blocks' trimming candidates (for the reach
+/// 2 PatchBoxBand) that PrepareSolver's s1 sampling built too.
+static void BuildPatchBoxesWith(const BRepModel& model, const CrossingIndex& crossings,
+  const BlockTrimCandidates& blockSegments, SolverData& data)
 {
   auto box = [](const double* c, int points, double* b) {
     for (int k = 0; k < 3; ++k)
@@ -841,7 +849,6 @@ static void BuildPatchBoxesWith(
   // Patches wholly outside their face's trim take no part in the certification's tree. Each
   // face's trimming segments and their boxes once, and those of each block of its patches
   // (BlockTrimCandidates), for all of its patches.
-  const BlockTrimCandidates blockSegments(model, [](const Face& F) { return 2.0 * PatchBoxBand(F); });
   std::vector<char> trimmedAway(model.Patches.size(), 0);
   // A corner of a face's patch grid is shared by up to four patches: the patch whose (u0, v0)
   // corner it is answers for all of them (its trim test's candidates hold the segments nearest
@@ -1083,7 +1090,8 @@ static void BuildPatchBoxesWith(
 void BuildPatchBoxes(const BRepModel& model, SolverData& data)
 {
   const CrossingIndex crossings(model);
-  BuildPatchBoxesWith(model, crossings, data);
+  const BlockTrimCandidates blockSegments(model, [](const Face& F) { return 2.0 * PatchBoxBand(F); });
+  BuildPatchBoxesWith(model, crossings, blockSegments, data);
 }
 
 void BuildVertices(const BRepModel& model, SolverData& data)
