@@ -758,7 +758,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   options.NewtonTolerance = this->NewtonTolerance;
   options.MaxIterations = this->MaxIterations;
   options.MaxEdgeIterations = this->MaxIterations;
-  const brt::SolverData data = brt::PrepareSolver(model, options);
+  // The wall partners (SolverData::WallPartners) after the device is chosen: the native
+  // device's own packing of the model answers their probes, which then need none of their own.
+  brt::SolverData data = brt::PrepareSolver(model, options, false);
   const std::vector<brt::Sample> samples = brt::SamplesFromMesh(model, data);
   I.S1Points = data.S1.size();
   I.Areas = brt::VertexAreas(model.Mesh.Points, model.Mesh.Triangles);
@@ -793,6 +795,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
         I.CLKey = clKey;
         this->SetProgressText("B-Rep Thickness");
       }
+      brt::BuildWallPartners(model, data);
       I.CL->Upload(model, data);
     }
     catch (const brt::OpenCLError& e)
@@ -810,7 +813,13 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   }
   std::unique_ptr<brt::NativeSolver> cpu;
   if (native)
+  {
+    // (Where OpenCL failed above, the partners are there already; BuildWallPartners makes them
+    // again, the same.)
     cpu = std::make_unique<brt::NativeSolver>(model, data);
+    brt::BuildWallPartners(model, data, *cpu);
+    cpu->SetWallPartners();
+  }
   I.DeviceUsed = native
     ? "native CPU (double, " + std::string(cpu->KernelBuild()) + ", " +
       std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads)"

@@ -1142,6 +1142,20 @@ bool UnpackResult(const Sample& s, const T* oR, const int* oI, SampleResult& r)
   return oI[6] != 0;
 }
 
+template <class T>
+void PackWallPartners(const SolverData& data, KernelModel<T>& k)
+{
+  const size_t nf = k.FaceInfo.size() / KernelFaceInts;
+  if (data.WallPartners.size() != KernelWallPartners * nf)
+    return;
+  for (size_t f = 0; f < nf; ++f)
+    for (size_t j = 0; j < KernelWallPartners; ++j)
+      k.FaceInfo[KernelFaceInts * f + (KernelFaceInts - KernelWallPartners) + j] =
+        data.WallPartners[KernelWallPartners * f + j];
+}
+
+template void PackWallPartners<float>(const SolverData&, KernelModel<float>&);
+template void PackWallPartners<double>(const SolverData&, KernelModel<double>&);
 template KernelModel<float> PackKernelModel<float>(
   const BRepModel&, const SolverData&, const PackOptions&);
 template KernelModel<double> PackKernelModel<double>(

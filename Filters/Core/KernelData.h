@@ -131,6 +131,12 @@ template <class T>
 KernelModel<T> PackKernelModel(const BRepModel& m, const SolverData& data,
   const PackOptions& options = PackOptions());
 
+/// Writes data.WallPartners into k's faces (their FACE_INTS slots after the first 12), as
+/// PackKernelModel does: for a model packed before BuildWallPartners ran with its solver
+/// (NativeSolver::SetWallPartners). Leaves k as it is where the partners are not there.
+template <class T>
+void PackWallPartners(const SolverData& data, KernelModel<T>& k);
+
 template <class T>
 KernelScalars GetKernelScalars(const BRepModel& m, const SolverData& data, const SolverOptions& options);
 

@@ -57,6 +57,11 @@ NativeSolver::NativeSolver(const BRepModel& model, const SolverData& data, const
 
 NativeSolver::~NativeSolver() = default;
 
+void NativeSolver::SetWallPartners()
+{
+  PackWallPartners(P->Data, P->K);
+}
+
 const char* NativeSolver::KernelBuild() const
 {
   return P->Wide ? "x86-64-v3" : "baseline";

@@ -38,6 +38,11 @@ public:
     unsigned threads = 0, std::vector<unsigned char>* exactPass = nullptr,
     const std::function<bool(size_t)>& progress = {}) const;
 
+  /// Copies the solver data's WallPartners into the packed model: for a solver made before
+  /// BuildWallPartners(model, data, *this) filled them (the filter's native device, which packs
+  /// the model once for the partners' probes and the solve).
+  void SetWallPartners();
+
   /// The build of the kernel source this solver runs: "x86-64-v3" (AVX2, BMI2; chosen where the
   /// CPU has them and the environment variable BRT_NATIVE_BASELINE is unset) or "baseline". Both
   /// give the same results bit for bit (docs/Solver.md, "The native device's instruction sets").

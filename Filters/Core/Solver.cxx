@@ -350,7 +350,7 @@ double PatchBoxBand(const Face& F);
 static void BuildPatchBoxesWith(const BRepModel& model, const CrossingIndex& crossings,
   const BlockTrimCandidates& blockSegments, SolverData& data);
 
-SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
+SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options, bool partners)
 {
   SolverData data;
   Vec3 lo{ std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
@@ -496,7 +496,10 @@ SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options)
   BuildS1Tree(model, data);
   BuildVertices(model, data);
   BuildPatchBoxesWith(model, crossings, blockSegments, data);
-  BuildWallPartners(model, data);
+  if (partners)
+    BuildWallPartners(model, data);
+  else
+    data.WallPartners.assign(KernelWallPartners * model.Faces.size(), -1);
   return data;
 }
 
@@ -508,7 +511,12 @@ void BuildLoopCrossings(const BRepModel& model, SolverData& data)
   });
 }
 
-void BuildWallPartners(const BRepModel& model, SolverData& data)
+namespace
+{
+/// BuildWallPartners with the probes' query given: query(probes, wall, hit) as
+/// NativeSolver::WallWithin answers at the radius S1Spacing / 8.
+template <class Query>
+void BuildWallPartnersBy(const BRepModel& model, SolverData& data, Query&& query)
 {
   const size_t nf = model.Faces.size();
   data.WallPartners.assign(KernelWallPartners * nf, -1);
@@ -557,29 +565,7 @@ void BuildWallPartners(const BRepModel& model, SolverData& data)
     return;
   std::vector<double> wall;
   std::vector<int> hit;
-  {
-    // The query needs the patches and their boxes, not s1: set aside while the solver is packed
-    // (and put back however the query ends).
-    struct SetAside
-    {
-      SolverData& D;
-      std::vector<S1Point> S1;
-      std::vector<BVHNode> Nodes;
-      explicit SetAside(SolverData& d) : D(d)
-      {
-        S1.swap(D.S1);
-        Nodes.swap(D.Nodes);
-      }
-      ~SetAside()
-      {
-        S1.swap(D.S1);
-        Nodes.swap(D.Nodes);
-      }
-    } aside(data);
-    PackOptions pack;
-    pack.Tubes = false; // (the same answers, without fitting them)
-    NativeSolver(model, data, pack).WallWithin(probes, data.S1Spacing / 8.0, wall, hit);
-  }
+  query(probes, wall, hit);
   // (face, face across) once per probe that found it, from either side.
   std::vector<std::pair<int, int>> found;
   for (size_t i = 0; i < probes.size(); ++i)
@@ -610,6 +596,43 @@ void BuildWallPartners(const BRepModel& model, SolverData& data)
       data.WallPartners[KernelWallPartners * static_cast<size_t>(face) + k] = counts[k].second;
     a = b;
   }
+}
+} // namespace
+
+void BuildWallPartners(const BRepModel& model, SolverData& data)
+{
+  BuildWallPartnersBy(model, data,
+    [&](const std::vector<Sample>& probes, std::vector<double>& wall, std::vector<int>& hit) {
+      // The query needs the patches and their boxes, not s1: set aside while the solver is
+      // packed (and put back however the query ends).
+      struct SetAside
+      {
+        SolverData& D;
+        std::vector<S1Point> S1;
+        std::vector<BVHNode> Nodes;
+        explicit SetAside(SolverData& d) : D(d)
+        {
+          S1.swap(D.S1);
+          Nodes.swap(D.Nodes);
+        }
+        ~SetAside()
+        {
+          S1.swap(D.S1);
+          Nodes.swap(D.Nodes);
+        }
+      } aside(data);
+      PackOptions pack;
+      pack.Tubes = false; // (the same answers, without fitting them)
+      NativeSolver(model, data, pack).WallWithin(probes, data.S1Spacing / 8.0, wall, hit);
+    });
+}
+
+void BuildWallPartners(const BRepModel& model, SolverData& data, const NativeSolver& solver)
+{
+  BuildWallPartnersBy(model, data,
+    [&](const std::vector<Sample>& probes, std::vector<double>& wall, std::vector<int>& hit) {
+      solver.WallWithin(probes, data.S1Spacing / 8.0, wall, hit);
+    });
 }
 
 void BuildS1Tree(const BRepModel& model, SolverData& data)

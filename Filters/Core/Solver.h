@@ -226,6 +226,13 @@ void BuildLoopCrossings(const BRepModel& model, SolverData& data);
 /// ReadSolve call it).
 void BuildWallPartners(const BRepModel& model, SolverData& data);
 
+class NativeSolver;
+/// BuildWallPartners with the probes run on `solver`, made from model and data before (their
+/// partners then -1; the same answers as the probes' own packing, which leaves out s1 and the
+/// tubes: neither changes the query's answers). NativeSolver::SetWallPartners then copies them
+/// into its packed model: one packing of the model for the probes and the solve.
+void BuildWallPartners(const BRepModel& model, SolverData& data, const NativeSolver& solver);
+
 /// Fills data.PatchBoxes, data.EdgeBoxes, their BVH and data.EdgeFaceDeviation (PrepareSolver
 /// and ReadSolve call it).
 void BuildPatchBoxes(const BRepModel& model, SolverData& data);
@@ -233,7 +240,11 @@ void BuildPatchBoxes(const BRepModel& model, SolverData& data);
 /// Fills data.VertexInfo from the model's edges (PrepareSolver and ReadSolve call it).
 void BuildVertices(const BRepModel& model, SolverData& data);
 
-SolverData PrepareSolver(const BRepModel& model, const SolverOptions& options);
+/// The solver's data (s1, the trees, the boxes, the wall partners...). partners false: the wall
+/// partners are left at -1, for BuildWallPartners(model, data, solver) with the solver that will
+/// solve (the filter's native device).
+SolverData PrepareSolver(
+  const BRepModel& model, const SolverOptions& options, bool partners = true);
 
 /// s0 = the display mesh vertices, with the inward normal (minus the outward normal). Vertices on
 /// a face's boundary are moved a tiny step into the face (see the implementation).

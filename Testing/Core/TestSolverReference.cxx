@@ -1923,6 +1923,53 @@ TEST(SolverData, S1IsTheGridInsideTheTrim)
 /// of the same size has no partner anywhere. Across the thin wall the thickness away from the
 /// rims is the closed form's within 1e-6 with the partners and without them, and the partners'
 /// starts take fewer Newton steps.
+bool SameBits(const SampleResult& a, const SampleResult& b);
+
+/// The filter's native device packs the model once: the wall partners' probes run on the solver
+/// that then solves (PrepareSolver without partners, BuildWallPartners with that solver,
+/// NativeSolver::SetWallPartners). The partners, the packed faces and the spheres are those of
+/// PrepareSolver's own probes (packed apart, without s1 and the tubes).
+TEST(SolverData, WallPartnersFromTheSolversOwnPacking)
+{
+  // A tube with a 0.5 mm wall, where the partners start the solve (without them its spheres
+  // take five times the Newton steps: WallPartnersAcrossThinWallsOnly), and two Data/ parts.
+  std::vector<std::pair<std::string, BRepModel>> models;
+  models.emplace_back("tube 0.5 mm",
+    test::SolveShape(analytic::Tube(20.0, 19.5, 400.0), ConversionOptions().Tolerance).Model);
+  for (const char* file : { "fw13_hinge_l_assy.stp", "FRAMEWORK_DESKTOP_BLANK_TILE.stp" })
+    models.emplace_back(file, ConvertStepFile(test::DataFile(file), ConversionOptions()));
+  for (const auto& [label, m] : models)
+  {
+    const char* name = label.c_str();
+    const SolverData full = PrepareSolver(m, SolverOptions());
+    SolverData late = PrepareSolver(m, SolverOptions(), false);
+    ASSERT_EQ(late.WallPartners.size(), full.WallPartners.size());
+    EXPECT_TRUE(std::all_of(late.WallPartners.begin(), late.WallPartners.end(),
+      [](int p) { return p == -1; }));
+    KernelModel<double> packedLate = PackKernelModel<double>(m, late);
+    NativeSolver solver(m, late);
+    BuildWallPartners(m, late, solver);
+    solver.SetWallPartners();
+    const size_t found = static_cast<size_t>(std::count_if(
+      full.WallPartners.begin(), full.WallPartners.end(), [](int p) { return p >= 0; }));
+    std::printf("%s: %zu partners\n", name, found);
+    EXPECT_GE(found, 2u) << name;
+    EXPECT_EQ(late.WallPartners, full.WallPartners) << name;
+    PackWallPartners(late, packedLate);
+    EXPECT_EQ(packedLate.FaceInfo, PackKernelModel<double>(m, full).FaceInfo) << name;
+    // The spheres: every field of the first 5,000 samples the same.
+    std::vector<Sample> samples = SamplesFromMesh(m, full);
+    samples.resize(std::min<size_t>(samples.size(), 5000));
+    std::vector<SampleResult> a, b;
+    NativeSolver(m, full).Solve(SolverOptions(), samples, a);
+    solver.Solve(SolverOptions(), samples, b);
+    size_t differ = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+      differ += !SameBits(a[i], b[i]);
+    EXPECT_EQ(differ, 0u) << name;
+  }
+}
+
 TEST(SolverData, WallPartnersAcrossThinWallsOnly)
 {
   const double tolerance = ConversionOptions().Tolerance;
