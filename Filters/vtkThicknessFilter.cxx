@@ -761,6 +761,7 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   // The wall partners (SolverData::WallPartners) after the device is chosen: the native
   // device's own packing of the model answers their probes, which then need none of their own.
   brt::SolverData data = brt::PrepareSolver(model, options, false);
+  bool partnersBuilt = false;
   const std::vector<brt::Sample> samples = brt::SamplesFromMesh(model, data);
   I.S1Points = data.S1.size();
   I.Areas = brt::VertexAreas(model.Mesh.Points, model.Mesh.Triangles);
@@ -795,7 +796,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
         I.CLKey = clKey;
         this->SetProgressText("B-Rep Thickness");
       }
-      brt::BuildWallPartners(model, data);
+      if (!partnersBuilt)
+        brt::BuildWallPartners(model, data);
+      partnersBuilt = true;
       I.CL->Upload(model, data);
     }
     catch (const brt::OpenCLError& e)
@@ -814,11 +817,13 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
   std::unique_ptr<brt::NativeSolver> cpu;
   if (native)
   {
-    // (Where OpenCL failed above, the partners are there already; BuildWallPartners makes them
-    // again, the same.)
+    // (Where OpenCL failed after its partners were made, the packing holds them already.)
     cpu = std::make_unique<brt::NativeSolver>(model, data);
-    brt::BuildWallPartners(model, data, *cpu);
-    cpu->SetWallPartners();
+    if (!partnersBuilt)
+    {
+      brt::BuildWallPartners(model, data, *cpu);
+      cpu->SetWallPartners();
+    }
   }
   I.DeviceUsed = native
     ? "native CPU (double, " + std::string(cpu->KernelBuild()) + ", " +

@@ -953,10 +953,7 @@ KernelModel<T> PackKernelModel(
       { F.FirstPatch, F.PatchesU, F.PatchesV, data.FaceBreaks[f], F.FirstLoop, F.LoopCount,
         F.Reversed ? 1 : 0, F.Solid, kind, -1,
         PatchesAreTheSurface(m, static_cast<int>(f)) ? 1 : 0, frame });
-    for (size_t j = 0; j < KernelWallPartners; ++j)
-      k.FaceInfo.push_back(data.WallPartners.size() == KernelWallPartners * nf
-          ? data.WallPartners[KernelWallPartners * f + j]
-          : -1);
+    k.FaceInfo.insert(k.FaceInfo.end(), KernelWallPartners, -1); // PackWallPartners, below
     k.FaceDomain.insert(k.FaceDomain.end(), F.Domain.begin(), F.Domain.end());
     k.FaceDomain.insert(k.FaceDomain.end(), { static_cast<T>(F.Period[0]),
       static_cast<T>(F.Period[1]), static_cast<T>(F.UVTolerance) });
@@ -1073,6 +1070,7 @@ KernelModel<T> PackKernelModel(
     PushNodes(data.BoxNodes, c, k.BoxNodeBox, k.BoxNodeInfo);
     k.BoxItems = data.BoxItems;
   }
+  PackWallPartners(data, k);
   return k;
 }
 
@@ -1141,6 +1139,9 @@ bool UnpackResult(const Sample& s, const T* oR, const int* oI, SampleResult& r)
   r.FootParameter = { static_cast<double>(oR[5]), static_cast<double>(oR[6]) };
   return oI[6] != 0;
 }
+
+// A face's ints: the 12 PackKernelModel lists, then its wall partners.
+static_assert(KernelFaceInts == 12 + KernelWallPartners, "the faces' ints as packed");
 
 template <class T>
 void PackWallPartners(const SolverData& data, KernelModel<T>& k)
