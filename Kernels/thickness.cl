@@ -2741,6 +2741,10 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   const int holdsO = ownKnown && m->memo->ownU >= pd[0] && m->memo->ownU <= pd[1] &&
     m->memo->ownV >= pd[2] && m->memo->ownV <= pd[3];
   real ou = bu, ov = bv, od = REAL_MAX;
+  // The grid's squared distances from M (REAL_MAX within 4 tolerances of O), for a second
+  // Newton from another of its local minima (below), and the start's place in it.
+  real gridD[25];
+  int startAt = -1;
   // The grid's points by the tensor product in two stages, the Bernstein values at 0, 1/4, 1/2,
   // 3/4 and 1 computed once: each row of control points against the u values, then the v values.
   real B[5][4];
@@ -2760,11 +2764,14 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
       // a little farther off went unseen (OpenCASCADE's bug33398.step, sample 31641: O's own
       // B-spline face 7.3e-4 mm inside a sphere of radius 1.44, 0.21 from O).
       const real dd = dot(w - mr, w - mr);
-      if (dd < bd && !(dot(w, w) <= (real)4 * m->slack * m->slack))
+      const int nearOwnPoint = dot(w, w) <= (real)4 * m->slack * m->slack;
+      gridD[5 * i + j] = nearOwnPoint ? REAL_MAX : dd;
+      if (dd < bd && !nearOwnPoint)
       {
         bd = dd;
         bu = u;
         bv = v;
+        startAt = 5 * i + j;
       }
       if (ownExact && !ownKnown && dot(w, w) < od)
       {
@@ -2800,6 +2807,49 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     converged = patch_nearest_newton(m, p, anchor, mr, nearU, nearV, 1, &nearU, &nearV, &concave);
     wn = anchor + eval_patch_point(m, p, nearU, nearV);
     consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
+  }
+  // Where Newton ended just outside the sphere (within a thousandth of the radius) on O's own
+  // face or a face with no exact surface, finding nothing, the distance from M is nearly flat
+  // over the patch (a face curving with the sphere), and another of the grid's basins may hold
+  // the deeper point: Newton again from the grid's nearest local minimum but the start, where
+  // that lies within a hundredth of the radius. The SO-ARM101 base's own B-spline face dipped
+  // 1.2e-3 mm into a sphere of radius 2.49 between two rows of the grid, whose nearest point
+  // led Newton to the patch's border 0.0009 outside (docs/Solver.md, "Accuracy", "A second
+  // basin of the grid").
+  if (st->best == bestBefore &&
+    (face == ownFace || m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE) &&
+    (!converged || !(nearU > pd[0] && nearU < pd[1] && nearV > pd[2] && nearV < pd[3])) &&
+    length(wn - mr) < reach * (real)1.001)
+  {
+    const real window = reach * (real)1.01;
+    int second = -1;
+    real secondD = window * window;
+    for (int k = 0; k < 25; ++k)
+    {
+      if (k == startAt || !(gridD[k] < secondD))
+        continue;
+      const int i = k / 5, j = k % 5;
+      int lowest = 1;
+      for (int a = i - 1; a <= i + 1 && lowest; ++a)
+        for (int b = j - 1; b <= j + 1; ++b)
+          if (a >= 0 && a <= 4 && b >= 0 && b <= 4 && gridD[5 * a + b] < gridD[k])
+            lowest = 0;
+      if (lowest)
+      {
+        second = k;
+        secondD = gridD[k];
+      }
+    }
+    if (second >= 0)
+    {
+      real su, sv;
+      int c2;
+      patch_nearest_newton(m, p, anchor, mr,
+        pd[0] + (real)0.25 * (real)(second / 5) * (pd[1] - pd[0]),
+        pd[2] + (real)0.25 * (real)(second % 5) * (pd[3] - pd[2]), 0, &su, &sv, &c2);
+      const real3 w2 = anchor + eval_patch_point(m, p, su, sv);
+      consider_point(m, ownFace, face, su, sv, w2, mr, d, depth, reach, st);
+    }
   }
   // O's own face, where its patches are its surface and this patch holds O: where the face
   // curves more than the sphere in some direction at O, O is a saddle or a maximum of the

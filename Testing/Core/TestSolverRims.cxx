@@ -831,6 +831,33 @@ TEST(SolverExact, SecondValleyOfALargePatch)
   ExpectPatchBesideSquareFound("second valley", c, O, d, 2.0, 0.08);
 }
 
+/// A second basin of the 5 x 5 grid on a patch smaller than the sphere: one bicubic patch of the
+/// SO-ARM101 arm's base (TheRobotStudio/SO-ARM100, Base_SO101.step; a B-spline face curving
+/// about as the sphere does, its v = 1 side a pole; its 16 control points as converted), and the
+/// sphere of radius 2.4914 at which the shrinking ball settled sample 11374 of that face (the
+/// patch here beside a 1 mm square of the plane through O, as the sample's own face it was).
+/// The distance from the centre is nearly flat over the patch: the grid's nearest point (its
+/// border u = 0) led Newton to the border, 0.0009 outside the sphere, while the patch dips about
+/// 1.2e-3 into it between the grid's first two rows near u = 0.6 of the patch, whose nearest
+/// grid point was only the second nearest; the patch is narrower than the sphere's radius, so
+/// no finer grid ran (`brt_exact_check`: 2t = 4.9672 where the exact thickness is 4.9533, face
+/// 69 5.3e-4 mm inside). Newton now also starts from the grid's next local minimum there.
+TEST(SolverExact, SecondBasinOfASmallPatch)
+{
+  const double c[16][3] = { { -40.656265812, 16.370331941, -15.345253016 },
+    { -40.562866378, 17.071031147, -14.784856414 }, { -40.414989959, 17.5, -13.897597901 },
+    { -40.265390309, 17.5, -13.0 }, { -41.127760422, 16.600557444, -15.157418739 },
+    { -40.856697635, 17.245530498, -14.528234716 }, { -40.557465817, 17.5, -13.755122044 },
+    { -40.265390309, 17.5, -13.0 }, { -41.599868827, 16.707536721, -14.823820983 },
+    { -41.154574643, 17.322230306, -14.247692591 }, { -40.699941674, 17.5, -13.612646186 },
+    { -40.265390309, 17.5, -13.0 }, { -41.971124476, 16.673189681, -14.410588709 },
+    { -41.43965962, 17.297063085, -13.958570971 }, { -40.842417531, 17.5, -13.470170329 },
+    { -40.265390309, 17.5, -13.0 } };
+  const gp_Pnt O(-42.113686949003, 16.786521682838, -13.875355041415);
+  const gp_Dir d(0.600105984263, -0.771845896553, 0.210063608523);
+  ExpectPatchBesideSquareFound("second basin", c, O, d, 2.4914, 1e-3);
+}
+
 /// A valley that Newton creeps along: one bicubic patch of a B-spline fillet of Bastardkb's
 /// Charybdis3 case (its 16 control points as the file's), narrow across and flat along towards
 /// the centre of a sphere of radius 2.00436 that a chained start gave a sample 1.8 mm away (O and
