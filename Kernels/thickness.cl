@@ -2808,11 +2808,13 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     wn = anchor + eval_patch_point(m, p, nearU, nearV);
     consider_point(m, ownFace, face, nearU, nearV, wn, mr, d, depth, reach, st);
   }
-  // Where Newton ended just outside the sphere (within a thousandth of the radius) on O's own
-  // face or a face with no exact surface, finding nothing, the distance from M is nearly flat
-  // over the patch (a face curving with the sphere), and another of the grid's basins may hold
-  // the deeper point: Newton again from the grid's nearest local minimum but the start, where
-  // that lies within a hundredth of the radius. The SO-ARM101 base's own B-spline face dipped
+  // Where Newton ended just outside the sphere (within a thousandth of the radius), not
+  // converged or on the patch's border, on O's own face or a face with no exact surface,
+  // finding nothing, the distance from M is nearly flat over the patch (a face curving with the
+  // sphere), and another of the grid's basins may hold the deeper point: Newton again from the
+  // grid's nearest point not next to the start, where that is a local minimum of the grid (a
+  // local minimum nearer than it and not next to the start cannot be) within a hundredth of the
+  // radius. The SO-ARM101 base's own B-spline face dipped
   // 1.2e-3 mm into a sphere of radius 2.49 between two rows of the grid, whose nearest point
   // led Newton to the patch's border 0.0009 outside (docs/Solver.md, "Accuracy", "A second
   // basin of the grid").
@@ -2822,23 +2824,25 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
     length(wn - mr) < reach * (real)1.001)
   {
     const real window = reach * (real)1.01;
+    // The nearest grid point not next to the start, where it is a local minimum: a nearer local
+    // minimum not next to the start would have been nearer.
+    const int si = startAt / 5, sj = startAt % 5;
     int second = -1;
     real secondD = window * window;
     for (int k = 0; k < 25; ++k)
     {
-      if (k == startAt || !(gridD[k] < secondD))
-        continue;
-      const int i = k / 5, j = k % 5;
-      int lowest = 1;
-      for (int a = i - 1; a <= i + 1 && lowest; ++a)
+      const int di = k / 5 - si, dj = k % 5 - sj;
+      const int away = di * di > 1 || dj * dj > 1;
+      second = away && gridD[k] < secondD ? k : second;
+      secondD = away && gridD[k] < secondD ? gridD[k] : secondD;
+    }
+    if (second >= 0)
+    {
+      const int i = second / 5, j = second % 5;
+      for (int a = i - 1; a <= i + 1; ++a)
         for (int b = j - 1; b <= j + 1; ++b)
-          if (a >= 0 && a <= 4 && b >= 0 && b <= 4 && gridD[5 * a + b] < gridD[k])
-            lowest = 0;
-      if (lowest)
-      {
-        second = k;
-        secondD = gridD[k];
-      }
+          if (a >= 0 && a <= 4 && b >= 0 && b <= 4 && gridD[5 * a + b] < secondD)
+            second = -1;
     }
     if (second >= 0)
     {
