@@ -7,6 +7,7 @@
 #include <BndLib_Add2dCurve.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom2d_Line.hxx>
+#include <Standard_Failure.hxx>
 #include <TopAbs.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -50,8 +51,19 @@ FaceSide::FaceSide(const TopoDS_Face& face)
       for (int k = 0; k < pieces; ++k)
       {
         Bnd_Box2d box;
-        BndLib_Add2dCurve::Add(pc, f + (l - f) * k / pieces, f + (l - f) * (k + 1) / pieces, 0.0,
-          box);
+        try
+        {
+          BndLib_Add2dCurve::Add(pc, f + (l - f) * k / pieces, f + (l - f) * (k + 1) / pieces,
+            0.0, box);
+        }
+        catch (const Standard_Failure&)
+        {
+          // OpenCASCADE 7.6 cannot bound some B-spline pcurves (an Onshape part's: its
+          // BndLib_Box2dCurve::PerformBSpline throws NCollection_Array1::Create, which stopped
+          // the whole conversion): a boundary it cannot bound, no cache.
+          State.clear();
+          return;
+        }
         if (box.IsVoid())
           continue;
         double a0, b0, a1, b1;

@@ -32,6 +32,18 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepTools.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
+#include <BndLib_Add2dCurve.hxx>
+#include <Bnd_Box2d.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom_Plane.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array1OfPnt2d.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <memory>
 #include <gp_Circ.hxx>
 #include <gp_Pln.hxx>
 #include <Geom_Surface.hxx>
@@ -600,4 +612,84 @@ TEST(DisplayMesh, FaceSideAgreesWithTheClassifier)
     }
     EXPECT_GT(cached, 9 * faces / 10) << name;
   }
+}
+
+// A face whose boundary holds an edge a few nanometres long on a cubic B-spline pcurve, at the
+// end of the curve's parameter range (an Onshape part, Armchair Heavy Industries' Xol extruder
+// mount for the VZ-Hex: its face 9's pcurve spans 3.1e-9 of 1.1e-3). OpenCASCADE 7.6's
+// BndLib_Add2dCurve throws NCollection_Array1::Create on eighths of so short a range, and that
+// stopped the whole conversion of the part ("OpenCASCADE failed during conversion"). FaceSide
+// keeps no answers on such a face and asks the classifier, which agrees (a 41 x 41 grid over the
+// triangle's box). Fails (throws) where FaceSide bounds the pieces unguarded.
+TEST(DisplayMesh, FaceSideWithAnUnboundablePcurve)
+{
+  // The pcurve: 8 poles, knots 0, 0.2, ..., 1 (the ends of multiplicity 4); its edge the range
+  // [1 - 3e-9, 1], a triangle in the plane's (u, v) closed by three lines.
+  TColgp_Array1OfPnt2d poles(1, 8);
+  for (int i = 1; i <= 8; ++i)
+    poles(i) = gp_Pnt2d(0.1 * i, 0.01 * i * i);
+  TColStd_Array1OfReal knots(1, 6);
+  TColStd_Array1OfInteger mults(1, 6);
+  for (int i = 1; i <= 6; ++i)
+  {
+    knots(i) = (i - 1) / 5.0;
+    mults(i) = i == 1 || i == 6 ? 4 : 1;
+  }
+  const Handle(Geom2d_BSplineCurve) spline = new Geom2d_BSplineCurve(poles, knots, mults, 3);
+  const double f = 1.0 - 3e-9, l = 1.0;
+  {
+    // (The OpenCASCADE behaviour this guards against, so that the test means something.)
+    Bnd_Box2d box;
+    EXPECT_THROW(BndLib_Add2dCurve::Add(spline, f + (l - f) * 6 / 8, f + (l - f) * 7 / 8, 0.0, box),
+      Standard_Failure);
+  }
+  const Handle(Geom_Plane) plane = new Geom_Plane(gp::XOY());
+  const gp_Pnt2d a = spline->Value(f), b = spline->Value(l);
+  const gp_Pnt2d c(b.X() + 10.0, b.Y()), d(b.X() + 5.0, b.Y() + 10.0);
+  BRep_Builder builder;
+  auto vertex = [&](const gp_Pnt2d& p) {
+    TopoDS_Vertex v;
+    builder.MakeVertex(v, gp_Pnt(p.X(), p.Y(), 0.0), 1e-7);
+    return v;
+  };
+  const TopoDS_Vertex va = vertex(a), vb = vertex(b), vc = vertex(c), vd = vertex(d);
+  auto edge = [&](const Handle(Geom2d_Curve)& pc, double p0, double p1, const TopoDS_Vertex& v0,
+                const TopoDS_Vertex& v1) {
+    TopoDS_Edge e;
+    builder.MakeEdge(e);
+    builder.UpdateEdge(e, pc, plane, TopLoc_Location(), 1e-7);
+    builder.Range(e, p0, p1);
+    builder.Add(e, v0.Oriented(TopAbs_FORWARD));
+    builder.Add(e, v1.Oriented(TopAbs_REVERSED));
+    return e;
+  };
+  auto segment = [&](const gp_Pnt2d& p, const gp_Pnt2d& q, const TopoDS_Vertex& vp,
+                   const TopoDS_Vertex& vq) {
+    const Handle(Geom2d_Line) line = new Geom2d_Line(p, gp_Dir2d(q.X() - p.X(), q.Y() - p.Y()));
+    return edge(line, 0.0, p.Distance(q), vp, vq);
+  };
+  TopoDS_Wire wire;
+  builder.MakeWire(wire);
+  builder.Add(wire, edge(spline, f, l, va, vb));
+  builder.Add(wire, segment(b, c, vb, vc));
+  builder.Add(wire, segment(c, d, vc, vd));
+  builder.Add(wire, segment(d, a, vd, va));
+  TopoDS_Face face;
+  builder.MakeFace(face, plane, 1e-7);
+  builder.Add(face, wire);
+  std::unique_ptr<brt::FaceSide> side;
+  ASSERT_NO_THROW(side = std::make_unique<brt::FaceSide>(face));
+  EXPECT_FALSE(side->Cached());
+  const BRepTopAdaptor_FClass2d reference(face, 1e-9);
+  int differ = 0, inside = 0;
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j)
+    {
+      const gp_Pnt2d p(b.X() - 0.5 + 11.0 * (i + 0.37) / 40, b.Y() - 0.5 + 11.0 * (j + 0.61) / 40);
+      const bool out = reference.Perform(p) == TopAbs_OUT;
+      differ += side->Outside(p) != out;
+      inside += !out;
+    }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(inside, 300); // (the triangle holds about a third of the grid)
 }
