@@ -2814,10 +2814,9 @@ BRT_SPLIT void certify_patch(const Model* m, int p, int ownFace, real3 Ohi, real
   // sphere), and another of the grid's basins may hold the deeper point: Newton again from the
   // grid's nearest point not next to the start, where that is a local minimum of the grid (a
   // local minimum nearer than it and not next to the start cannot be) within a hundredth of the
-  // radius. The SO-ARM101 base's own B-spline face dipped
-  // 1.2e-3 mm into a sphere of radius 2.49 between two rows of the grid, whose nearest point
-  // led Newton to the patch's border 0.0009 outside (docs/Solver.md, "Accuracy", "A second
-  // basin of the grid").
+  // radius. The SO-ARM101 base's own B-spline face dipped 1.2e-3 mm into a sphere of radius
+  // 2.49 between two rows of the grid, whose nearest point led Newton to the patch's border
+  // 0.0009 outside (docs/Solver.md, "Accuracy", "A second basin of the grid").
   if (st->best == bestBefore &&
     (face == ownFace || m->faceInfo[FACE_INTS * face + 8] == EXACT_NONE) &&
     (!converged || !(nearU > pd[0] && nearU < pd[1] && nearV > pd[2] && nearV < pd[3])) &&

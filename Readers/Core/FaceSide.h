@@ -21,10 +21,9 @@ namespace brt
 /// a line one) grown by half a cell each way. The cells near a pcurve, the points outside the
 /// grid, every point of a face on a surface periodic over less than the face's UV box, and of a
 /// face with an edge that has no pcurve or a pcurve BndLib cannot bound (it throws), ask the
-/// classifier each time. On a face with many holes
-/// each of the classifier's answers tests the point against every wire: the refinement's
-/// midpoints took 2.9 s of a perforated card guide's 4.6 s display mesh (docs/Design.md,
-/// "Every vertex on its face").
+/// classifier each time. On a face with many holes each of the classifier's answers tests the
+/// point against every wire: the refinement's midpoints took 2.9 s of a perforated card guide's
+/// 4.6 s display mesh (docs/Design.md, "Every vertex on its face").
 class FaceSide
 {
 public:

@@ -640,7 +640,8 @@ TEST(DisplayMesh, FaceSideWithAnUnboundablePcurve)
   {
     // (The OpenCASCADE behaviour this guards against, so that the test means something.)
     Bnd_Box2d box;
-    EXPECT_THROW(BndLib_Add2dCurve::Add(spline, f + (l - f) * 6 / 8, f + (l - f) * 7 / 8, 0.0, box),
+    EXPECT_THROW(
+      BndLib_Add2dCurve::Add(spline, f + (l - f) * 6 / 8, f + (l - f) * 7 / 8, 0.0, box),
       Standard_Failure);
   }
   const Handle(Geom_Plane) plane = new Geom_Plane(gp::XOY());
