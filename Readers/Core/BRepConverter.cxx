@@ -40,6 +40,7 @@
 #include <Geom2d_BezierCurve.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
+#include <Geom2dAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <GeomConvert_ApproxCurve.hxx>
 #include <GeomConvert_BSplineCurveToBezierCurve.hxx>
@@ -1339,6 +1340,70 @@ public:
     Chords[Key(a, b)] = { e, a < b ? pa : pb, a < b ? pb : pa };
   }
 
+  /// Moves the coarse mesh's inner nodes that lie outside the face onto it. BRepMesh keeps a
+  /// node inside its polygon of the boundary, whose chords cut across the face where a pcurve
+  /// curves away from them: on the SO-ARM101 wrist (a torus of tube radius 1.2 mm, an edge whose
+  /// pcurve bows 0.023 in UV off its one chord) a node of the torus's grid lay 0.03 mm off its
+  /// face, and its sample's sphere started where no wall is. Such a node goes to the nearest
+  /// point of the face's pcurves, 1e-2 of its distance further on (into the face), or less where
+  /// that is not inside, or onto the pcurve itself; a move that would turn one of its triangles
+  /// over in UV is not made, and the node stays (docs/Design.md, "Every vertex on its face").
+  /// Returns the number of nodes moved. Call before Refine.
+  int KeepNodesOnTheFace()
+  {
+    std::vector<char> onBoundary(UV.size(), 0);
+    for (const auto& c : Chords)
+    {
+      onBoundary[static_cast<size_t>(c.first.first)] = 1;
+      onBoundary[static_cast<size_t>(c.first.second)] = 1;
+    }
+    int moved = 0;
+    for (size_t i = 0; i < UV.size(); ++i)
+    {
+      if (onBoundary[i] || !Outside(UV[i]))
+        continue;
+      gp_Pnt2d foot;
+      if (!NearestOnTheTrim(UV[i], foot))
+        continue;
+      const gp_Vec2d on(UV[i], foot);
+      std::vector<int> around;
+      for (size_t t = 0; t < Tris.size(); ++t)
+        if (Alive[t] && (Tris[t][0] == int(i) || Tris[t][1] == int(i) || Tris[t][2] == int(i)))
+          around.push_back(static_cast<int>(t));
+      const gp_Pnt2d from = UV[i];
+      for (const double s : { 1e-2, 1e-3, 1e-4, 0.0 })
+      {
+        const gp_Pnt2d q = foot.Translated(s * on);
+        if (s > 0.0 && Outside(q))
+          continue;
+        std::vector<double> before;
+        for (const int t : around)
+          before.push_back(AreaUV(Tris[t][0], Tris[t][1], Tris[t][2]));
+        UV[i] = q;
+        bool kept = true;
+        for (size_t k = 0; k < around.size() && kept; ++k)
+        {
+          const int t = around[k];
+          kept = AreaUV(Tris[t][0], Tris[t][1], Tris[t][2]) * before[k] > 0.0;
+        }
+        if (!kept)
+        {
+          UV[i] = from;
+          continue;
+        }
+        gp_Pnt p;
+        gp_Vec du, dv;
+        Surface->D1(q.X(), q.Y(), p, du, dv);
+        XYZ[i] = p;
+        if (Delaunay)
+          Normal[i] = du.Crossed(dv);
+        ++moved;
+        break;
+      }
+    }
+    return moved;
+  }
+
   /// Splits edges longest first until none is longer than maxEdge (or the vertex cap is hit).
   void Refine(double maxEdge, size_t maxVertices)
   {
@@ -1508,23 +1573,56 @@ private:
         return it->second[i];
     return -1;
   }
+  /// Whether p lies outside the face (FaceSide, made on first use and kept for the face's other
+  /// refinements).
+  bool Outside(const gp_Pnt2d& p)
+  {
+    if (!*Side)
+      *Side = std::make_shared<FaceSide>(TheFace);
+    return (*Side)->Outside(p);
+  }
+  /// The nearest point to p of the face's pcurves (both of a seam's); false where there is none.
+  bool NearestOnTheTrim(const gp_Pnt2d& p, gp_Pnt2d& foot) const
+  {
+    double best = std::numeric_limits<double>::infinity();
+    for (TopExp_Explorer ex(TheFace, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+      for (const TopAbs_Orientation o : { e.Orientation(), TopAbs::Reverse(e.Orientation()) })
+      {
+        double f = 0.0, l = 0.0;
+        const Handle(Geom2d_Curve) pc =
+          BRep_Tool::CurveOnSurface(TopoDS::Edge(e.Oriented(o)), TheFace, f, l);
+        if (pc.IsNull())
+          continue;
+        auto take = [&](const gp_Pnt2d& q) {
+          const double d = q.Distance(p);
+          if (d < best)
+          {
+            best = d;
+            foot = q;
+          }
+        };
+        take(pc->Value(f));
+        take(pc->Value(l));
+        Geom2dAPI_ProjectPointOnCurve pr(p, pc, f, l);
+        if (pr.NbPoints() > 0)
+          take(pr.NearestPoint());
+      }
+    }
+    return best < std::numeric_limits<double>::infinity();
+  }
   /// The new vertex at the middle of (a, b): on a boundary chord on its pcurve, on an inner
-  /// edge at the UV midpoint; -1 where that lies outside the face (FaceSide, made on first use
-  /// and kept for the face's other refinements).
+  /// edge at the UV midpoint; -1 where that lies outside the face.
   int Midpoint(int a, int b)
   {
     const ChordKey k = Key(a, b);
     const gp_Pnt2d& pa = UV[a];
     const gp_Pnt2d& pb = UV[b];
     gp_Pnt2d m((pa.X() + pb.X()) / 2, (pa.Y() + pb.Y()) / 2);
-    auto outside = [&](const gp_Pnt2d& p) {
-      if (!*Side)
-        *Side = std::make_shared<FaceSide>(TheFace);
-      return (*Side)->Outside(p);
-    };
     auto ch = Chords.find(k);
     if (ch == Chords.end())
-      return outside(m) ? -1 : AddVertex(m);
+      return Outside(m) ? -1 : AddVertex(m);
     const BoundaryChord c = ch->second;
     const double pm = 0.5 * (c.P0 + c.P1);
     // The pcurve that passes nearest to the chord's ends, within half the chord: a seam edge has
@@ -1550,7 +1648,7 @@ private:
         onCurve = true;
       }
     }
-    if (!onCurve && outside(m))
+    if (!onCurve && Outside(m))
       return -1;
     Chords.erase(k);
     const int id = AddVertex(m);
@@ -2659,6 +2757,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           fm.AddChord(poly->Node(k) - 1, poly->Node(k + 1) - 1, e, poly->Parameter(k),
             poly->Parameter(k + 1));
       }
+      fm.KeepNodesOnTheFace();
       fm.Refine(maxEdge, cap);
       return fm;
     };

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
@@ -36,6 +37,7 @@
 #include <Bnd_Box2d.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_Line.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Plane.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfInteger.hxx>
@@ -693,4 +695,137 @@ TEST(DisplayMesh, FaceSideWithAnUnboundablePcurve)
     }
   EXPECT_EQ(differ, 0);
   EXPECT_GT(inside, 300); // (the triangle holds about a third of the grid)
+}
+
+// A node of OpenCASCADE's own mesh inside its polygon of the face but outside the face: the
+// polygon's chords cut across the face where a pcurve curves away from them (on the SO-ARM101
+// wrist a torus's grid node lay 0.03 mm off its face, in the lune between a pcurve and its one
+// chord, and its sample's sphere started where no wall is). Here a plate with a hole is meshed
+// coarsely (the hole an octagon), and a node is put into the top face's mesh halfway between a
+// chord of the hole and its arc: inside the hole. The converter keeps a face's triangulation
+// made at its deflection, so that node is the coarse mesh's; it must end on the face, as every
+// other vertex, by bisection and by the flips.
+TEST(DisplayMesh, CoarseMeshNodeInsideAHoleIsMovedOntoTheFace)
+{
+  const double side = 20.0, h = 2.0, r = 5.0;
+  const TopoDS_Shape plate = brt::analytic::HolePlate(side, h, r);
+  brt::ConversionOptions o;
+  o.LinearDeflection = 1.0;
+  o.AngularDeflection = 1.2;
+  o.Heal = false; // (the healing may rebuild faces, without their triangulation)
+  o.MaxEdgeLength = 4.0;
+  for (const bool delaunay : { false, true })
+  {
+    const TopoDS_Shape shape = BRepBuilderAPI_Copy(plate).Shape();
+    BRepMesh_IncrementalMesh(shape, o.LinearDeflection, Standard_False, o.AngularDeflection);
+    // The top face (a plane at z = h) and its hole's edge (a circle).
+    TopoDS_Face top;
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next())
+    {
+      const BRepAdaptor_Surface s(TopoDS::Face(ex.Current()));
+      if (s.GetType() == GeomAbs_Plane && std::abs(s.Plane().Location().Z() - h) < 1e-9 &&
+        std::abs(std::abs(s.Plane().Axis().Direction().Z()) - 1.0) < 1e-9)
+        top = TopoDS::Face(ex.Current());
+    }
+    ASSERT_FALSE(top.IsNull());
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(top, loc);
+    ASSERT_FALSE(tri.IsNull());
+    ASSERT_TRUE(tri->HasUVNodes());
+    // A chord of the hole: two consecutive nodes of the circle's polygon on this face.
+    TopoDS_Edge hole;
+    for (TopExp_Explorer ex(top, TopAbs_EDGE); ex.More(); ex.Next())
+      if (BRepAdaptor_Curve(TopoDS::Edge(ex.Current())).GetType() == GeomAbs_Circle)
+        hole = TopoDS::Edge(ex.Current());
+    ASSERT_FALSE(hole.IsNull());
+    const Handle(Poly_PolygonOnTriangulation) poly =
+      BRep_Tool::PolygonOnTriangulation(hole, tri, loc);
+    ASSERT_FALSE(poly.IsNull());
+    ASSERT_GE(poly->NbNodes(), 5);
+    ASSERT_LE(poly->NbNodes(), 12); // coarse: the lune is 0.2-0.7 mm deep
+    const int na = poly->Node(1), nb = poly->Node(2);
+    // The triangle on that chord, and the node halfway between the chord and the arc.
+    int t0 = 0;
+    for (int t = 1; t <= tri->NbTriangles() && t0 == 0; ++t)
+    {
+      int n[3];
+      tri->Triangle(t).Get(n[0], n[1], n[2]);
+      for (int k = 0; k < 3; ++k)
+        if ((n[k] == na && n[(k + 1) % 3] == nb) || (n[k] == nb && n[(k + 1) % 3] == na))
+          t0 = t;
+    }
+    ASSERT_GT(t0, 0);
+    const gp_Pnt2d ua = tri->UVNode(na), ub = tri->UVNode(nb);
+    const gp_Pnt2d mid((ua.X() + ub.X()) / 2, (ua.Y() + ub.Y()) / 2);
+    const gp_Pnt pm = BRep_Tool::Surface(top)->Value(mid.X(), mid.Y());
+    const gp_Vec out(pm.X() - side / 2, pm.Y() - side / 2, 0.0); // from the hole's axis
+    const double lune = r - out.Magnitude();
+    ASSERT_GT(lune, 0.1);
+    gp_Pnt pn = pm.Translated(out.Normalized() * (0.5 * lune));
+    double un = 0.0, vn = 0.0;
+    GeomAPI_ProjectPointOnSurf(pn, BRep_Tool::Surface(top)).LowerDistanceParameters(un, vn);
+    EXPECT_EQ(BRepTopAdaptor_FClass2d(top, 1e-9).Perform(gp_Pnt2d(un, vn)), TopAbs_OUT);
+    // The triangulation again, with the node and its three triangles in place of t0 (each with
+    // t0's orientation), and the edges' polygons on it.
+    const int nodes = tri->NbNodes() + 1, tris = tri->NbTriangles() + 2;
+    const Handle(Poly_Triangulation) more = new Poly_Triangulation(nodes, tris, Standard_True);
+    for (int i = 1; i < nodes; ++i)
+    {
+      more->SetNode(i, tri->Node(i));
+      more->SetUVNode(i, tri->UVNode(i));
+    }
+    more->SetNode(nodes, pn);
+    more->SetUVNode(nodes, gp_Pnt2d(un, vn));
+    int at = 1;
+    for (int t = 1; t <= tri->NbTriangles(); ++t)
+    {
+      int n[3];
+      tri->Triangle(t).Get(n[0], n[1], n[2]);
+      if (t != t0)
+      {
+        more->SetTriangle(at++, tri->Triangle(t));
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        int m[3] = { n[0], n[1], n[2] };
+        m[k] = nodes;
+        more->SetTriangle(at++, Poly_Triangle(m[0], m[1], m[2]));
+      }
+    }
+    more->Deflection(tri->Deflection());
+    BRep_Builder builder;
+    for (TopExp_Explorer ex(top, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+      const Handle(Poly_PolygonOnTriangulation) p = BRep_Tool::PolygonOnTriangulation(e, tri, loc);
+      ASSERT_FALSE(p.IsNull());
+      builder.UpdateEdge(e, p, more, loc);
+    }
+    builder.UpdateFace(top, more);
+    o.DelaunayRefinement = delaunay;
+    std::vector<TopoDS_Face> faces;
+    const BRepModel m = brt::ConvertShape(shape, o, &faces);
+    ASSERT_EQ(faces.size(), m.Faces.size());
+    // The coarse mesh kept: a vertex where the node was put or where it was moved to.
+    double nearest = 1e9, worst = 0.0;
+    size_t far = 0;
+    for (size_t v = 0; v < m.Mesh.NumberOfPoints(); ++v)
+    {
+      const V3 p = Vertex(m, static_cast<int>(v));
+      const gp_Pnt q(p[0], p[1], p[2]);
+      if (std::abs(q.Z() - h) < 1e-9)
+        nearest = std::min(nearest, q.Distance(pn));
+      BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(q).Vertex(),
+        faces[static_cast<size_t>(m.Mesh.FaceIds[v])]);
+      ASSERT_TRUE(d.IsDone());
+      worst = std::max(worst, d.Value());
+      far += d.Value() > m.Tolerance;
+    }
+    std::printf("plate with a node inside its hole (%s): the lune %.3f deep, the nearest vertex "
+                "%.3g from the node, the farthest vertex %.3g off its face\n",
+      delaunay ? "flips" : "bisection", lune, nearest, worst);
+    EXPECT_LE(nearest, 0.6 * lune); // (the node was kept, and moved by half the lune at most)
+    EXPECT_EQ(far, 0u);
+  }
 }
