@@ -1603,11 +1603,19 @@ private:
             foot = q;
           }
         };
-        take(pc->Value(f));
-        take(pc->Value(l));
-        Geom2dAPI_ProjectPointOnCurve pr(p, pc, f, l);
-        if (pr.NbPoints() > 0)
-          take(pr.NearestPoint());
+        try
+        {
+          take(pc->Value(f));
+          take(pc->Value(l));
+          Geom2dAPI_ProjectPointOnCurve pr(p, pc, f, l);
+          if (pr.NbPoints() > 0)
+            take(pr.NearestPoint());
+        }
+        catch (const Standard_Failure&)
+        {
+          // (a pcurve OpenCASCADE cannot project on: its ends, where taken, or none of it; a
+          // node left without a foot stays where it is)
+        }
       }
     }
     return best < std::numeric_limits<double>::infinity();
