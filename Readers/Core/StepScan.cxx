@@ -573,6 +573,15 @@ StepScanResult Scanner::Run()
       }
       if (j == i + 1)
         this->Fail("'#' without an entity number");
+      // Outside DATA only the header's entities stand, which refer to nothing: an instance or a
+      // reference there is data whose section was never opened ('ENDSEC;' and 'DATA;' left out
+      // after the header, a generator's fixture of dodgy STEP files; OpenCASCADE's parser
+      // refuses it, and the check had called its first reference a missing parameter).
+      if (!inData)
+        this->Fail(depth == 0
+            ? "entity #" + std::to_string(id) +
+              " stands outside the DATA section (no 'DATA;' opens a section before it)"
+            : "a reference (#" + std::to_string(id) + ") outside the DATA section");
       if (inData && depth == 0)
       {
         if (state != 0)

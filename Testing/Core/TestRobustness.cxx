@@ -189,6 +189,19 @@ TEST(Robustness, SelfReference)
   ExpectIsolatedError(p, "#21 refers to itself");
 }
 
+// Data whose section was never opened: 'ENDSEC;' and 'DATA;' left out after the header (a
+// fixture of zellyn/dodgy-step-files, Tsh023, has its entities so), or a reference among the
+// header's entities. The check called the first reference a missing parameter.
+TEST(Robustness, EntityOutsideTheDataSection)
+{
+  const std::string noData = Mutated("plate.step", "no-data-section.step",
+    R"(ENDSEC;\s*DATA;\s*)", "");
+  ExpectIsolatedError(noData, "entity #1 stands outside the DATA section");
+  const std::string headerRef = Mutated("plate.step", "header-reference.step",
+    R"(FILE_SCHEMA\(\('CONFIG_CONTROL_DESIGN'\)\);)", "FILE_SCHEMA((#2));");
+  ExpectIsolatedError(headerRef, "a reference (#2) outside the DATA section");
+}
+
 TEST(Robustness, DeepParentheses)
 {
   const std::string deep = std::string(100000, '(') + "0." + std::string(100000, ')');
