@@ -278,6 +278,18 @@ private:
   std::string PartName;
   int PartBase = 0;
   int PartParam = 0;
+  /// A complex entity's B-spline control points and rational weights, counted per row (a curve
+  /// has one row): they must match one for one. OpenCASCADE 7.6 crashed on an empty weights
+  /// list and builds no curve or surface from a list of another length.
+  struct SplineCounts
+  {
+    bool Net = false, Weights = false;
+    std::vector<int> NetRows, WeightRows;
+  } Spline;
+  /// Where a list opens (level 0: the parameter's own list, 1: a row in it) or an item of it
+  /// stands, counts it into Spline.
+  void CountSplineList(int level);
+  void CountSplineItem(int level, bool reference);
   std::unordered_map<long, Entity> Entities;
   std::unordered_map<std::string, int> TypeIds;
   std::vector<std::string> TypeNames;
@@ -286,6 +298,43 @@ private:
   std::vector<TypedRef> Typed;
   StepScanResult Result;
 };
+
+void Scanner::CountSplineList(int level)
+{
+  const bool curveNet = this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1;
+  const bool surfaceNet = this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2;
+  const bool curveWeights = this->PartName == "RATIONAL_B_SPLINE_CURVE" && this->PartParam == 0;
+  const bool surfaceWeights =
+    this->PartName == "RATIONAL_B_SPLINE_SURFACE" && this->PartParam == 0;
+  if (this->PartBase != 2 || !(curveNet || surfaceNet || curveWeights || surfaceWeights))
+    return;
+  const bool net = curveNet || surfaceNet;
+  std::vector<int>& rows = net ? this->Spline.NetRows : this->Spline.WeightRows;
+  if (level == 0)
+  {
+    (net ? this->Spline.Net : this->Spline.Weights) = true;
+    rows.clear();
+    if (curveNet || curveWeights)
+      rows.push_back(0);
+  }
+  else if (level == 1 && (surfaceNet || surfaceWeights))
+    rows.push_back(0);
+}
+
+void Scanner::CountSplineItem(int level, bool reference)
+{
+  if (this->PartBase != 2)
+    return;
+  const bool curve = level == 1 &&
+    ((reference && this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1) ||
+      (!reference && this->PartName == "RATIONAL_B_SPLINE_CURVE" && this->PartParam == 0));
+  const bool surface = level == 2 &&
+    ((reference && this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2) ||
+      (!reference && this->PartName == "RATIONAL_B_SPLINE_SURFACE" && this->PartParam == 0));
+  std::vector<int>& rows = reference ? this->Spline.NetRows : this->Spline.WeightRows;
+  if ((curve || surface) && !rows.empty())
+    ++rows.back();
+}
 
 void Scanner::Geometry(double v, const char* what)
 {
@@ -346,7 +395,51 @@ void Scanner::EndEntity(size_t begin, size_t end)
     this->Result.UnitInMillimetres = std::max(this->Result.UnitInMillimetres, mm);
   }
   if (type.empty())
+  {
+    // A rational B-spline's weights, one for each control point (ISO 10303-42's
+    // weights_data, an array of the control net's shape). An empty list (or row) crashed
+    // OpenCASCADE 7.6 (a mutation of Data/l_bracket.step; zellyn/dodgy-step-files's Gn002 has
+    // such a mismatch): refused. A list of another length it reads as no curve or surface at
+    // all, and the healing rebuilds a pcurve from its edge while a face on such a surface is
+    // lost (its solid then open, flagged): a warning that names the entity.
+    const SplineCounts& c = this->Spline;
+    if (c.Net && c.Weights && c.NetRows != c.WeightRows)
+    {
+      const bool curve = c.NetRows.size() == 1 && c.WeightRows.size() <= 1;
+      std::ostringstream w;
+      if (curve)
+        w << "its RATIONAL_B_SPLINE_CURVE has " << (c.WeightRows.empty() ? 0 : c.WeightRows[0])
+          << " weights for its " << c.NetRows[0] << " control points";
+      else
+      {
+        auto shape = [](const std::vector<int>& rows) {
+          std::ostringstream o;
+          o << rows.size() << " rows of ";
+          const bool even = std::all_of(
+            rows.begin(), rows.end(), [&](int r) { return r == rows.front(); });
+          if (rows.empty())
+            o << "none";
+          else if (even)
+            o << rows.front();
+          else
+            o << "unequal lengths";
+          return o.str();
+        };
+        w << "its RATIONAL_B_SPLINE_SURFACE's weights (" << shape(c.WeightRows)
+          << ") do not match its control points (" << shape(c.NetRows) << ")";
+      }
+      w << ": a rational B-spline has one weight for each control point";
+      const bool empty = c.WeightRows.empty() ||
+        std::any_of(c.WeightRows.begin(), c.WeightRows.end(), [](int r) { return r == 0; });
+      if (empty)
+        this->Fail(w.str());
+      this->Result.Warnings.push_back("#" + std::to_string(this->Current) + " (line " +
+        std::to_string(this->Line) + "): " + w.str() +
+        "; OpenCASCADE reads no curve or surface from it (a pcurve is rebuilt from its edge, "
+        "a face on such a surface is lost)");
+    }
     return;
+  }
 
   // Simple entities: reference types, positive radii, coordinates.
   const std::vector<Param>& p = this->Params;
@@ -508,6 +601,8 @@ StepScanResult Scanner::Run()
         this->PartBase = 2; // a partial entity of a complex one; PartName set by its name
         this->PartParam = 0;
       }
+      else if (inData && depth >= 2)
+        this->CountSplineList(depth - this->PartBase);
       if (++depth > MaxNesting)
         this->Fail("parentheses nested deeper than " + std::to_string(MaxNesting) +
           " levels: not an exchange structure any CAD system writes");
@@ -555,6 +650,7 @@ StepScanResult Scanner::Run()
       this->Coordinates.clear();
       this->PartName.clear();
       this->PartBase = 0;
+      this->Spline = SplineCounts();
       state = 0;
       needSep = afterName = afterComma = false;
       ++i;
@@ -604,6 +700,7 @@ StepScanResult Scanner::Run()
         this->Refs.emplace_back(this->Current, id);
         this->RefLines.push_back(this->Line);
         const int level = depth - this->PartBase;
+        this->CountSplineItem(level, true);
         if (level >= 0 && !this->PartName.empty())
           for (const Rule& r : Rules)
             if (r.Param == this->PartParam && (r.List ? level >= 1 : level == 0) &&
@@ -670,6 +767,8 @@ StepScanResult Scanner::Run()
       if (inData && depth == 0)
         this->Fail("a number outside an entity's parameters");
       value();
+      if (inData)
+        this->CountSplineItem(depth - this->PartBase, false);
       if (simple && depth == 1)
       {
         if (static_cast<size_t>(param) >= this->Params.size())

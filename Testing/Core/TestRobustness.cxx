@@ -648,6 +648,59 @@ TEST(Robustness, ConeSemiAngleOutOfRange)
     "CONICAL_SURFACE has a semi-angle of 0, not between 0 and 90 degrees");
 }
 
+// A rational B-spline has one weight for each control point. An empty weights list crashed
+// OpenCASCADE 7.6 (a mutation of the L-bracket's pcurve): refused, naming the entity. A list of
+// another length OpenCASCADE reads as no curve (zellyn/dodgy-step-files's Gn002 has 3 weights
+// for 4 points): a pcurve so is rebuilt from its edge and the bracket reads as written, a surface
+// so loses its face (the ExpansionCard's solid then open, flagged); each is warned of by name.
+TEST(Robustness, RationalSplineWeightsMatchTheirControlPoints)
+{
+  const std::string weights = R"(RATIONAL_B_SPLINE_CURVE\(\(1\.,0\.5,1\.,0\.5,1\.,0\.5,1\.\)\))";
+  ExpectIsolatedError(Mutated("l_bracket.step", "weights-none.step", weights,
+                        "RATIONAL_B_SPLINE_CURVE(())"),
+    "its RATIONAL_B_SPLINE_CURVE has 0 weights for its 7 control points");
+  auto warned = [](const BRepModel& m, const std::string& what) {
+    return std::any_of(m.Stats.Warnings.begin(), m.Stats.Warnings.end(),
+      [&](const std::string& w) { return w.find(what) != std::string::npos; });
+  };
+  const BRepModel plain =
+    ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  const BRepModel shorter = ConvertStepFileIsolated(
+    Mutated("l_bracket.step", "weights-short.step", weights,
+      "RATIONAL_B_SPLINE_CURVE((1.,0.5,1.,0.5,1.,0.5))"),
+    ConversionOptions());
+  EXPECT_TRUE(warned(shorter, "its RATIONAL_B_SPLINE_CURVE has 6 weights for its 7 control points"));
+  EXPECT_FALSE(warned(plain, "weights"));
+  EXPECT_EQ(shorter.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(CheckSolids(shorter).size(), 1u);
+  EXPECT_TRUE(CheckSolids(shorter)[0].Closed());
+  // The ExpansionCard's first rational surface with a weight left out of its first row.
+  const BRepModel card = ConvertStepFileIsolated(
+    Mutated("ExpansionCard_SelfTapping.stp", "weights-surface.step",
+      R"(RATIONAL_B_SPLINE_SURFACE\(\(\(1\.121278686481E0,)", "RATIONAL_B_SPLINE_SURFACE(((" ),
+    ConversionOptions());
+  EXPECT_TRUE(warned(card, "its RATIONAL_B_SPLINE_SURFACE's weights (4 rows of unequal lengths) "
+                           "do not match its control points (4 rows of 11)"));
+}
+
+// ISO 10303-21 lets a comment stand wherever white space may, before the first keyword too, and
+// OpenCASCADE reads such a file (dodgy-step-files's Gn002 and N010 open with one): read; a
+// comment never closed there is still not a STEP file.
+TEST(Robustness, CommentBeforeTheHeaderReads)
+{
+  const BRepModel plain =
+    ConvertStepFileIsolated(test::DataFile("plate.step"), ConversionOptions());
+  const BRepModel commented = ConvertStepFileIsolated(
+    Mutated("plate.step", "leading-comment.step", R"(^ISO-10303-21;)",
+      "/* written by hand */\n  /* twice */ ISO-10303-21;"),
+    ConversionOptions());
+  EXPECT_EQ(commented.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(commented.Mesh.NumberOfPoints(), plain.Mesh.NumberOfPoints());
+  ExpectIsolatedError(Mutated("plate.step", "leading-open-comment.step", R"(^ISO-10303-21;)",
+                        "/* never closed\nISO-10303-21;"),
+    "does not start with the ISO-10303-21 header");
+}
+
 TEST(Robustness, MovedVertexOrFaceIsWarnedOf)
 {
   // A vertex whose point is another entity's, 41 mm off its edges, and a plane whose placement
