@@ -285,6 +285,13 @@ private:
   {
     bool Net = false, Weights = false;
     std::vector<int> NetRows, WeightRows;
+    /// Items in each knot or multiplicity list opened (-1: none): an empty one crashed
+    /// OpenCASCADE 7.6 as well (a mutation of the ExpansionCard's surface and the L-bracket's
+    /// pcurve), as one that lists nothing.
+    int EmptyKnotList = -1;
+    std::string KnotListOf;
+    int KnotItems = 0;
+    bool InKnotList = false;
   } Spline;
   /// Where a list opens (level 0: the parameter's own list, 1: a row in it) or an item of it
   /// stands, counts it into Spline.
@@ -299,8 +306,38 @@ private:
   StepScanResult Result;
 };
 
+namespace
+{
+/// Whether parameter `param` of `part` (a simple entity's, counted from its name, or a complex
+/// one's partial entity's, `inComplex`) is a B-spline's knot or multiplicity list; its name.
+const char* KnotListName(const std::string& part, int param, bool inComplex)
+{
+  static const char* const curveLists[] = { "knot multiplicities", "knots" };
+  static const char* const surfaceLists[] = { "u knot multiplicities", "v knot multiplicities",
+    "u knots", "v knots" };
+  if (part == "B_SPLINE_CURVE_WITH_KNOTS")
+  {
+    const int k = param - (inComplex ? 0 : 6);
+    return k >= 0 && k < 2 ? curveLists[k] : nullptr;
+  }
+  if (part == "B_SPLINE_SURFACE_WITH_KNOTS")
+  {
+    const int k = param - (inComplex ? 0 : 8);
+    return k >= 0 && k < 4 ? surfaceLists[k] : nullptr;
+  }
+  return nullptr;
+}
+} // namespace
+
 void Scanner::CountSplineList(int level)
 {
+  if (level == 0)
+    if (const char* name = KnotListName(this->PartName, this->PartParam, this->PartBase == 2))
+    {
+      this->Spline.InKnotList = true;
+      this->Spline.KnotItems = 0;
+      this->Spline.KnotListOf = name;
+    }
   const bool curveNet = this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1;
   const bool surfaceNet = this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2;
   const bool curveWeights = this->PartName == "RATIONAL_B_SPLINE_CURVE" && this->PartParam == 0;
@@ -323,6 +360,8 @@ void Scanner::CountSplineList(int level)
 
 void Scanner::CountSplineItem(int level, bool reference)
 {
+  if (this->Spline.InKnotList && level == 1)
+    ++this->Spline.KnotItems;
   if (this->PartBase != 2)
     return;
   const bool curve = level == 1 &&
@@ -601,7 +640,7 @@ StepScanResult Scanner::Run()
         this->PartBase = 2; // a partial entity of a complex one; PartName set by its name
         this->PartParam = 0;
       }
-      else if (inData && depth >= 2)
+      else if (inData && this->PartBase > 0 && depth >= this->PartBase)
         this->CountSplineList(depth - this->PartBase);
       if (++depth > MaxNesting)
         this->Fail("parentheses nested deeper than " + std::to_string(MaxNesting) +
@@ -615,6 +654,13 @@ StepScanResult Scanner::Run()
         this->Fail("a parameter is missing after ','");
       if (--depth < 0)
         this->Fail("a ')' closes nothing");
+      if (this->Spline.InKnotList && depth == this->PartBase)
+      {
+        if (this->Spline.KnotItems == 0)
+          this->Fail("its " + this->PartName + "'s " + this->Spline.KnotListOf +
+            " list is empty: a B-spline's knots and their multiplicities are never empty");
+        this->Spline.InKnotList = false;
+      }
       needSep = depth >= 1;
       ++i;
       continue;

@@ -683,6 +683,27 @@ TEST(Robustness, RationalSplineWeightsMatchTheirControlPoints)
                            "do not match its control points (4 rows of 11)"));
 }
 
+// A B-spline's knot or multiplicity list left empty crashed OpenCASCADE 7.6 (mutations of the
+// ExpansionCard's rational surface #5316, the L-bracket's rational pcurve #153 and the
+// ExpansionCard's simple curve #2009, after dodgy-step-files's Ad003): refused, naming the list.
+TEST(Robustness, EmptyKnotListIsRefused)
+{
+  ExpectIsolatedError(Mutated("ExpansionCard_SelfTapping.stp", "knots-empty.step",
+                        R"(\(0\.E0,1\.E0\),\(-5\.523623535801E-2)", "(),(-5.523623535801E-2"),
+    "entity #5316: its B_SPLINE_SURFACE_WITH_KNOTS's u knots list is empty");
+  ExpectIsolatedError(Mutated("ExpansionCard_SelfTapping.stp", "mults-empty.step",
+                        R"(B_SPLINE_SURFACE_WITH_KNOTS\(\(4,4\),\(4,1,1,1,1,\s*1,1,1,4\))",
+                        "B_SPLINE_SURFACE_WITH_KNOTS((),(4,1,1,1,1,1,1,1,4)"),
+    "entity #5316: its B_SPLINE_SURFACE_WITH_KNOTS's u knot multiplicities list is empty");
+  ExpectIsolatedError(Mutated("l_bracket.step", "pcurve-knots-empty.step",
+                        R"(B_SPLINE_CURVE_WITH_KNOTS\(\(1,2,2,2,2,1\),\([^)]*\))",
+                        "B_SPLINE_CURVE_WITH_KNOTS((1,2,2,2,2,1),()"),
+    "entity #153: its B_SPLINE_CURVE_WITH_KNOTS's knots list is empty");
+  ExpectIsolatedError(Mutated("ExpansionCard_SelfTapping.stp", "curve-mults-empty.step",
+                        R"(\.UNSPECIFIED\.,\.F\.,\.F\.,\(4,1,4\),)", ".UNSPECIFIED.,.F.,.F.,(),"),
+    "its B_SPLINE_CURVE_WITH_KNOTS's knot multiplicities list is empty");
+}
+
 // ISO 10303-21 lets a comment stand wherever white space may, before the first keyword too, and
 // OpenCASCADE reads such a file (dodgy-step-files's Gn002 and N010 open with one): read; a
 // comment never closed there is still not a STEP file.
