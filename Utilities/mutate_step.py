@@ -8,7 +8,8 @@ Writes N variants of every seed (default 80) into OUT_DIR, named
 arguments always give the same files. The classes are the faults users' files and a mutation
 fuzzer produce: bit flips, truncation (with the terminator put back), deleted and duplicated
 entities, dangling, wrong-type and self references, non-finite and absurd numbers, negative radii,
-zero-length edges, deep parentheses, invalid UTF-8, an entity of several megabytes.
+zero-length edges, deep parentheses, emptied lists, invalid UTF-8, an entity of several
+megabytes.
 """
 import argparse
 import os
@@ -140,6 +141,25 @@ def zero_length_edge(data, rng):
     return data[:a] + v1.group(0) + data[b:], "#%d EDGE_CURVE ends at one vertex" % s[2]
 
 
+def empty_list(data, rng):
+    """A list among an entity's parameters emptied: '(a,b,c)' -> '()' (a writer that lost a
+    B-spline's knots or weights, a shell's faces, a loop's edges)."""
+    st = statements(data)
+    for _ in range(50):
+        s = rng.choice(st)
+        text = data[s[0]:s[1]]
+        first = text.find(b"(")
+        # The innermost lists after the entity's own parenthesis, not empty already.
+        lists = [m for m in re.finditer(rb"\(([^()']+)\)", text) if m.start() > first]
+        if not lists:
+            continue
+        m = rng.choice(lists)
+        a, b = s[0] + m.start(), s[0] + m.end()
+        return data[:a] + b"()" + data[b:], "#%d %s: a list of %d items emptied" % (
+            s[2], s[3].decode(), m.group(1).count(b",") + 1)
+    return bit_flip(data, rng)
+
+
 def deep_parentheses(data, rng):
     st = statements(data)
     s = rng.choice(st)
@@ -177,6 +197,7 @@ CLASSES = [
     ("negative-radius", negative_radius, 4),
     ("zero-length-edge", zero_length_edge, 3),
     ("deep-parentheses", deep_parentheses, 2),
+    ("empty-list", empty_list, 6),
     ("invalid-utf8", invalid_utf8, 4),
 ]
 

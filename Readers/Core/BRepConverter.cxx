@@ -1,6 +1,7 @@
 #include "BRepConverter.h"
 #include "CurvesOnFaces.h"
 #include "FaceSide.h"
+#include "StepScan.h"
 
 #include "Bezier.h"
 #include "TouchingBodies.h"
@@ -3005,6 +3006,28 @@ void CheckConvertedModel(const std::string& path, BRepModel& model)
   catch (const std::runtime_error& e)
   {
     fail(std::string("the conversion produced an unusable model (") + e.what() + ")");
+  }
+  // A face (its patches) beyond the text check's bound on coordinates: a face with no bound (a
+  // plane's natural bounds in OpenCASCADE reach 1e85 mm, in a mutation of the plate whose face
+  // lost its bound list; the mesh leaves such a face out) or a damaged one.
+  {
+    double far = 0.0;
+    int farFace = -1;
+    for (const BezierPatch& b : model.Patches)
+      for (const double c : b.ControlPoints)
+        if (!(std::fabs(c) <= far))
+        {
+          far = std::fabs(c);
+          farFace = b.Face;
+        }
+    if (!(far <= MaxCoordinateMillimetres))
+    {
+      std::ostringstream w;
+      w << "face " << farFace << " reaches " << far
+        << " mm from the origin, beyond 1,000 km: a face without a bound on an unbounded "
+           "surface (a plane, cylinder or cone), or a damaged one";
+      fail(w.str());
+    }
   }
   // Size against the tolerance: a part a few tolerances across has no wall the patches keep.
   const auto& pts = model.Mesh.Points;

@@ -308,10 +308,42 @@ private:
 
 namespace
 {
+/// Lists of simple entities that OpenCASCADE 7.6 crashed on when empty (the mutation corpus's
+/// emptied lists, fifty-ninth session): the type, the parameter (counted from 0, the name
+/// included) and what the list holds.
+struct NonEmptyList
+{
+  const char* Type;
+  int Param;
+  const char* What;
+};
+const NonEmptyList NonEmptyLists[] = {
+  { "EDGE_LOOP", 1, "edge" },
+  { "SURFACE_CURVE", 2, "curve-on-surface (associated geometry)" },
+  { "SEAM_CURVE", 2, "curve-on-surface (associated geometry)" },
+  { "APPLIED_DATE_AND_TIME_ASSIGNMENT", 2, "item" },
+  { "APPLIED_DATE_ASSIGNMENT", 2, "item" },
+  { "APPLIED_PERSON_AND_ORGANIZATION_ASSIGNMENT", 2, "item" },
+  { "APPLIED_ORGANIZATION_ASSIGNMENT", 2, "item" },
+  { "APPLIED_APPROVAL_ASSIGNMENT", 1, "item" },
+  { "APPLIED_SECURITY_CLASSIFICATION_ASSIGNMENT", 1, "item" },
+  { "CC_DESIGN_DATE_AND_TIME_ASSIGNMENT", 2, "item" },
+  { "CC_DESIGN_PERSON_AND_ORGANIZATION_ASSIGNMENT", 2, "item" },
+  { "CC_DESIGN_SECURITY_CLASSIFICATION", 1, "item" },
+  { "CC_DESIGN_APPROVAL", 1, "item" },
+  { "CC_DESIGN_CERTIFICATION", 1, "item" },
+  { "CC_DESIGN_CONTRACT", 1, "item" },
+};
+
 /// Whether parameter `param` of `part` (a simple entity's, counted from its name, or a complex
-/// one's partial entity's, `inComplex`) is a B-spline's knot or multiplicity list; its name.
+/// one's partial entity's, `inComplex`) is a list that must not be empty: a B-spline's knot or
+/// multiplicity list, or one of NonEmptyLists; what its items are.
 const char* KnotListName(const std::string& part, int param, bool inComplex)
 {
+  if (!inComplex)
+    for (const NonEmptyList& l : NonEmptyLists)
+      if (param == l.Param && part == l.Type)
+        return l.What;
   static const char* const curveLists[] = { "knot multiplicities", "knots" };
   static const char* const surfaceLists[] = { "u knot multiplicities", "v knot multiplicities",
     "u knots", "v knots" };
@@ -657,8 +689,12 @@ StepScanResult Scanner::Run()
       if (this->Spline.InKnotList && depth == this->PartBase)
       {
         if (this->Spline.KnotItems == 0)
-          this->Fail("its " + this->PartName + "'s " + this->Spline.KnotListOf +
-            " list is empty: a B-spline's knots and their multiplicities are never empty");
+          this->Fail(this->PartName.find("B_SPLINE") != std::string::npos
+              ? "its " + this->PartName + "'s " + this->Spline.KnotListOf +
+                " list is empty: a B-spline's knots and their multiplicities are never empty"
+              : "its " + this->Spline.KnotListOf + " list is empty: " +
+                (std::strchr("AEIOU", this->PartName[0]) ? "an " : "a ") + this->PartName +
+                " holds at least one");
         this->Spline.InKnotList = false;
       }
       needSep = depth >= 1;
@@ -836,6 +872,10 @@ StepScanResult Scanner::Run()
       const char follow = next < n ? t[next] : '\0';
       if (depth == 0 && follow == ';')
       {
+        // An entity left open by a missing ';' (a file cut and closed again): its references
+        // would stand with no entity to hold them.
+        if (inData && this->Current > 0)
+          this->Fail("the entity is not closed by ';' before '" + name.substr(0, 40) + ";'");
         if (name == "DATA")
           inData = true;
         else if (name == "ENDSEC")
@@ -917,8 +957,9 @@ StepScanResult Scanner::Run()
       this->Current = this->Refs[k].first;
       const std::string what = "refers to #" + std::to_string(this->Refs[k].second) +
         ", which the file does not define";
-      const std::string type = this->TypeText(this->Entities.at(this->Current));
-      if (IsGeometric(type))
+      const auto from = this->Entities.find(this->Current);
+      const std::string type = from == this->Entities.end() ? "" : this->TypeText(from->second);
+      if (IsGeometric(type) || from == this->Entities.end())
         this->Fail(what);
       if (dangling++ == 0)
         firstDangling = "#" + std::to_string(this->Current) + " " + type + " (line " +
@@ -959,7 +1000,9 @@ StepScanResult Scanner::Run()
     {
       this->Line = r.Line;
       this->Current = r.From;
-      const std::string from = this->TypeText(this->Entities.at(r.From));
+      const auto source = this->Entities.find(r.From);
+      const std::string from =
+        source == this->Entities.end() ? "the entity" : this->TypeText(source->second);
       std::string want = r.Said ? r.Said : expected;
       std::replace(want.begin(), want.end(), '|', '/');
       auto article = [](const std::string& w) {
