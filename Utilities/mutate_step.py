@@ -8,8 +8,8 @@ Writes N variants of every seed (default 80) into OUT_DIR, named
 arguments always give the same files. The classes are the faults users' files and a mutation
 fuzzer produce: bit flips, truncation (with the terminator put back), deleted and duplicated
 entities, dangling, wrong-type and self references, non-finite and absurd numbers, negative radii,
-zero-length edges, deep parentheses, emptied lists, invalid UTF-8, an entity of several
-megabytes.
+zero-length edges, deep parentheses, emptied lists, a list's item dropped, invalid UTF-8, an
+entity of several megabytes.
 """
 import argparse
 import os
@@ -160,6 +160,28 @@ def empty_list(data, rng):
     return bit_flip(data, rng)
 
 
+def drop_item(data, rng):
+    """One item dropped from a list among an entity's parameters: a point that lost a
+    coordinate, a loop an edge, a B-spline a knot."""
+    st = statements(data)
+    for _ in range(50):
+        s = rng.choice(st)
+        text = data[s[0]:s[1]]
+        first = text.find(b"(")
+        lists = [m for m in re.finditer(rb"\(([^()']+)\)", text)
+                 if m.start() > first and b"," in m.group(1)]
+        if not lists:
+            continue
+        m = rng.choice(lists)
+        items = m.group(1).split(b",")
+        k = rng.randrange(len(items))
+        a, b = s[0] + m.start(), s[0] + m.end()
+        new = b"(" + b",".join(items[:k] + items[k + 1:]) + b")"
+        return data[:a] + new + data[b:], "#%d %s: item %d of %d dropped" % (
+            s[2], s[3].decode(), k + 1, len(items))
+    return bit_flip(data, rng)
+
+
 def deep_parentheses(data, rng):
     st = statements(data)
     s = rng.choice(st)
@@ -198,6 +220,7 @@ CLASSES = [
     ("zero-length-edge", zero_length_edge, 3),
     ("deep-parentheses", deep_parentheses, 2),
     ("empty-list", empty_list, 6),
+    ("drop-item", drop_item, 6),
     ("invalid-utf8", invalid_utf8, 4),
 ]
 

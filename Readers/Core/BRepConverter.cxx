@@ -3338,6 +3338,15 @@ Handle(Poly_Triangulation) MeshThroughBSplines(const TopoDS_Face& face, double d
   double angularDeflection, std::vector<EdgePolygons>& polygons)
 {
   polygons.clear();
+  // An edge without a curve on the face (a seam whose circle the file moved off its torus, in the
+  // mutation corpus): OpenCASCADE 7.6's NURBS conversion dereferences the missing pcurve and
+  // crashes (BRepTools_NurbsConvertModification::NewCurve2d). Such a face is left unmeshed.
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    double f = 0.0, l = 0.0;
+    if (BRep_Tool::CurveOnSurface(TopoDS::Edge(ex.Current()), face, f, l).IsNull())
+      return nullptr;
+  }
   BRepBuilderAPI_NurbsConvert converter(face, Standard_True);
   if (!converter.IsDone())
     return nullptr;

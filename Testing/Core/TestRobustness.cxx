@@ -745,6 +745,29 @@ TEST(Robustness, FaceWithoutABoundIsRefused)
     "mm from the origin, beyond 1,000 km: a face without a bound on an unbounded surface");
 }
 
+// A point or direction of the wrong dimension where one of 3 (or 2) coordinates is required: a
+// vertex on a point that lost a coordinate crashed OpenCASCADE 7.6 (41 of 900 variants of Data/
+// models that drop a list item). Refused.
+TEST(Robustness, PointOfTheWrongDimensionIsRefused)
+{
+  ExpectIsolatedError(Mutated("NIST_MBE_PMI_11.stp", "vertex-2d.step",
+                        R"(#685=CARTESIAN_POINT\('',\(31\.5,0\.,-1\.5\)\);)",
+                        "#685=CARTESIAN_POINT('',(31.5,0.));"),
+    "VERTEX_POINT parameter 2 refers to #685, a CARTESIAN_POINT of 2 coordinates, where one of 3 "
+    "is required");
+}
+
+// A seam circle moved off its torus (its centre's x 40 -> -1): the healing leaves two of the
+// torus face's edges without a curve on it, and OpenCASCADE 7.6's NURBS conversion, which meshes a
+// face BRepMesh left unmeshed, crashed on the missing curve. Such a face is left unmeshed, and
+// the file is refused for its open solid, by name.
+TEST(Robustness, FaceWithAnEdgeOffItIsNotConvertedToNurbs)
+{
+  ExpectIsolatedError(Mutated("toroidal_shell.step", "seam-off-torus.step",
+                        R"(#112 = CARTESIAN_POINT\('',\(40\.,)", "#112 = CARTESIAN_POINT('',(-1.,"),
+    "holds no closed solid");
+}
+
 // ISO 10303-21 lets a comment stand wherever white space may, before the first keyword too, and
 // OpenCASCADE reads such a file (dodgy-step-files's Gn002 and N010 open with one): read; a
 // comment never closed there is still not a STEP file.
