@@ -302,7 +302,7 @@ private:
   /// Where a list opens (level 0: the parameter's own list, 1: a row in it) or an item of it
   /// stands, counts it into Spline.
   void CountSplineList(int level);
-  void CountSplineItem(int level, bool reference);
+  void CountSplineItem(int level, bool reference, double value = 0.0);
   std::unordered_map<long, Entity> Entities;
   std::unordered_map<std::string, int> TypeIds;
   std::vector<std::string> TypeNames;
@@ -396,10 +396,24 @@ void Scanner::CountSplineList(int level)
     rows.push_back(0);
 }
 
-void Scanner::CountSplineItem(int level, bool reference)
+void Scanner::CountSplineItem(int level, bool reference, double value)
 {
   if (this->Spline.InKnotList && level == 1)
+  {
     ++this->Spline.KnotItems;
+    // A knot far beyond any parametrisation a CAD system writes (by arc length in mm a knot
+    // reaches the curve's length): one of 1e300 in the ExpansionCard's curve made OpenCASCADE
+    // 7.6 run past 120 s (the mutation corpus, fifty-ninth session).
+    const std::string& list = this->Spline.KnotListOf;
+    if (!reference && list.size() >= 5 && list.compare(list.size() - 5, 5, "knots") == 0 &&
+      !(std::fabs(value) <= MaxKnotValue))
+    {
+      std::ostringstream w;
+      w << "its " << this->PartName << "'s " << list << " list holds " << value
+        << ", beyond " << MaxKnotValue << ": not a parametrisation any CAD system writes";
+      this->Fail(w.str());
+    }
+  }
   if (this->PartBase != 2)
     return;
   const bool curve = level == 1 &&
@@ -857,7 +871,7 @@ StepScanResult Scanner::Run()
         this->Fail("a number outside an entity's parameters");
       value();
       if (inData)
-        this->CountSplineItem(depth - this->PartBase, false);
+        this->CountSplineItem(depth - this->PartBase, false, v);
       if (simple && depth == 1)
       {
         if (static_cast<size_t>(param) >= this->Params.size())

@@ -42,6 +42,9 @@ struct StepScanResult
 
 /// Largest coordinate or radius accepted, in millimetres (1,000 km).
 constexpr double MaxCoordinateMillimetres = 1e9;
+/// The largest B-spline knot the text check accepts, in the knots' own units (a parameter by arc
+/// length in mm reaches the curve's length: 1,000 km at most, as a coordinate).
+constexpr double MaxKnotValue = 1e9;
 /// Deepest nesting of parentheses accepted (real files nest fewer than 10).
 constexpr int MaxNesting = 64;
 

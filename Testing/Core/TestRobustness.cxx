@@ -768,6 +768,17 @@ TEST(Robustness, FaceWithAnEdgeOffItIsNotConvertedToNurbs)
     "holds no closed solid");
 }
 
+// A knot far beyond any parametrisation (the ExpansionCard's curve #2195 with its knot 1/3 made
+// 1e300, the mutation corpus): OpenCASCADE 7.6 ran past 120 s on it, to the reader's time limit.
+// Refused at once, naming the list.
+TEST(Robustness, AbsurdKnotIsRefused)
+{
+  ExpectIsolatedError(Mutated("ExpansionCard_SelfTapping.stp", "knot-1e300.step",
+                        R"(\(0\.E0,3\.333333333333E-1,6\.666666666667E-1,1\.E0\))",
+                        "(0.E0,1.E300,6.666666666667E-1,1.E0)"),
+    "entity #2195: its B_SPLINE_CURVE_WITH_KNOTS's knots list holds 1e+300, beyond 1e+09", 20);
+}
+
 // ISO 10303-21 lets a comment stand wherever white space may, before the first keyword too, and
 // OpenCASCADE reads such a file (dodgy-step-files's Gn002 and N010 open with one): read; a
 // comment never closed there is still not a STEP file.
