@@ -669,7 +669,8 @@ TEST(Robustness, RationalSplineWeightsMatchTheirControlPoints)
     Mutated("l_bracket.step", "weights-short.step", weights,
       "RATIONAL_B_SPLINE_CURVE((1.,0.5,1.,0.5,1.,0.5))"),
     ConversionOptions());
-  EXPECT_TRUE(warned(shorter, "its RATIONAL_B_SPLINE_CURVE has 6 weights for its 7 control points"));
+  EXPECT_TRUE(
+    warned(shorter, "its RATIONAL_B_SPLINE_CURVE has 6 weights for its 7 control points"));
   EXPECT_FALSE(warned(plain, "weights"));
   EXPECT_EQ(shorter.Faces.size(), plain.Faces.size());
   EXPECT_EQ(CheckSolids(shorter).size(), 1u);
@@ -677,7 +678,7 @@ TEST(Robustness, RationalSplineWeightsMatchTheirControlPoints)
   // The ExpansionCard's first rational surface with a weight left out of its first row.
   const BRepModel card = ConvertStepFileIsolated(
     Mutated("ExpansionCard_SelfTapping.stp", "weights-surface.step",
-      R"(RATIONAL_B_SPLINE_SURFACE\(\(\(1\.121278686481E0,)", "RATIONAL_B_SPLINE_SURFACE(((" ),
+      R"(RATIONAL_B_SPLINE_SURFACE\(\(\(1\.121278686481E0,)", "RATIONAL_B_SPLINE_SURFACE((("),
     ConversionOptions());
   EXPECT_TRUE(warned(card, "its RATIONAL_B_SPLINE_SURFACE's weights (4 rows of unequal lengths) "
                            "do not match its control points (4 rows of 11)"));
@@ -710,7 +711,8 @@ TEST(Robustness, EmptyKnotListIsRefused)
 TEST(Robustness, EmptyListOpenCascadeCrashesOnIsRefused)
 {
   ExpectIsolatedError(Mutated("plate.step", "loop-empty.step",
-                        R"(#19 = EDGE_LOOP\('',\(#20,#55,#83,#111\)\);)", "#19 = EDGE_LOOP('',());"),
+                        R"(#19 = EDGE_LOOP\('',\(#20,#55,#83,#111\)\);)",
+                        "#19 = EDGE_LOOP('',());"),
     "entity #19: its edge list is empty: an EDGE_LOOP holds at least one");
   ExpectIsolatedError(Mutated("plate.step", "surface-curve-empty.step",
                         R"(#26 = SURFACE_CURVE\('',#27,\(#31,#43\),)",
