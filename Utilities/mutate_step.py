@@ -8,8 +8,8 @@ Writes N variants of every seed (default 80) into OUT_DIR, named
 arguments always give the same files. The classes are the faults users' files and a mutation
 fuzzer produce: bit flips, truncation (with the terminator put back), deleted and duplicated
 entities, dangling, wrong-type and self references, non-finite and absurd numbers, negative radii,
-zero-length edges, deep parentheses, emptied lists, a list's item dropped, invalid UTF-8, an
-entity of several megabytes.
+zero-length edges, deep parentheses, emptied lists, a list's item dropped, changed
+enumerations, invalid UTF-8, an entity of several megabytes.
 """
 import argparse
 import os
@@ -182,6 +182,29 @@ def drop_item(data, rng):
     return bit_flip(data, rng)
 
 
+ENUM = re.compile(rb"\.[A-Z_][A-Z0-9_]*\.")
+ENUM_VALUES = (b".T.", b".F.", b".U.", b".UNSPECIFIED.", b".PCURVE_S1.", b".PCURVE_S2.",
+               b".CURVE_3D.", b".PIECEWISE_BEZIER_KNOTS.", b".X.", b".METRE.")
+
+
+def enumeration(data, rng):
+    """An enumeration value changed: an edge or face turned round (.T. <-> .F.), a seam's
+    master representation, a B-spline's knot type, or a value no schema has."""
+    st = statements(data)
+    for _ in range(50):
+        s = rng.choice(st)
+        text = data[s[0]:s[1]]
+        values = list(ENUM.finditer(text))
+        if not values:
+            continue
+        m = rng.choice(values)
+        v = rng.choice([e for e in ENUM_VALUES if e != m.group(0)])
+        a, b = s[0] + m.start(), s[0] + m.end()
+        return data[:a] + v + data[b:], "#%d %s: %s -> %s" % (
+            s[2], s[3].decode(), m.group(0).decode(), v.decode())
+    return bit_flip(data, rng)
+
+
 def deep_parentheses(data, rng):
     st = statements(data)
     s = rng.choice(st)
@@ -221,6 +244,7 @@ CLASSES = [
     ("deep-parentheses", deep_parentheses, 2),
     ("empty-list", empty_list, 6),
     ("drop-item", drop_item, 6),
+    ("enumeration", enumeration, 6),
     ("invalid-utf8", invalid_utf8, 4),
 ]
 

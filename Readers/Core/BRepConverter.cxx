@@ -1338,6 +1338,12 @@ public:
   }
   void AddChord(int a, int b, const TopoDS_Edge& e, double pa, double pb)
   {
+    // (An edge's polygon on a damaged face's triangulation may name no node of it: node 0 on
+    // a torus whose edge the file turned round, in the mutation corpus; valgrind saw the
+    // boundary marks written before their array.)
+    const int n = static_cast<int>(UV.size());
+    if (a < 0 || b < 0 || a >= n || b >= n)
+      return;
     Chords[Key(a, b)] = { e, a < b ? pa : pb, a < b ? pb : pa };
   }
 

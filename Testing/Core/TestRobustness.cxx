@@ -781,6 +781,18 @@ TEST(Robustness, AbsurdKnotIsRefused)
     "entity #2195: its B_SPLINE_CURVE_WITH_KNOTS's knots list holds 1e+300, beyond 1e+09", 20);
 }
 
+// An oriented edge turned round (.T. -> .F., the mutation corpus's enumerations): the torus
+// face's triangulation then holds an edge polygon naming node 0, which the display mesh's
+// boundary marks wrote before their array (valgrind; "double free or corruption" in the
+// worker). The chord is left out, and the file is refused for its open solid, by name.
+TEST(Robustness, EdgePolygonNamingNoNodeIsLeftOut)
+{
+  ExpectIsolatedError(Mutated("toroidal_shell.step", "edge-turned.step",
+                        R"(#71 = ORIENTED_EDGE\('',\*,\*,#21,\.T\.\);)",
+                        "#71 = ORIENTED_EDGE('',*,*,#21,.F.);"),
+    "holds no closed solid");
+}
+
 // ISO 10303-21 lets a comment stand wherever white space may, before the first keyword too, and
 // OpenCASCADE reads such a file (dodgy-step-files's Gn002 and N010 open with one): read; a
 // comment never closed there is still not a STEP file.
