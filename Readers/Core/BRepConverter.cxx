@@ -984,13 +984,22 @@ PatchGrid LimitPatchSize(const PatchGrid& g, double maxSize, int maxPatches)
 {
   if (g.Patches.empty() || maxSize <= 0.0)
     return g;
+  // Pieces along a net of that length, at most maxPatches + 1 (then no split is made): a face
+  // without bounds spans 2e100 mm, whose count no int holds (UndefinedBehaviorSanitizer, the
+  // mutation corpus); a NaN length gives 1.
+  auto pieces = [&](double length) {
+    const double k = std::ceil(length / maxSize);
+    if (k > static_cast<double>(maxPatches))
+      return maxPatches + 1;
+    return k >= 1.0 ? static_cast<int>(k) : 1;
+  };
   std::vector<int> cu(g.NU, 1), cv(g.NV, 1);
   for (int j = 0; j < g.NV; ++j)
     for (int i = 0; i < g.NU; ++i)
     {
       const BezierPatch& p = g.Patches[i + j * g.NU];
-      cu[i] = std::max(cu[i], static_cast<int>(std::ceil(NetLength(p, 0) / maxSize)));
-      cv[j] = std::max(cv[j], static_cast<int>(std::ceil(NetLength(p, 1) / maxSize)));
+      cu[i] = std::max(cu[i], pieces(NetLength(p, 0)));
+      cv[j] = std::max(cv[j], pieces(NetLength(p, 1)));
     }
   const long nu = std::accumulate(cu.begin(), cu.end(), 0L), nv = std::accumulate(cv.begin(), cv.end(), 0L);
   if ((nu == g.NU && nv == g.NV) || nu * nv > maxPatches)

@@ -730,10 +730,16 @@ TEST(Robustness, EmptyListOpenCascadeCrashesOnIsRefused)
 // std::out_of_range ("unordered_map::at"), an error without the file's name.
 TEST(Robustness, EntityNotClosedBeforeEndsec)
 {
-  const std::string p = Mutated("plate.step", "entity-open-at-endsec.step",
-    R"(#3 = SHAPE_DEFINITION_REPRESENTATION\(#4,#10\);[\s\S]*ENDSEC;)",
-    "#3 = SHAPE_DEFINITION_REPRESENTATION(#4,#10)\nENDSEC;");
-  ExpectIsolatedError(p, "entity #3: the entity is not closed by ';' before 'ENDSEC;'");
+  // (Cut by hand: a regular expression across the file overflowed std::regex's recursion under
+  // AddressSanitizer.)
+  const std::string text = ReadAll(test::DataFile("plate.step"));
+  const std::string entity = "#3 = SHAPE_DEFINITION_REPRESENTATION(#4,#10)";
+  const size_t at = text.find(entity);
+  ASSERT_NE(at, std::string::npos);
+  const fs::path p = TempDir() / "entity-open-at-endsec.step";
+  std::ofstream(p, std::ios::binary)
+    << text.substr(0, at + entity.size()) << "\nENDSEC;\nEND-ISO-10303-21;\n";
+  ExpectIsolatedError(p.string(), "entity #3: the entity is not closed by ';' before 'ENDSEC;'");
 }
 
 // A face whose bound list is empty: OpenCASCADE gives a plane's face its natural bounds, 2e100 mm
