@@ -1364,8 +1364,8 @@ public:
   /// point of the face's pcurves, 1e-2 of its distance further on (into the face), or less where
   /// that is not inside, or onto the pcurve itself; a move that would turn one of its triangles
   /// over in UV is not made, and the node stays (docs/Design.md, "Every vertex on its face").
-  /// Returns the number of nodes moved. Call before Refine.
-  int KeepNodesOnTheFace()
+  /// Call before Refine.
+  void KeepNodesOnTheFace()
   {
     std::vector<char> onBoundary(UV.size(), 0);
     for (const auto& c : Chords)
@@ -1373,7 +1373,6 @@ public:
       onBoundary[static_cast<size_t>(c.first.first)] = 1;
       onBoundary[static_cast<size_t>(c.first.second)] = 1;
     }
-    int moved = 0;
     for (size_t i = 0; i < UV.size(); ++i)
     {
       if (onBoundary[i] || !Outside(UV[i]))
@@ -1386,15 +1385,15 @@ public:
       for (size_t t = 0; t < Tris.size(); ++t)
         if (Alive[t] && (Tris[t][0] == int(i) || Tris[t][1] == int(i) || Tris[t][2] == int(i)))
           around.push_back(static_cast<int>(t));
+      std::vector<double> before;
+      for (const int t : around)
+        before.push_back(AreaUV(Tris[t][0], Tris[t][1], Tris[t][2]));
       const gp_Pnt2d from = UV[i];
       for (const double s : { 1e-2, 1e-3, 1e-4, 0.0 })
       {
         const gp_Pnt2d q = foot.Translated(s * on);
         if (s > 0.0 && Outside(q))
           continue;
-        std::vector<double> before;
-        for (const int t : around)
-          before.push_back(AreaUV(Tris[t][0], Tris[t][1], Tris[t][2]));
         UV[i] = q;
         bool kept = true;
         for (size_t k = 0; k < around.size() && kept; ++k)
@@ -1413,11 +1412,9 @@ public:
         XYZ[i] = p;
         if (Delaunay)
           Normal[i] = du.Crossed(dv);
-        ++moved;
         break;
       }
     }
-    return moved;
   }
 
   /// Splits edges longest first until none is longer than maxEdge (or the vertex cap is hit).

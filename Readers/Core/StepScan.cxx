@@ -291,16 +291,18 @@ private:
   {
     bool Net = false, Weights = false;
     std::vector<int> NetRows, WeightRows;
-    /// Items in each knot or multiplicity list opened (-1: none): an empty one crashed
-    /// OpenCASCADE 7.6 as well (a mutation of the ExpansionCard's surface and the L-bracket's
-    /// pcurve), as one that lists nothing.
-    int EmptyKnotList = -1;
-    std::string KnotListOf;
-    int KnotItems = 0;
-    bool InKnotList = false;
   } Spline;
-  /// Where a list opens (level 0: the parameter's own list, 1: a row in it) or an item of it
-  /// stands, counts it into Spline.
+  /// The list being read that must not be empty (NonEmptyListName: a B-spline's knots or
+  /// multiplicities, an edge loop's edges, ...): what it holds, how many items so far, and
+  /// whether its numbers are knots (bounded by MaxKnotValue).
+  struct CheckedList
+  {
+    const char* Of = nullptr; ///< nullptr: none open
+    int Items = 0;
+    bool Knots = false;
+  } Listed;
+  /// Where a list opens (level 0: the parameter's own list, 1: a row in it) or a reference or
+  /// number stands in one, counts it into Spline and Listed.
   void CountSplineList(int level);
   void CountSplineItem(int level, bool reference, double value = 0.0);
   std::unordered_map<long, Entity> Entities;
@@ -344,7 +346,7 @@ const NonEmptyList NonEmptyLists[] = {
 /// Whether parameter `param` of `part` (a simple entity's, counted from its name, or a complex
 /// one's partial entity's, `inComplex`) is a list that must not be empty: a B-spline's knot or
 /// multiplicity list, or one of NonEmptyLists; what its items are.
-const char* KnotListName(const std::string& part, int param, bool inComplex)
+const char* NonEmptyListName(const std::string& part, int param, bool inComplex)
 {
   if (!inComplex)
     for (const NonEmptyList& l : NonEmptyLists)
@@ -370,11 +372,10 @@ const char* KnotListName(const std::string& part, int param, bool inComplex)
 void Scanner::CountSplineList(int level)
 {
   if (level == 0)
-    if (const char* name = KnotListName(this->PartName, this->PartParam, this->PartBase == 2))
+    if (const char* name = NonEmptyListName(this->PartName, this->PartParam, this->PartBase == 2))
     {
-      this->Spline.InKnotList = true;
-      this->Spline.KnotItems = 0;
-      this->Spline.KnotListOf = name;
+      const size_t len = std::strlen(name);
+      this->Listed = { name, 0, len >= 5 && std::strcmp(name + len - 5, "knots") == 0 };
     }
   const bool curveNet = this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1;
   const bool surfaceNet = this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2;
@@ -398,21 +399,15 @@ void Scanner::CountSplineList(int level)
 
 void Scanner::CountSplineItem(int level, bool reference, double value)
 {
-  if (this->Spline.InKnotList && level == 1)
+  // A knot far beyond any parametrisation a CAD system writes (by arc length in mm a knot
+  // reaches the curve's length): one of 1e300 in the ExpansionCard's curve made OpenCASCADE
+  // 7.6 run past 120 s (the mutation corpus, fifty-ninth session).
+  if (this->Listed.Knots && level == 1 && !reference && !(std::fabs(value) <= MaxKnotValue))
   {
-    ++this->Spline.KnotItems;
-    // A knot far beyond any parametrisation a CAD system writes (by arc length in mm a knot
-    // reaches the curve's length): one of 1e300 in the ExpansionCard's curve made OpenCASCADE
-    // 7.6 run past 120 s (the mutation corpus, fifty-ninth session).
-    const std::string& list = this->Spline.KnotListOf;
-    if (!reference && list.size() >= 5 && list.compare(list.size() - 5, 5, "knots") == 0 &&
-      !(std::fabs(value) <= MaxKnotValue))
-    {
-      std::ostringstream w;
-      w << "its " << this->PartName << "'s " << list << " list holds " << value
-        << ", beyond " << MaxKnotValue << ": not a parametrisation any CAD system writes";
-      this->Fail(w.str());
-    }
+    std::ostringstream w;
+    w << "its " << this->PartName << "'s " << this->Listed.Of << " list holds " << value
+      << ", beyond " << MaxKnotValue << ": not a parametrisation any CAD system writes";
+    this->Fail(w.str());
   }
   if (this->PartBase != 2)
     return;
@@ -608,6 +603,8 @@ StepScanResult Scanner::Run()
       this->Fail("two parameters without a ',' between them");
     needSep = true;
     afterComma = false;
+    if (this->Listed.Of && depth - this->PartBase == 1)
+      ++this->Listed.Items;
   };
   for (size_t i = this->SkipBlank(0); i < n; i = this->SkipBlank(i))
   {
@@ -707,16 +704,17 @@ StepScanResult Scanner::Run()
         this->Fail("a parameter is missing after ','");
       if (--depth < 0)
         this->Fail("a ')' closes nothing");
-      if (this->Spline.InKnotList && depth == this->PartBase)
+      if (this->Listed.Of && depth == this->PartBase)
       {
-        if (this->Spline.KnotItems == 0)
+        const std::string of = this->Listed.Of;
+        if (this->Listed.Items == 0)
           this->Fail(this->PartName.find("B_SPLINE") != std::string::npos
-              ? "its " + this->PartName + "'s " + this->Spline.KnotListOf +
+              ? "its " + this->PartName + "'s " + of +
                 " list is empty: a B-spline's knots and their multiplicities are never empty"
-              : "its " + this->Spline.KnotListOf + " list is empty: " +
+              : "its " + of + " list is empty: " +
                 (std::strchr("AEIOU", this->PartName[0]) ? "an " : "a ") + this->PartName +
                 " holds at least one");
-        this->Spline.InKnotList = false;
+        this->Listed = CheckedList();
       }
       needSep = depth >= 1;
       ++i;
@@ -754,6 +752,7 @@ StepScanResult Scanner::Run()
       this->PartName.clear();
       this->PartBase = 0;
       this->Spline = SplineCounts();
+      this->Listed = CheckedList();
       state = 0;
       needSep = afterName = afterComma = false;
       ++i;
@@ -1017,13 +1016,17 @@ StepScanResult Scanner::Run()
         b = expected.size();
       ok = ok || this->HasType(target, expected.substr(a, b - a));
     }
+    // The referring entity's type, for an error (only then: every typed reference passes here).
+    auto typeOfFrom = [&]() {
+      const auto source = this->Entities.find(r.From);
+      return source == this->Entities.end() ? std::string("the entity")
+                                            : this->TypeText(source->second);
+    };
     if (!ok)
     {
       this->Line = r.Line;
       this->Current = r.From;
-      const auto source = this->Entities.find(r.From);
-      const std::string from =
-        source == this->Entities.end() ? "the entity" : this->TypeText(source->second);
+      const std::string from = typeOfFrom();
       std::string want = r.Said ? r.Said : expected;
       std::replace(want.begin(), want.end(), '|', '/');
       auto article = [](const std::string& w) {
@@ -1037,10 +1040,7 @@ StepScanResult Scanner::Run()
     {
       this->Line = r.Line;
       this->Current = r.From;
-      const auto source = this->Entities.find(r.From);
-      const std::string from =
-        source == this->Entities.end() ? "the entity" : this->TypeText(source->second);
-      this->Fail(from + " parameter " + std::to_string(r.Param + 1) + " refers to #" +
+      this->Fail(typeOfFrom() + " parameter " + std::to_string(r.Param + 1) + " refers to #" +
         std::to_string(r.To) + ", a " + this->TypeText(target) + " of " +
         std::to_string(target.Dim) + " coordinate" + (target.Dim == 1 ? "" : "s") +
         ", where one of " + std::to_string(r.Dim) + " is required");
