@@ -9,7 +9,8 @@ arguments always give the same files. The classes are the faults users' files an
 fuzzer produce: bit flips, truncation (with the terminator put back), deleted and duplicated
 entities, dangling, wrong-type and self references, non-finite and absurd numbers, negative radii,
 zero-length edges, deep parentheses, emptied lists, a list's item dropped, changed
-enumerations, invalid UTF-8, an entity of several megabytes.
+enumerations, B-spline data that contradict themselves, invalid UTF-8, an entity of several
+megabytes.
 """
 import argparse
 import os
@@ -205,6 +206,60 @@ def enumeration(data, rng):
     return bit_flip(data, rng)
 
 
+BSPLINE_DEGREE = re.compile(rb"B_SPLINE_(?:CURVE|SURFACE)(?:_WITH_KNOTS)?\s*\(\s*(?:'[^']*'\s*,\s*)?(\d+)")
+
+
+def bspline_data(data, rng):
+    """A B-spline's data made to contradict itself: its degree, or one item of its knots,
+    multiplicities or weights raised, lowered, swapped with the next, repeated, dropped, zeroed
+    or negated (a writer's off-by-one, knots out of order)."""
+    st = [s for s in statements(data) if b"WITH_KNOTS" in data[s[0]:s[1]]]
+    for _ in range(50):
+        if not st:
+            break
+        s = rng.choice(st)
+        text = data[s[0]:s[1]]
+        if rng.random() < 0.25:
+            m = BSPLINE_DEGREE.search(text)
+            if not m:
+                continue
+            d = int(m.group(1))
+            v = rng.choice([0, d - 1, d + 1, d + 2, 26])
+            a, b = s[0] + m.start(1), s[0] + m.end(1)
+            return data[:a] + b"%d" % v + data[b:], "#%d: degree %d -> %d" % (s[2], d, v)
+        lists = [m for m in re.finditer(rb"\(([^()#']+)\)", text) if re.search(rb"\d", m.group(1))]
+        if not lists:
+            continue
+        m = rng.choice(lists)
+        items = [x.strip() for x in m.group(1).split(b",")]
+        k = rng.randrange(len(items))
+        op = rng.choice(("raise", "lower", "swap", "repeat", "drop", "zero", "negate"))
+        try:
+            v = float(items[k])
+        except ValueError:
+            continue
+        whole = not re.search(rb"[.Ee]", items[k])
+        if op == "raise":
+            items[k] = b"%d" % (int(v) + 1) if whole else repr(v + 1.0).encode()
+        elif op == "lower":
+            items[k] = b"%d" % (int(v) - 1) if whole else repr(v - 0.5).encode()
+        elif op == "swap" and len(items) > 1:
+            j = k + 1 if k + 1 < len(items) else k - 1
+            items[k], items[j] = items[j], items[k]
+        elif op == "repeat":
+            items.insert(k, items[k])
+        elif op == "drop" and len(items) > 1:
+            del items[k]
+        elif op == "zero":
+            items[k] = b"0" if whole else b"0."
+        elif op == "negate":
+            items[k] = b"%d" % -int(v) if whole else repr(-v).encode()
+        a, b = s[0] + m.start(1), s[0] + m.end(1)
+        return data[:a] + b",".join(items) + data[b:], "#%d: item %d of a list of %d, %s" % (
+            s[2], k + 1, m.group(1).count(b",") + 1, op)
+    return bit_flip(data, rng)
+
+
 def deep_parentheses(data, rng):
     st = statements(data)
     s = rng.choice(st)
@@ -245,6 +300,7 @@ CLASSES = [
     ("empty-list", empty_list, 6),
     ("drop-item", drop_item, 6),
     ("enumeration", enumeration, 6),
+    ("bspline-data", bspline_data, 6),
     ("invalid-utf8", invalid_utf8, 4),
 ]
 

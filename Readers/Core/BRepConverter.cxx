@@ -3131,7 +3131,20 @@ BRepModel ConvertStepFile(const std::string& path, const ConversionOptions& opti
   model.Schema = info.Schema;
   auto& warnings = model.Stats.Warnings;
   warnings.insert(warnings.begin(), info.Warnings.begin(), info.Warnings.end());
-  CheckConvertedModel(path, model);
+  try
+  {
+    CheckConvertedModel(path, model);
+  }
+  catch (const InputError& e)
+  {
+    // A face lost with its B-spline surface leaves its solid open: the refusal names the
+    // B-splines OpenCASCADE read nothing from (the text check's), the likely cause.
+    const std::string unread = DescribeUnreadGeometry(info.Scan);
+    if (unread.empty())
+      throw;
+    const std::string why = e.what() + unread;
+    throw InputError(why);
+  }
   return model;
 }
 

@@ -450,7 +450,8 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
   }
   catch (const Standard_Failure& e)
   {
-    Fail(path, std::string("OpenCASCADE failed while reading it: ") + e.GetMessageString());
+    Fail(path, std::string("OpenCASCADE failed while reading it: ") + e.GetMessageString() +
+        DescribeUnreadGeometry(result.Scan));
   }
   if (shape.IsNull() || !TopExp_Explorer(shape, TopAbs_FACE).More())
   {
@@ -458,7 +459,7 @@ TopoDS_Shape ReadStepFile(const std::string& path, StepReadResult* info)
     if (!why.empty())
       Fail(path, why);
     Fail(path, "holds no solid, shell or face (only curves, points or nothing): there is no "
-               "wall to measure");
+               "wall to measure" + DescribeUnreadGeometry(result.Scan));
   }
   TopTools_IndexedMapOfShape faces;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);

@@ -284,14 +284,21 @@ private:
   std::string PartName;
   int PartBase = 0;
   int PartParam = 0;
-  /// A complex entity's B-spline control points and rational weights, counted per row (a curve
-  /// has one row): they must match one for one. OpenCASCADE 7.6 crashed on an empty weights
-  /// list and builds no curve or surface from a list of another length.
-  struct SplineCounts
+  /// A B-spline as the text check reads it, written as a simple entity or as the partial
+  /// entities of a complex one (SplineSlotOf): its degrees, the control net's and the weights'
+  /// rows (a curve has one row), the knots and their multiplicities in each direction (0: u, or
+  /// the curve's; 1: v) and the smallest weight. CheckSpline checks them where the entity ends.
+  struct SplineData
   {
+    bool Surface = false;
+    int Degree[2] = { -1, -1 };
     bool Net = false, Weights = false;
     std::vector<int> NetRows, WeightRows;
+    bool HasMults[2] = { false, false }, HasKnots[2] = { false, false };
+    std::vector<double> Mults[2], Knots[2];
+    std::vector<double> WeightValues; ///< row by row
   } Spline;
+  void CheckSpline();
   /// The list being read that must not be empty (NonEmptyListName: a B-spline's knots or
   /// multiplicities, an edge loop's edges, ...): what it holds, how many items so far, and
   /// whether its numbers are knots (bounded by MaxKnotValue).
@@ -367,6 +374,58 @@ const char* NonEmptyListName(const std::string& part, int param, bool inComplex)
   }
   return nullptr;
 }
+
+/// What parameter `param` of `part` holds of a B-spline with knots (ISO 10303-42's
+/// B_SPLINE_CURVE_WITH_KNOTS and B_SPLINE_SURFACE_WITH_KNOTS as simple entities, or the partial
+/// entities B_SPLINE_CURVE, B_SPLINE_SURFACE, their _WITH_KNOTS and RATIONAL_ forms in a complex
+/// one).
+enum SplineSlot
+{
+  NotSpline,
+  DegreeU,
+  DegreeV,
+  ControlNet,
+  MultsU,
+  MultsV,
+  KnotsU,
+  KnotsV,
+  WeightList
+};
+SplineSlot SplineSlotOf(const std::string& part, int param, bool inComplex)
+{
+  if (part.compare(0, 9, "B_SPLINE_") != 0 && part.compare(0, 18, "RATIONAL_B_SPLINE_") != 0)
+    return NotSpline;
+  if (!inComplex)
+  {
+    if (part == "B_SPLINE_CURVE_WITH_KNOTS")
+    {
+      const SplineSlot slots[] = { NotSpline, DegreeU, ControlNet, NotSpline, NotSpline,
+        NotSpline, MultsU, KnotsU };
+      return param >= 0 && param < 8 ? slots[param] : NotSpline;
+    }
+    if (part == "B_SPLINE_SURFACE_WITH_KNOTS")
+    {
+      const SplineSlot slots[] = { NotSpline, DegreeU, DegreeV, ControlNet, NotSpline,
+        NotSpline, NotSpline, NotSpline, MultsU, MultsV, KnotsU, KnotsV };
+      return param >= 0 && param < 12 ? slots[param] : NotSpline;
+    }
+    return NotSpline;
+  }
+  if (part == "B_SPLINE_CURVE")
+    return param == 0 ? DegreeU : param == 1 ? ControlNet : NotSpline;
+  if (part == "B_SPLINE_SURFACE")
+    return param == 0 ? DegreeU : param == 1 ? DegreeV : param == 2 ? ControlNet : NotSpline;
+  if (part == "B_SPLINE_CURVE_WITH_KNOTS")
+    return param == 0 ? MultsU : param == 1 ? KnotsU : NotSpline;
+  if (part == "B_SPLINE_SURFACE_WITH_KNOTS")
+  {
+    const SplineSlot slots[] = { MultsU, MultsV, KnotsU, KnotsV };
+    return param >= 0 && param < 4 ? slots[param] : NotSpline;
+  }
+  if (part == "RATIONAL_B_SPLINE_CURVE" || part == "RATIONAL_B_SPLINE_SURFACE")
+    return param == 0 ? WeightList : NotSpline;
+  return NotSpline;
+}
 } // namespace
 
 void Scanner::CountSplineList(int level)
@@ -377,24 +436,33 @@ void Scanner::CountSplineList(int level)
       const size_t len = std::strlen(name);
       this->Listed = { name, 0, len >= 5 && std::strcmp(name + len - 5, "knots") == 0 };
     }
-  const bool curveNet = this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1;
-  const bool surfaceNet = this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2;
-  const bool curveWeights = this->PartName == "RATIONAL_B_SPLINE_CURVE" && this->PartParam == 0;
-  const bool surfaceWeights =
-    this->PartName == "RATIONAL_B_SPLINE_SURFACE" && this->PartParam == 0;
-  if (this->PartBase != 2 || !(curveNet || surfaceNet || curveWeights || surfaceWeights))
+  const SplineSlot slot = SplineSlotOf(this->PartName, this->PartParam, this->PartBase == 2);
+  if (slot == NotSpline)
     return;
-  const bool net = curveNet || surfaceNet;
-  std::vector<int>& rows = net ? this->Spline.NetRows : this->Spline.WeightRows;
-  if (level == 0)
+  SplineData& s = this->Spline;
+  const bool surface = this->PartName.find("SURFACE") != std::string::npos;
+  s.Surface = s.Surface || surface;
+  if (slot == ControlNet || slot == WeightList)
   {
-    (net ? this->Spline.Net : this->Spline.Weights) = true;
-    rows.clear();
-    if (curveNet || curveWeights)
+    const bool net = slot == ControlNet;
+    std::vector<int>& rows = net ? s.NetRows : s.WeightRows;
+    if (level == 0)
+    {
+      (net ? s.Net : s.Weights) = true;
+      rows.clear();
+      if (!surface)
+        rows.push_back(0);
+    }
+    else if (level == 1 && surface)
       rows.push_back(0);
+    return;
   }
-  else if (level == 1 && (surfaceNet || surfaceWeights))
-    rows.push_back(0);
+  if (level != 0 || slot == DegreeU || slot == DegreeV)
+    return;
+  const int k = slot == MultsV || slot == KnotsV ? 1 : 0;
+  const bool mults = slot == MultsU || slot == MultsV;
+  (mults ? s.HasMults : s.HasKnots)[k] = true;
+  (mults ? s.Mults : s.Knots)[k].clear();
 }
 
 void Scanner::CountSplineItem(int level, bool reference, double value)
@@ -409,17 +477,265 @@ void Scanner::CountSplineItem(int level, bool reference, double value)
       << ", beyond " << MaxKnotValue << ": not a parametrisation any CAD system writes";
     this->Fail(w.str());
   }
-  if (this->PartBase != 2)
+  const SplineSlot slot = SplineSlotOf(this->PartName, this->PartParam, this->PartBase == 2);
+  if (slot == NotSpline)
     return;
-  const bool curve = level == 1 &&
-    ((reference && this->PartName == "B_SPLINE_CURVE" && this->PartParam == 1) ||
-      (!reference && this->PartName == "RATIONAL_B_SPLINE_CURVE" && this->PartParam == 0));
-  const bool surface = level == 2 &&
-    ((reference && this->PartName == "B_SPLINE_SURFACE" && this->PartParam == 2) ||
-      (!reference && this->PartName == "RATIONAL_B_SPLINE_SURFACE" && this->PartParam == 0));
-  std::vector<int>& rows = reference ? this->Spline.NetRows : this->Spline.WeightRows;
-  if ((curve || surface) && !rows.empty())
-    ++rows.back();
+  SplineData& s = this->Spline;
+  const int rowLevel = this->PartName.find("SURFACE") != std::string::npos ? 2 : 1;
+  if (slot == ControlNet || slot == WeightList)
+  {
+    std::vector<int>& rows = slot == ControlNet ? s.NetRows : s.WeightRows;
+    if (level == rowLevel && reference == (slot == ControlNet) && !rows.empty())
+      ++rows.back();
+    if (slot == WeightList && level == rowLevel && !reference)
+      s.WeightValues.push_back(value);
+    return;
+  }
+  if (reference)
+    return;
+  if (level == 0 && (slot == DegreeU || slot == DegreeV))
+    s.Degree[slot == DegreeV ? 1 : 0] = value >= -1e9 && value <= 1e9 ? static_cast<int>(value) : -1;
+  else if (level == 1 && slot != DegreeU && slot != DegreeV)
+  {
+    const int k = slot == MultsV || slot == KnotsV ? 1 : 0;
+    (slot == MultsU || slot == MultsV ? s.Mults : s.Knots)[k].push_back(value);
+  }
+}
+
+namespace
+{
+/// Whether OpenCASCADE 7.6 builds one direction of a B-spline from the file's degree, number of
+/// control points, multiplicities and knots, as StepToGeom and Geom_BSplineCurve (or _Surface)
+/// do: knots within a rounding of the last one kept (or below it) are joined to it, their
+/// multiplicities added; a curve's multiplicities above its degree plus 1 are lowered to that,
+/// an end's excess taking as many control points off that end; the
+/// B-spline is periodic where the sum is not the control points and degree plus 1 but the sum
+/// less the first multiplicity is the control points; Geom then refuses it unless its control
+/// points are exactly as many as its multiplicities and degree give (BSplCLib::NbPoles).
+bool OpenCascadeBuilds(bool curve, int degree, long poles, const std::vector<double>& mults,
+  const std::vector<double>& knots)
+{
+  long trimmed = 0;
+  if (knots.size() != mults.size() || mults.empty())
+    return false; // (refused before)
+  for (const double m : mults)
+    if (!(m >= -1e6 && m <= 1e6 && m == std::floor(m)))
+      return false;
+  std::vector<long> joined;
+  double last = knots[0];
+  joined.push_back(static_cast<long>(mults[0]));
+  for (size_t i = 1; i < mults.size(); ++i)
+  {
+    if (knots[i] - last > std::nextafter(std::fabs(last), HUGE_VAL) - std::fabs(last))
+    {
+      joined.push_back(static_cast<long>(mults[i]));
+      last = knots[i];
+    }
+    else
+      joined.back() += static_cast<long>(mults[i]);
+  }
+  if (joined.size() < 2 || degree < 1 || degree > 25)
+    return false;
+  if (curve)
+    for (size_t i = 0; i < joined.size(); ++i)
+      if (joined[i] > degree + 1)
+      {
+        if (i == 0 || i + 1 == joined.size())
+          trimmed += joined[i] - degree - 1;
+        joined[i] = degree + 1;
+      }
+  long sum = 0;
+  for (const long j : joined)
+    sum += j;
+  const long mf = joined.front(), ml = joined.back();
+  const bool periodic = sum != poles + degree + 1 && mf == ml && sum - mf == poles;
+  if (mf <= 0 || ml <= 0)
+    return false;
+  long sigma = periodic ? mf : mf + ml - degree - 1;
+  if (periodic ? (mf > degree || ml > degree || mf != ml) : (mf > degree + 1 || ml > degree + 1))
+    return false;
+  for (size_t i = 1; i + 1 < joined.size(); ++i)
+  {
+    if (joined[i] <= 0 || joined[i] > degree)
+      return false;
+    sigma += joined[i];
+  }
+  return sigma == poles - trimmed;
+}
+} // namespace
+
+void Scanner::CheckSpline()
+{
+  const SplineData& s = this->Spline;
+  if (!s.Net)
+    return;
+  const char* what = s.Surface ? "surface" : "curve";
+  // ISO 10303-42's rules for a B-spline (constraints_param_b_spline, a rational one's
+  // weights_data), in order: the first one broken is the problem named.
+  std::string problem;
+  auto broken = [&](const std::ostringstream& w) {
+    if (problem.empty())
+      problem = w.str();
+  };
+  // Whether OpenCASCADE 7.6 builds it (OpenCascadeBuilds; a rational one's weights are read for
+  // as many control points as the file has, and must be positive).
+  bool builds = true;
+  const int dirs = s.Surface ? 2 : 1;
+  if (s.NetRows.empty() || (s.Surface && s.NetRows.front() == 0))
+    return; // an empty list: refused
+  for (int k = 0; k < dirs; ++k)
+  {
+    if (!s.HasMults[k] || !s.HasKnots[k])
+      continue; // no knots written (a Bezier or uniform form), or an empty list (refused)
+    const std::string dir = s.Surface ? (k ? "v " : "u ") : "";
+    const int degree = s.Degree[k];
+    const long poles = k == 0 ? (s.Surface ? static_cast<long>(s.NetRows.size()) : s.NetRows[0])
+                              : s.NetRows.front();
+    const std::vector<double>& m = s.Mults[k];
+    const std::vector<double>& u = s.Knots[k];
+    // Lists of unequal length: OpenCASCADE 7.6 reads one by the other's count, past its end
+    // (its release build does not check the index): read memory it does not own, or a B-spline
+    // built from it (a mutation of Data/cubic_ridge.step with 1 multiplicity for 2 knots read as
+    // a surface). Refused.
+    if (u.size() != m.size())
+    {
+      std::ostringstream w;
+      w << "its " << (s.Surface ? "B-spline surface" : "B-spline curve") << " has " << u.size()
+        << " " << dir << "knots for " << m.size() << " " << dir
+        << "knot multiplicities: a B-spline has one multiplicity for each knot";
+      this->Fail(w.str());
+    }
+    builds = OpenCascadeBuilds(!s.Surface, degree, poles, m, u) && builds;
+    if (degree < 1 || degree > 25)
+    {
+      std::ostringstream w;
+      w << "its " << dir << "degree is " << degree << ": a B-spline's degree is 1 to 25";
+      broken(w);
+    }
+    bool whole = true;
+    for (size_t i = 0; i < m.size() && whole; ++i)
+      if (!(m[i] >= 1.0 && m[i] <= 1e6 && m[i] == std::floor(m[i])))
+      {
+        std::ostringstream x;
+        x << "it has a " << dir << "knot multiplicity of " << m[i]
+          << ": a multiplicity is a whole number, 1 or more";
+        broken(x);
+        whole = false;
+      }
+    for (size_t i = 1; i < u.size(); ++i)
+      if (!(u[i] > u[i - 1]))
+      {
+        std::ostringstream x;
+        x << "its " << dir << "knots do not increase (" << u[i - 1] << " then " << u[i]
+          << "): a B-spline's knots increase";
+        broken(x);
+        break;
+      }
+    if (!whole)
+      continue;
+    long sum = 0;
+    for (size_t i = 0; i < m.size(); ++i)
+      sum += static_cast<long>(m[i]);
+    if (sum != poles + degree + 1)
+    {
+      std::ostringstream x;
+      x << "its " << dir << "knot multiplicities add up to " << sum << " where its " << poles
+        << " " << dir << "control points and degree " << degree << " need " << poles + degree + 1;
+      broken(x);
+    }
+    for (size_t i = 0; i < m.size(); ++i)
+    {
+      const bool end = i == 0 || i + 1 == m.size();
+      if (m[i] > degree + (end ? 1 : 0))
+      {
+        std::ostringstream x;
+        x << "it has a" << (end ? "n end " : "n inner ") << dir << "knot of multiplicity " << m[i]
+          << ", above its degree" << (end ? " plus 1" : "");
+        broken(x);
+        break;
+      }
+    }
+  }
+  if (s.Weights)
+  {
+    // One weight for each control point, positive. OpenCASCADE 7.6 reads as many weights as
+    // there are control points: from a list (or a row) with fewer, past its end (an empty one
+    // crashed it: a mutation of Data/l_bracket.step): refused. More (zellyn/dodgy-step-files's
+    // Gn002) it reads, leaving the last out: a warning.
+    std::ostringstream w;
+    if (s.NetRows != s.WeightRows)
+    {
+      if (!s.Surface)
+        w << "it has " << (s.WeightRows.empty() ? 0 : s.WeightRows[0]) << " weights for its "
+          << s.NetRows[0] << " control points";
+      else
+      {
+        auto shape = [](const std::vector<int>& rows) {
+          std::ostringstream o;
+          o << rows.size() << " rows of ";
+          const bool even =
+            std::all_of(rows.begin(), rows.end(), [&](int r) { return r == rows.front(); });
+          if (rows.empty())
+            o << "none";
+          else if (even)
+            o << rows.front();
+          else
+            o << "unequal lengths";
+          return o.str();
+        };
+        w << "its weights (" << shape(s.WeightRows) << ") do not match its control points ("
+          << shape(s.NetRows) << ")";
+      }
+      w << ": a rational B-spline has one weight for each control point";
+      bool fewer = s.WeightRows.size() < s.NetRows.size();
+      for (size_t r = 0; r < s.NetRows.size() && !fewer; ++r)
+        fewer = s.WeightRows[r] < s.NetRows[r];
+      if (fewer)
+        this->Fail(w.str());
+      broken(w);
+    }
+    // The weights OpenCASCADE reads: the first row's first ones for a curve; for a surface as
+    // many rows, and in each as many, as the control net has.
+    double least = HUGE_VAL;
+    size_t at = 0;
+    for (size_t r = 0; r < s.WeightRows.size(); ++r)
+    {
+      const bool read = r < s.NetRows.size();
+      for (int j = 0; j < s.WeightRows[r] && at < s.WeightValues.size(); ++j, ++at)
+      {
+        const double v = s.WeightValues[at];
+        if (!(v > 0.0))
+        {
+          std::ostringstream x;
+          x << "it has a weight of " << v << ": a rational B-spline's weights are positive";
+          broken(x);
+        }
+        if (read && j < s.NetRows[r])
+          least = std::min(least, v);
+      }
+    }
+    builds = builds && least > DBL_MIN;
+  }
+  if (problem.empty())
+    return;
+  // OpenCASCADE 7.6 reads no curve or surface from a B-spline it cannot build, with no message
+  // a user sees: a pcurve is rebuilt from its edge, and a face on such a surface is lost (its
+  // solid then open: flagged, or the file refused for it). Each such B-spline gets a warning
+  // that names it, and a refusal repeats it (StepScanResult::UnreadGeometry); one it builds
+  // from data that break the rules gets a warning too.
+  std::ostringstream w;
+  w << "#" << this->Current << " (line " << this->Line << "), a B-spline " << what << ": "
+    << problem << "; OpenCASCADE ";
+  if (builds)
+    w << "reads a " << what << " from it that may not be the one meant";
+  else if (s.Surface)
+    w << "reads no surface from it (a face on it is lost)";
+  else
+    w << "reads no curve from it (a pcurve is rebuilt from its edge; an edge on such a curve "
+         "loses its faces)";
+  this->Result.Warnings.push_back(w.str());
+  if (!builds)
+    this->Result.UnreadGeometry.push_back(w.str());
 }
 
 void Scanner::Geometry(double v, const char* what)
@@ -480,52 +796,9 @@ void Scanner::EndEntity(size_t begin, size_t end)
       mm = 304.8;
     this->Result.UnitInMillimetres = std::max(this->Result.UnitInMillimetres, mm);
   }
+  this->CheckSpline();
   if (type.empty())
-  {
-    // A rational B-spline's weights, one for each control point (ISO 10303-42's
-    // weights_data, an array of the control net's shape). An empty list (or row) crashed
-    // OpenCASCADE 7.6 (a mutation of Data/l_bracket.step; zellyn/dodgy-step-files's Gn002 has
-    // such a mismatch): refused. A list of another length it reads as no curve or surface at
-    // all, and the healing rebuilds a pcurve from its edge while a face on such a surface is
-    // lost (its solid then open, flagged): a warning that names the entity.
-    const SplineCounts& c = this->Spline;
-    if (c.Net && c.Weights && c.NetRows != c.WeightRows)
-    {
-      const bool curve = c.NetRows.size() == 1 && c.WeightRows.size() <= 1;
-      std::ostringstream w;
-      if (curve)
-        w << "its RATIONAL_B_SPLINE_CURVE has " << (c.WeightRows.empty() ? 0 : c.WeightRows[0])
-          << " weights for its " << c.NetRows[0] << " control points";
-      else
-      {
-        auto shape = [](const std::vector<int>& rows) {
-          std::ostringstream o;
-          o << rows.size() << " rows of ";
-          const bool even = std::all_of(
-            rows.begin(), rows.end(), [&](int r) { return r == rows.front(); });
-          if (rows.empty())
-            o << "none";
-          else if (even)
-            o << rows.front();
-          else
-            o << "unequal lengths";
-          return o.str();
-        };
-        w << "its RATIONAL_B_SPLINE_SURFACE's weights (" << shape(c.WeightRows)
-          << ") do not match its control points (" << shape(c.NetRows) << ")";
-      }
-      w << ": a rational B-spline has one weight for each control point";
-      const bool empty = c.WeightRows.empty() ||
-        std::any_of(c.WeightRows.begin(), c.WeightRows.end(), [](int r) { return r == 0; });
-      if (empty)
-        this->Fail(w.str());
-      this->Result.Warnings.push_back("#" + std::to_string(this->Current) + " (line " +
-        std::to_string(this->Line) + "): " + w.str() +
-        "; OpenCASCADE reads no curve or surface from it (a pcurve is rebuilt from its edge, "
-        "a face on such a surface is lost)");
-    }
     return;
-  }
 
   // Simple entities: reference types, positive radii, coordinates.
   const std::vector<Param>& p = this->Params;
@@ -751,7 +1024,7 @@ StepScanResult Scanner::Run()
       this->Coordinates.clear();
       this->PartName.clear();
       this->PartBase = 0;
-      this->Spline = SplineCounts();
+      this->Spline = SplineData();
       this->Listed = CheckedList();
       state = 0;
       needSep = afterName = afterComma = false;
@@ -1086,4 +1359,15 @@ StepScanResult ScanStepFile(const std::string& path)
   s << in.rdbuf();
   return ScanStepText(path, s.str());
 }
+std::string DescribeUnreadGeometry(const StepScanResult& scan)
+{
+  const std::vector<std::string>& unread = scan.UnreadGeometry;
+  if (unread.empty())
+    return std::string();
+  std::string why = ". The likely cause: " + unread.front();
+  if (unread.size() > 1)
+    why += " (and " + std::to_string(unread.size() - 1) + " more B-splines so)";
+  return why;
+}
+
 } // namespace brt

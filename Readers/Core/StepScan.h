@@ -25,8 +25,13 @@ struct StepScanResult
   /// Largest |coordinate| or radius of a geometric entity, in the file's unit, and where.
   double LargestCoordinate = 0.0;
   long LargestCoordinateEntity = 0;
-  /// Problems that do not touch the geometry (a dangling reference in a colour or a note).
+  /// Problems that do not stop the read (a dangling reference in a colour or a note, a B-spline
+  /// OpenCASCADE reads otherwise than written or not at all).
   std::vector<std::string> Warnings;
+  /// Of those, the B-splines OpenCASCADE reads no curve or surface from (data that contradict
+  /// each other: knots, multiplicities, degree, control points, weights), each naming its
+  /// entity: a refusal of the file for an open solid repeats them.
+  std::vector<std::string> UnreadGeometry;
   /// Entities that a geometric or topological entity refers to, with the first such referrer:
   /// after OpenCASCADE has parsed the file, one of them that it could not read (unknown type,
   /// damaged parameters) is an error, since its transfer dereferences it.
@@ -54,4 +59,9 @@ StepScanResult ScanStepText(const std::string& path, const std::string& text);
 
 /// Reads the file and checks it (ScanStepText).
 StepScanResult ScanStepFile(const std::string& path);
+/// For an error after OpenCASCADE's transfer: the B-splines it read nothing from (scan's
+/// UnreadGeometry, the first named and the others counted), as a sentence to append; empty if
+/// none.
+std::string DescribeUnreadGeometry(const StepScanResult& scan);
+
 } // namespace brt
