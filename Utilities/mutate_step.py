@@ -7,10 +7,10 @@ Writes N variants of every seed (default 80) into OUT_DIR, named
 <seed>-<index>-<class>.step, and a manifest (manifest.tsv: file, seed, class, detail). The same
 arguments always give the same files. The classes are the faults users' files and a mutation
 fuzzer produce: bit flips, truncation (with the terminator put back), deleted and duplicated
-entities, dangling, wrong-type and self references, non-finite and absurd numbers, negative radii,
-zero-length edges, deep parentheses, emptied lists, a list's item dropped, changed
-enumerations, B-spline data that contradict themselves, invalid UTF-8, an entity of several
-megabytes.
+entities, dangling, wrong-type, same-type and self references, non-finite and absurd numbers,
+negative radii, zero-length edges, deep parentheses, emptied lists, a list's item dropped,
+changed enumerations, B-spline data that contradict themselves, invalid UTF-8, an entity of
+several megabytes.
 """
 import argparse
 import os
@@ -80,6 +80,10 @@ def duplicate_entity(data, rng):
 def retarget(data, rng, how):
     st = statements(data)
     ids = [s[2] for s in st]
+    types = {s[2]: s[3] for s in st if s[3]}
+    by_type = {}
+    for i, kind in types.items():
+        by_type.setdefault(kind, []).append(i)
     for _ in range(50):
         s = rng.choice(st)
         text = data[s[0]:s[1]]
@@ -92,6 +96,14 @@ def retarget(data, rng, how):
             new = max(ids) + rng.randint(1, 1000)
         elif how == "self":
             new = s[2]
+        elif how == "same":
+            # Another entity of the target's own type: a vertex, an edge, a loop, a surface
+            # or a point that belongs elsewhere (well typed, topologically wrong).
+            kind = types.get(int(r.group(1)))
+            same = [i for i in by_type.get(kind, ()) if i not in (int(r.group(1)), s[2])]
+            if not kind or not same:
+                continue
+            new = rng.choice(same)
         else:
             new = rng.choice(ids)
         a = s[0] + r.start()
@@ -293,6 +305,7 @@ CLASSES = [
     ("dangling-ref", lambda d, r: retarget(d, r, "dangling"), 6),
     ("wrong-type-ref", lambda d, r: retarget(d, r, "wrong"), 10),
     ("self-ref", lambda d, r: retarget(d, r, "self"), 4),
+    ("same-type-ref", lambda d, r: retarget(d, r, "same"), 6),
     ("bad-number", bad_number, 10),
     ("negative-radius", negative_radius, 4),
     ("zero-length-edge", zero_length_edge, 3),
