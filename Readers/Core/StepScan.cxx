@@ -291,7 +291,7 @@ private:
   struct SplineData
   {
     bool Surface = false;
-    int Degree[2] = { -1, -1 };
+    double Degree[2] = { -1.0, -1.0 };
     bool Net = false, Weights = false;
     std::vector<int> NetRows, WeightRows;
     bool HasMults[2] = { false, false }, HasKnots[2] = { false, false };
@@ -494,7 +494,7 @@ void Scanner::CountSplineItem(int level, bool reference, double value)
   if (reference)
     return;
   if (level == 0 && (slot == DegreeU || slot == DegreeV))
-    s.Degree[slot == DegreeV ? 1 : 0] = value >= -1e9 && value <= 1e9 ? static_cast<int>(value) : -1;
+    s.Degree[slot == DegreeV ? 1 : 0] = value;
   else if (level == 1 && slot != DegreeU && slot != DegreeV)
   {
     const int k = slot == MultsV || slot == KnotsV ? 1 : 0;
@@ -513,9 +513,10 @@ namespace
 /// less the first multiplicity is the control points; Geom then refuses it unless its control
 /// points are exactly as many as its multiplicities and degree give (BSplCLib::NbPoles).
 bool OpenCascadeBuilds(bool curve, int degree, long poles, const std::vector<double>& mults,
-  const std::vector<double>& knots)
+  const std::vector<double>& knots, size_t* joinedIncreasing)
 {
   long trimmed = 0;
+  *joinedIncreasing = 0;
   if (knots.size() != mults.size() || mults.empty())
     return false; // (refused before)
   for (const double m : mults)
@@ -532,7 +533,11 @@ bool OpenCascadeBuilds(bool curve, int degree, long poles, const std::vector<dou
       last = knots[i];
     }
     else
+    {
       joined.back() += static_cast<long>(mults[i]);
+      if (knots[i] > knots[i - 1] && *joinedIncreasing == 0)
+        *joinedIncreasing = i;
+    }
   }
   if (joined.size() < 2 || degree < 1 || degree > 25)
     return false;
@@ -588,7 +593,8 @@ void Scanner::CheckSpline()
     if (!s.HasMults[k] || !s.HasKnots[k])
       continue; // no knots written (a Bezier or uniform form), or an empty list (refused)
     const std::string dir = s.Surface ? (k ? "v " : "u ") : "";
-    const int degree = s.Degree[k];
+    // (A degree outside 1-25 is refused below: as an int it is only compared.)
+    const int degree = s.Degree[k] >= 1.0 && s.Degree[k] <= 25.0 ? static_cast<int>(s.Degree[k]) : -1;
     const long poles = k == 0 ? (s.Surface ? static_cast<long>(s.NetRows.size()) : s.NetRows[0])
                               : s.NetRows.front();
     const std::vector<double>& m = s.Mults[k];
@@ -605,11 +611,12 @@ void Scanner::CheckSpline()
         << "knot multiplicities: a B-spline has one multiplicity for each knot";
       this->Fail(w.str());
     }
-    builds = OpenCascadeBuilds(!s.Surface, degree, poles, m, u) && builds;
-    if (degree < 1 || degree > 25)
+    size_t joinedAt = 0;
+    builds = OpenCascadeBuilds(!s.Surface, degree, poles, m, u, &joinedAt) && builds;
+    if (degree < 1 || s.Degree[k] != std::floor(s.Degree[k]))
     {
       std::ostringstream w;
-      w << "its " << dir << "degree is " << degree << ": a B-spline's degree is 1 to 25";
+      w << "its " << dir << "degree is " << s.Degree[k] << ": a B-spline's degree is 1 to 25";
       broken(w);
     }
     bool whole = true;
@@ -618,7 +625,8 @@ void Scanner::CheckSpline()
       {
         std::ostringstream x;
         x << "it has a " << dir << "knot multiplicity of " << m[i]
-          << ": a multiplicity is a whole number, 1 or more";
+          << (m[i] > 1e6 ? ": more than any control net's points"
+                         : ": a multiplicity is a whole number, 1 or more");
         broken(x);
         whole = false;
       }
@@ -654,6 +662,29 @@ void Scanner::CheckSpline()
         broken(x);
         break;
       }
+    }
+    if (joinedAt > 0)
+    {
+      std::ostringstream x;
+      x.precision(17);
+      x << "its " << dir << "knots " << u[joinedAt - 1] << " and " << u[joinedAt]
+        << " differ by a rounding only, and OpenCASCADE joins them into one";
+      broken(x);
+    }
+    // Knots that span a rounding of their size (a mutation of the cubic ridge with knots 0 and
+    // 1e-300): OpenCASCADE builds the surface, and its face then spans no area in its
+    // parameters, kept without patches while it bounds the solid in space, so that spheres
+    // leave the solid through it. The 136 real STEP files on disk span 2.5e-6 of their size
+    // at least. Refused.
+    const double span = u.back() - u.front(), size = std::max({ 1.0, std::fabs(u.front()),
+                                                       std::fabs(u.back()) });
+    if (span > 0.0 && span < 1e-12 * size)
+    {
+      std::ostringstream x;
+      x << "its " << (s.Surface ? "B-spline surface's " : "B-spline curve's ") << dir
+        << "knots span only " << span << " (from " << u.front() << " to " << u.back()
+        << "): not a parametrisation any CAD system writes";
+      this->Fail(x.str());
     }
   }
   if (s.Weights)
@@ -716,6 +747,8 @@ void Scanner::CheckSpline()
     }
     builds = builds && least > DBL_MIN;
   }
+  if (problem.empty() && !builds)
+    problem = "OpenCASCADE cannot build it from its degree, knots and control points";
   if (problem.empty())
     return;
   // OpenCASCADE 7.6 reads no curve or surface from a B-spline it cannot build, with no message

@@ -734,6 +734,23 @@ TEST(Robustness, ContradictoryBSplineIsNamed)
   ExpectIsolatedError(Mutated("cubic_ridge.step", "ridge-count.step", ridge,
                         "(4,4),(2,2),(0.,1.,2.),(-4.,0.)"),
     "entity #31: its B-spline surface has 3 u knots for 2 u knot multiplicities");
+  // Knots that span a rounding of their size: OpenCASCADE builds the surface, whose face then
+  // spans no area in its parameters and is kept without patches while it bounds the solid.
+  // Refused.
+  ExpectIsolatedError(Mutated("cubic_ridge.step", "ridge-span.step", ridge,
+                        "(4,4),(2,2),(0.,1.E-300),(-4.,0.)"),
+    "entity #31: its B-spline surface's u knots span only 1e-300 (from 0 to 1e-300)");
+  // Two knots a rounding apart: OpenCASCADE joins them into one knot.
+  const BRepModel joined = ConvertStepFileIsolated(
+    Mutated("cubic_ridge.step", "ridge-joined.step", ridge,
+      "(4,1,3),(2,2),(0.,0.5,0.50000000000000011),(-4.,0.)"),
+    ConversionOptions());
+  EXPECT_TRUE(std::any_of(joined.Stats.Warnings.begin(), joined.Stats.Warnings.end(),
+    [](const std::string& w) {
+      return w.find("#31 (line 49), a B-spline surface: its u knots 0.5 and 0.50000000000000011 "
+                    "differ by a rounding only, and OpenCASCADE joins them into one") !=
+        std::string::npos;
+    }));
   // A B-spline OpenCASCADE builds otherwise than written (as a periodic one): read, with a
   // warning that names it; the face's vertices off it are flagged.
   const BRepModel periodic = ConvertStepFileIsolated(
