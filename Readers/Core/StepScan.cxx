@@ -375,10 +375,10 @@ const char* NonEmptyListName(const std::string& part, int param, bool inComplex)
   return nullptr;
 }
 
-/// What parameter `param` of `part` holds of a B-spline with knots (ISO 10303-42's
-/// B_SPLINE_CURVE_WITH_KNOTS and B_SPLINE_SURFACE_WITH_KNOTS as simple entities, or the partial
-/// entities B_SPLINE_CURVE, B_SPLINE_SURFACE, their _WITH_KNOTS and RATIONAL_ forms in a complex
-/// one).
+/// What parameter `param` of `part` holds of a B-spline (ISO 10303-42's
+/// B_SPLINE_CURVE_WITH_KNOTS and B_SPLINE_SURFACE_WITH_KNOTS as simple entities, their Bezier,
+/// uniform and quasi-uniform forms, or the partial entities B_SPLINE_CURVE, B_SPLINE_SURFACE,
+/// their _WITH_KNOTS and RATIONAL_ forms in a complex one).
 enum SplineSlot
 {
   NotSpline,
@@ -393,10 +393,16 @@ enum SplineSlot
 };
 SplineSlot SplineSlotOf(const std::string& part, int param, bool inComplex)
 {
-  if (part.compare(0, 9, "B_SPLINE_") != 0 && part.compare(0, 18, "RATIONAL_B_SPLINE_") != 0)
+  const char c = part.empty() ? '\0' : part[0];
+  if (c != 'B' && c != 'R' && c != 'U' && c != 'Q')
     return NotSpline;
   if (!inComplex)
   {
+    // The knotless forms (their knots implied): their control nets alone.
+    if (part == "BEZIER_CURVE" || part == "UNIFORM_CURVE" || part == "QUASI_UNIFORM_CURVE")
+      return param == 1 ? DegreeU : param == 2 ? ControlNet : NotSpline;
+    if (part == "BEZIER_SURFACE" || part == "UNIFORM_SURFACE" || part == "QUASI_UNIFORM_SURFACE")
+      return param == 1 ? DegreeU : param == 2 ? DegreeV : param == 3 ? ControlNet : NotSpline;
     if (part == "B_SPLINE_CURVE_WITH_KNOTS")
     {
       const SplineSlot slots[] = { NotSpline, DegreeU, ControlNet, NotSpline, NotSpline,
@@ -586,8 +592,20 @@ void Scanner::CheckSpline()
   // as many control points as the file has, and must be positive).
   bool builds = true;
   const int dirs = s.Surface ? 2 : 1;
-  if (s.NetRows.empty() || (s.Surface && s.NetRows.front() == 0))
-    return; // an empty list: refused
+  // The control net: a list of points, or for a surface a list of rows of one length (ISO
+  // 10303-42's LIST [2:?] OF LIST [2:?]). OpenCASCADE 7.6 sizes the net by its first row: a
+  // later row with fewer points, or none, it reads past its end (an emptied row of the cubic
+  // ridge's surface crashed it, a shorter one made it call the surface damaged), a longer one
+  // it reads in part, and a shorter first row makes it read another net. Refused.
+  if (s.NetRows.empty() || s.NetRows.front() == 0)
+    this->Fail(std::string("its B-spline ") + what + " has no control points");
+  if (std::any_of(s.NetRows.begin(), s.NetRows.end(),
+        [&](int r) { return r != s.NetRows.front(); }))
+  {
+    const auto [shortest, longest] = std::minmax_element(s.NetRows.begin(), s.NetRows.end());
+    this->Fail("its B-spline surface's control net has rows of " + std::to_string(*shortest) +
+      " to " + std::to_string(*longest) + " points: a control net's rows are all of one length");
+  }
   for (int k = 0; k < dirs; ++k)
   {
     if (!s.HasMults[k] || !s.HasKnots[k])

@@ -781,6 +781,31 @@ TEST(Robustness, ContradictoryBSplineIsNamed)
   EXPECT_EQ(pcurve.Patches.size(), plain.Patches.size());
 }
 
+// A B-spline surface's control net whose rows differ in length: OpenCASCADE 7.6 sizes the net by
+// its first row, and an emptied later row crashed it past the text check (the cubic ridge's
+// surface, as a B-spline and as a Bezier surface; sixtieth session). Refused, as is a curve
+// with no control points.
+TEST(Robustness, ControlNetRowsOfOneLength)
+{
+  const std::string rows = R"(\(#32,#33\)\s*,\(#34,#35\))";
+  ExpectIsolatedError(Mutated("cubic_ridge.step", "net-row-empty.step", rows, "(#32,#33),()"),
+    "entity #31: its B-spline surface's control net has rows of 0 to 2 points: a control net's "
+    "rows are all of one length");
+  ExpectIsolatedError(Mutated("cubic_ridge.step", "net-row-long.step", rows,
+                        "(#32,#33),(#34,#35,#36)"),
+    "entity #31: its B-spline surface's control net has rows of 2 to 3 points");
+  ExpectIsolatedError(Mutated("cubic_ridge.step", "bezier-row-empty.step",
+                        R"(#31 = B_SPLINE_SURFACE_WITH_KNOTS\('',3,1,\(\s*\(#32,#33\)\s*,)"
+                        R"(\(#34,#35\)\s*,\(#36,#37\)\s*,\(#38,#39\)\),[^;]*;)",
+                        "#31 = BEZIER_SURFACE('',3,1,((#32,#33),(),(#36,#37),(#38,#39)),"
+                        ".UNSPECIFIED.,.F.,.F.,.F.);"),
+    "entity #31: its B-spline surface's control net has rows of 0 to 2 points");
+  ExpectIsolatedError(Mutated("cubic_ridge.step", "curve-net-empty.step",
+                        R"(#27 = B_SPLINE_CURVE_WITH_KNOTS\('',1,\(#28,#29\),)",
+                        "#27 = B_SPLINE_CURVE_WITH_KNOTS('',1,(),"),
+    "entity #27: its B-spline curve has no control points");
+}
+
 // A B-spline's knot or multiplicity list left empty crashed OpenCASCADE 7.6 (mutations of the
 // ExpansionCard's rational surface #5316, the L-bracket's rational pcurve #153 and the
 // ExpansionCard's simple curve #2009, after dodgy-step-files's Ad003): refused, naming the list.
