@@ -648,11 +648,11 @@ TEST(Robustness, ConeSemiAngleOutOfRange)
     "CONICAL_SURFACE has a semi-angle of 0, not between 0 and 90 degrees");
 }
 
-// A rational B-spline has one weight for each control point. An empty weights list crashed
-// OpenCASCADE 7.6 (a mutation of the L-bracket's pcurve): refused, naming the entity. A list of
-// another length OpenCASCADE reads as no curve (zellyn/dodgy-step-files's Gn002 has 3 weights
-// for 4 points): a pcurve so is rebuilt from its edge and the bracket reads as written, a surface
-// so loses its face (the ExpansionCard's solid then open, flagged); each is warned of by name.
+// A rational B-spline has one weight for each control point. OpenCASCADE 7.6 reads as many
+// weights as there are control points: a shorter list (or row) it reads past its end, and an
+// empty one crashed it (a mutation of the L-bracket's pcurve): refused, naming the entity. A
+// longer one it reads leaving the last out, and a weight of 0 or below makes it read no curve
+// (the pcurve is then rebuilt from its edge): each is warned of by name.
 TEST(Robustness, RationalSplineWeightsMatchTheirControlPoints)
 {
   const std::string weights = R"(RATIONAL_B_SPLINE_CURVE\(\(1\.,0\.5,1\.,0\.5,1\.,0\.5,1\.\)\))";
