@@ -3101,6 +3101,18 @@ void CheckConvertedModel(const std::string& path, BRepModel& model)
   if (closed == 0)
     fail("holds no closed solid: " + firstBad +
       ". A thickness needs a closed, manifold solid; repair the model in CAD");
+  for (size_t s = 0; s < checks.size(); ++s)
+    if (checks[s].Closed() && checks[s].Outward != 0 &&
+      (checks[s].Outward < 0) != (checks[s].Volume < 0.0))
+    {
+      std::ostringstream w;
+      w << "solid " << s << ": its outermost faces face " << (checks[s].Outward > 0 ? "out" : "in")
+        << "wards, but its faces enclose a " << (checks[s].Volume < 0.0 ? "negative" : "positive")
+        << " volume (" << checks[s].Volume
+        << " mm^3): a face's loops or geometry are damaged; its orientation is taken from the "
+           "outermost faces";
+      model.Stats.Warnings.push_back(w.str());
+    }
   for (int s : OrientSolids(model, checks))
     model.Stats.Warnings.push_back("solid " + std::to_string(s) +
       " was inside out (its face normals pointed inwards); its orientation was reversed");

@@ -339,6 +339,63 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
                                                a[1] * (b[2] * c[0] - b[0] * c[2]) +
                                                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
   }
+  // The outermost points' vote: along each of the six axis directions d, the vertices of the
+  // solid within a millionth of its size of its farthest point (a flat end holds many, all on
+  // faces that face d or lie along it) add their outward normals' parts along d. Each direction
+  // whose sum is clear votes its sign; the solid's vote is the majority's (Thor's Art4BodyBot:
+  // five directions outwards, and +z inwards, where two of its top faces face down).
+  const size_t vertices = mesh.FaceIds.size();
+  if (volumes && mesh.Normals.size() == 3 * vertices && mesh.Points.size() == 3 * vertices)
+  {
+    std::vector<std::array<double, 6>> far(checks.size());
+    for (auto& f : far)
+      f.fill(-HUGE_VAL);
+    std::vector<double> lo(checks.size(), HUGE_VAL), hi(checks.size(), -HUGE_VAL);
+    auto solidOfVertex = [&](size_t v) {
+      const int face = mesh.FaceIds[v];
+      return face >= 0 && static_cast<size_t>(face) < m.Faces.size()
+        ? m.Faces[static_cast<size_t>(face)].Solid
+        : -1;
+    };
+    auto along = [&](size_t v, int d) {
+      const double x = mesh.Points[3 * v + static_cast<size_t>(d / 2)];
+      return d % 2 == 0 ? x : -x;
+    };
+    for (size_t v = 0; v < vertices; ++v)
+    {
+      const int s = solidOfVertex(v);
+      if (s < 0)
+        continue;
+      for (int d = 0; d < 6; ++d)
+        far[static_cast<size_t>(s)][static_cast<size_t>(d)] =
+          std::max(far[static_cast<size_t>(s)][static_cast<size_t>(d)], along(v, d));
+    }
+    std::vector<std::array<double, 6>> vote(checks.size(), std::array<double, 6>{});
+    for (size_t v = 0; v < vertices; ++v)
+    {
+      const int s = solidOfVertex(v);
+      if (s < 0)
+        continue;
+      const auto& f = far[static_cast<size_t>(s)];
+      const double size = std::max({ f[0] + f[1], f[2] + f[3], f[4] + f[5] });
+      for (int d = 0; d < 6; ++d)
+        if (along(v, d) >= f[static_cast<size_t>(d)] - 1e-6 * size)
+        {
+          const double n = mesh.Normals[3 * v + static_cast<size_t>(d / 2)];
+          vote[static_cast<size_t>(s)][static_cast<size_t>(d)] += d % 2 == 0 ? n : -n;
+        }
+    }
+    for (size_t s = 0; s < checks.size(); ++s)
+    {
+      int out = 0, in = 0;
+      for (const double x : vote[s])
+      {
+        out += x > 0.5 ? 1 : 0;
+        in += x < -0.5 ? 1 : 0;
+      }
+      checks[s].Outward = out > in ? 1 : in > out ? -1 : 0;
+    }
+  }
   return checks;
 }
 
@@ -435,7 +492,7 @@ std::vector<int> SplitNonManifoldEdges(BRepModel& m, const std::vector<SolidChec
         outward = scaled(outward, -1.0);
       const int solid = F.Solid;
       const bool inverted = solid >= 0 && static_cast<size_t>(solid) < checks.size() &&
-        checks[static_cast<size_t>(solid)].Volume < 0.0;
+        checks[static_cast<size_t>(solid)].InsideOut();
       const V3 material = scaled(outward, inverted ? 1.0 : -1.0);
       const double x = dot(into, b1), y = dot(into, b2);
       // T x into turns `into` a quarter about T (its part along T drops out).
@@ -497,7 +554,7 @@ std::vector<int> OrientSolids(BRepModel& m, const std::vector<SolidCheck>& check
   std::vector<int> reversed;
   std::vector<char> flip(checks.size(), 0);
   for (size_t s = 0; s < checks.size(); ++s)
-    if (checks[s].Closed() && checks[s].Faces > 0 && checks[s].Volume < 0.0)
+    if (checks[s].Closed() && checks[s].Faces > 0 && checks[s].InsideOut())
     {
       flip[s] = 1;
       reversed.push_back(static_cast<int>(s));

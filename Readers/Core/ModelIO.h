@@ -46,7 +46,17 @@ struct SolidCheck
   /// Volume enclosed by the display mesh (divergence theorem), negative for a solid whose
   /// normals point inwards; only meaningful when the mesh covers every face and FreeEdges == 0.
   double Volume = 0.0;
+  /// The outermost points' vote (+1: the faces there face outwards, -1: inwards, 0: no vote or
+  /// a tie): at the display mesh's farthest vertices along +-x, +-y and +-z, a closed solid's
+  /// outward normals point away from it whatever its other faces hold; the majority of the six
+  /// directions decides. Where a face's loops are damaged
+  /// (FreeCAD wrote a plane's outer loop as a hole: Thor's Art4BodyBot.step), its mesh covers
+  /// another area and the volume's sign lies, while these points still tell.
+  int Outward = 0;
   bool Closed() const { return FreeEdges == 0 && NonManifoldEdges == 0; }
+  /// Whether the solid's normals point inwards: by the outermost points where they vote, by the
+  /// volume's sign where they do not.
+  bool InsideOut() const { return Outward != 0 ? Outward < 0 : Volume < 0.0; }
 };
 
 /// One entry per solid index 0 .. max(Face::Solid).
