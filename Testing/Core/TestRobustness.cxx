@@ -908,6 +908,32 @@ TEST(Robustness, ControlNetRowsOfOneLength)
     "entity #27: its B-spline curve has no control points");
 }
 
+// OpenCASCADE 7.6's lexer ends a string at the first quote followed by blanks and ',' or ')',
+// whether the quote is doubled (ISO 10303-21's escape) or not: a string holding "''," or "'')"
+// makes it read the rest of the string as parameters, which the text check, reading ISO's
+// escapes, had never seen (two libFuzzer inputs crashed its parser so, sixtieth session;
+// Testing/Data/fuzz). Refused; a doubled quote elsewhere in a string reads.
+TEST(Robustness, StringEndsWhereOpenCascadeEndsIt)
+{
+  const std::string name = R"(PRODUCT\('Open CASCADE STEP translator 7\.6 6',)";
+  ExpectIsolatedError(Mutated("l_bracket.step", "quote-comma.step", name,
+                        "PRODUCT('Part ''A'', rev 2',"),
+    "entity #7: a string holds a quote followed by ',' or ')'");
+  ExpectIsolatedError(Mutated("l_bracket.step", "quote-parenthesis.step", name,
+                        "PRODUCT('Part (''A'') rev 2',"),
+    "a string holds a quote followed by ',' or ')'");
+  ExpectIsolatedError(Mutated("l_bracket.step", "quote-then-tab.step", name,
+                        "PRODUCT('Part A'\t,"),
+    "a string's closing quote is followed by something other than ',' or ')'");
+  const BRepModel plain =
+    ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
+  const BRepModel quoted = ConvertStepFileIsolated(
+    Mutated("l_bracket.step", "quote-inside.step", name, "PRODUCT('Bracket''s 7.6 part' ,"),
+    ConversionOptions());
+  EXPECT_EQ(quoted.Faces.size(), plain.Faces.size());
+  EXPECT_EQ(quoted.Mesh.FaceIds.size(), plain.Mesh.FaceIds.size());
+}
+
 // A B-spline's knot or multiplicity list left empty crashed OpenCASCADE 7.6 (mutations of the
 // ExpansionCard's rational surface #5316, the L-bracket's rational pcurve #153 and the
 // ExpansionCard's simple curve #2009, after dodgy-step-files's Ad003): refused, naming the list.
