@@ -925,6 +925,11 @@ TEST(Robustness, StringEndsWhereOpenCascadeEndsIt)
   ExpectIsolatedError(Mutated("l_bracket.step", "quote-then-tab.step", name,
                         "PRODUCT('Part A'\t,"),
     "a string's closing quote is followed by something other than ',' or ')'");
+  // A complex entity holds named partial entities only: a value beside them (a minimised
+  // libFuzzer input, "#5=((),'');", crashed OpenCASCADE's parser) is refused.
+  ExpectIsolatedError(Mutated("l_bracket.step", "complex-value.step",
+                        R"(#153 = \( BOUNDED_CURVE\(\))", "#153 = ( 'x' BOUNDED_CURVE()"),
+    "entity #153: a complex entity holds a parameter outside its partial entities");
   const BRepModel plain =
     ConvertStepFileIsolated(test::DataFile("l_bracket.step"), ConversionOptions());
   const BRepModel quoted = ConvertStepFileIsolated(
