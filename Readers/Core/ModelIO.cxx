@@ -350,7 +350,6 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
     std::vector<std::array<double, 6>> far(checks.size());
     for (auto& f : far)
       f.fill(-HUGE_VAL);
-    std::vector<double> lo(checks.size(), HUGE_VAL), hi(checks.size(), -HUGE_VAL);
     auto solidOfVertex = [&](size_t v) {
       const int face = mesh.FaceIds[v];
       return face >= 0 && static_cast<size_t>(face) < m.Faces.size()
