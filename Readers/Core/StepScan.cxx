@@ -610,6 +610,10 @@ void Scanner::CheckSpline()
   {
     if (!s.HasMults[k] || !s.HasKnots[k])
       continue; // no knots written (a Bezier or uniform form), or an empty list (refused)
+    // Lists that hold no number (a libFuzzer input wrote strings there, sixtieth session):
+    // OpenCASCADE's parser calls such an entity damaged, which the check after it reports.
+    if (s.Mults[k].empty() || s.Knots[k].empty())
+      continue;
     const std::string dir = s.Surface ? (k ? "v " : "u ") : "";
     // (A degree outside 1-25 is refused below: as an int it is only compared.)
     const int degree = s.Degree[k] >= 1.0 && s.Degree[k] <= 25.0 ? static_cast<int>(s.Degree[k]) : -1;
