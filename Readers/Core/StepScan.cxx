@@ -1012,6 +1012,8 @@ StepScanResult Scanner::Run()
       const size_t end = t.find('"', i + 1);
       if (end == std::string::npos)
         this->Fail("a binary literal (\") is never closed");
+      if (inData && depth == 0)
+        this->Fail("a binary literal outside an entity's parameters");
       value();
       i = end + 1;
       continue;
@@ -1184,6 +1186,11 @@ StepScanResult Scanner::Run()
     }
     if (c == '$' || c == '*')
     {
+      // Outside the parameters (a libFuzzer input wrote "#59 =$LINE(...)"): OpenCASCADE's parser
+      // drops that entity and binds the references to it to another one, a DIRECTION where a
+      // pcurve's line stood, and its transfer crashed (sixtieth session).
+      if (inData && depth == 0)
+        this->Fail(std::string("'") + static_cast<char>(c) + "' outside an entity's parameters");
       value();
       ++i;
       continue;
@@ -1196,6 +1203,8 @@ StepScanResult Scanner::Run()
         ++j;
       if (j >= n || t[j] != '.')
         this->Fail("an enumeration value (.NAME.) is not closed");
+      if (inData && depth == 0)
+        this->Fail("an enumeration value outside an entity's parameters");
       value();
       if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
         this->Params.resize(static_cast<size_t>(param) + 1);
@@ -1311,6 +1320,13 @@ StepScanResult Scanner::Run()
   // elsewhere (styles, notes, PMI) OpenCASCADE drops the reference, and it is a warning.
   for (const auto& e : this->Entities)
     this->Result.TypeNames.emplace(e.first, this->TypeText(e.second));
+  // The definitional representations that a pcurve refers to, whose items are checked, and how
+  // many items each of them has.
+  std::set<long> pcurveReps;
+  std::map<long, long> pcurveItems;
+  for (const TypedRef& r : this->Typed)
+    if (r.Pcurve == PcurveRep)
+      pcurveReps.insert(r.To);
   std::unordered_map<long, int> mapRefs; // references seen so far of each REPRESENTATION_MAP
   for (const auto& r : this->Refs)
   {
@@ -1318,7 +1334,8 @@ StepScanResult Scanner::Run()
     if (from == this->Entities.end())
       continue;
     const std::string type = this->TypeText(from->second);
-    if (IsGeometric(type))
+    // (A pcurve's definitional representation too: OpenCASCADE dereferences its items.)
+    if (IsGeometric(type) || pcurveReps.count(r.first))
       this->Result.GeometryTargets.emplace(r.second, r.first);
     if (type == "REPRESENTATION_MAP" && ++mapRefs[r.first] == 2)
       this->Result.MappedRepresentations.emplace(r.first, r.second);
@@ -1334,7 +1351,10 @@ StepScanResult Scanner::Run()
         ", which the file does not define";
       const auto from = this->Entities.find(this->Current);
       const std::string type = from == this->Entities.end() ? "" : this->TypeText(from->second);
-      if (IsGeometric(type) || from == this->Entities.end())
+      // A pcurve's definitional representation is no geometric type by its name, but
+      // OpenCASCADE dereferences its items: a missing one crashed its transfer (a libFuzzer
+      // input, read through the solids' direct transfer, sixtieth session).
+      if (IsGeometric(type) || from == this->Entities.end() || pcurveReps.count(this->Current))
         this->Fail(what);
       if (dangling++ == 0)
         firstDangling = "#" + std::to_string(this->Current) + " " + type + " (line " +
@@ -1343,13 +1363,6 @@ StepScanResult Scanner::Run()
   if (dangling > 0)
     this->Result.Warnings.push_back(std::to_string(dangling) + " reference(s) to entities the "
       "file does not define, outside the geometry (ignored), the first: " + firstDangling);
-  // The definitional representations that a pcurve refers to, whose items are checked, and how
-  // many items each of them has.
-  std::set<long> pcurveReps;
-  std::map<long, long> pcurveItems;
-  for (const TypedRef& r : this->Typed)
-    if (r.Pcurve == PcurveRep)
-      pcurveReps.insert(r.To);
   for (const TypedRef& r : this->Typed)
   {
     if (r.Pcurve == PcurveItem)

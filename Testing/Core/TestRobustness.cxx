@@ -939,6 +939,23 @@ TEST(Robustness, StringEndsWhereOpenCascadeEndsIt)
   EXPECT_EQ(quoted.Mesh.FaceIds.size(), plain.Mesh.FaceIds.size());
 }
 
+// Two libFuzzer inputs of the sixtieth session that crashed OpenCASCADE's transfer past the text
+// check (Testing/Data/fuzz/crash-fuzz-dollar-before-type.step and
+// crash-fuzz-pcurve-item-undefined.step): a '$' between an entity's '=' and its type, which
+// OpenCASCADE's parser drops with the entity, binding the references to it to another entity;
+// and a pcurve's curve the file does not define (a DEFINITIONAL_REPRESENTATION is no geometric
+// type by its name, so that was a warning). Both refused, naming the entity.
+TEST(Robustness, ValueBeforeTypeAndMissingPcurveCurveAreRefused)
+{
+  ExpectIsolatedError(Mutated("tube.step", "dollar-before-type.step", R"(#37 = LINE\()",
+                        "#37 =$LINE("),
+    "entity #37: '$' outside an entity's parameters");
+  ExpectIsolatedError(Mutated("tube.step", "pcurve-item-undefined.step",
+                        R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
+                        "#36 = DEFINITIONAL_REPRESENTATION('',(#9999),#41);"),
+    "entity #36: refers to #9999, which the file does not define");
+}
+
 // A B-spline's knot or multiplicity list left empty crashed OpenCASCADE 7.6 (mutations of the
 // ExpansionCard's rational surface #5316, the L-bracket's rational pcurve #153 and the
 // ExpansionCard's simple curve #2009, after dodgy-step-files's Ad003): refused, naming the list.
