@@ -22,7 +22,7 @@ namespace
 /// A parameter at the top level of a simple entity.
 struct Param
 {
-  char Kind = 'o'; ///< 'r' reference, 'n' number, 'o' anything else
+  char Kind = 'o'; ///< 'r' reference, 'n' number, 's' string, 'e' enumeration, 'o' anything else
   long Ref = 0;
   double Value = 0.0;
 };
@@ -857,6 +857,21 @@ void Scanner::EndEntity(size_t begin, size_t end)
 
   // Simple entities: reference types, positive radii, coordinates.
   const std::vector<Param>& p = this->Params;
+  // A number, string or enumeration where a reference is required: OpenCASCADE reads no entity
+  // there, and dereferenced the null (an AXIS2_PLACEMENT_3D whose location read "012", a
+  // libFuzzer input, sixtieth session).
+  for (const Rule& r : Rules)
+    if (!r.List && type == r.Type && static_cast<size_t>(r.Param) < p.size() &&
+      std::strchr("nse", p[static_cast<size_t>(r.Param)].Kind) != nullptr &&
+      p[static_cast<size_t>(r.Param)].Kind != '\0')
+    {
+      std::string want = r.Said ? r.Said : r.Expected;
+      std::replace(want.begin(), want.end(), '|', '/');
+      this->Fail(type + " parameter " + std::to_string(r.Param + 1) + " is a " +
+        (p[static_cast<size_t>(r.Param)].Kind == 'n' ? "number"
+            : p[static_cast<size_t>(r.Param)].Kind == 's' ? "string" : "enumeration") +
+        " where a reference to " + want + " is required");
+    }
   for (const Positive& q : Positives)
   {
     if (type != q.Type || static_cast<size_t>(q.Param) >= p.size() || p[q.Param].Kind != 'n')
@@ -1002,8 +1017,12 @@ StepScanResult Scanner::Run()
           files.push_back(name);
       }
       value();
-      if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
-        this->Params.resize(static_cast<size_t>(param) + 1);
+      if (simple && depth == 1)
+      {
+        if (static_cast<size_t>(param) >= this->Params.size())
+          this->Params.resize(static_cast<size_t>(param) + 1);
+        this->Params[static_cast<size_t>(param)].Kind = 's';
+      }
       i = j + 1;
       continue;
     }
@@ -1206,8 +1225,12 @@ StepScanResult Scanner::Run()
       if (inData && depth == 0)
         this->Fail("an enumeration value outside an entity's parameters");
       value();
-      if (simple && depth == 1 && static_cast<size_t>(param) >= this->Params.size())
-        this->Params.resize(static_cast<size_t>(param) + 1);
+      if (simple && depth == 1)
+      {
+        if (static_cast<size_t>(param) >= this->Params.size())
+          this->Params.resize(static_cast<size_t>(param) + 1);
+        this->Params[static_cast<size_t>(param)].Kind = 'e';
+      }
       i = j + 1;
       continue;
     }

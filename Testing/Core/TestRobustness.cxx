@@ -954,6 +954,11 @@ TEST(Robustness, ValueBeforeTypeAndMissingPcurveCurveAreRefused)
                         R"(#36 = DEFINITIONAL_REPRESENTATION\('',\(#37\),#41\);)",
                         "#36 = DEFINITIONAL_REPRESENTATION('',(#9999),#41);"),
     "entity #36: refers to #9999, which the file does not define");
+  // A third (round 3, Testing/Data/fuzz/crash-fuzz-number-for-placement-point.step): a number
+  // where a placement's point is referred to; OpenCASCADE reads no point and dereferenced it.
+  ExpectIsolatedError(Mutated("tube.step", "number-for-point.step",
+                        R"(#(\d+) = AXIS2_PLACEMENT_3D\('',#\d+,)", "#$1 = AXIS2_PLACEMENT_3D('',012,"),
+    "AXIS2_PLACEMENT_3D parameter 2 is a number where a reference to CARTESIAN_POINT is required");
 }
 
 // A B-spline's knot or multiplicity list left empty crashed OpenCASCADE 7.6 (mutations of the
