@@ -63,6 +63,42 @@ ResultCheckSummary CheckResults(
   auto onLooseFace = [&](int f) {
     return f >= 0 && static_cast<size_t>(f) < looseFace.size() && looseFace[static_cast<size_t>(f)];
   };
+  // A loose face's extent is not known (a surface off its edges, or a boundary that winds round
+  // its surface instead of enclosing a region): a sphere reaching the box of its patches'
+  // control points, which holds every region the face could be, may hold some of it.
+  std::vector<std::array<double, 6>> looseBoxes;
+  for (int f : model.LooseFaces)
+  {
+    if (f < 0 || static_cast<size_t>(f) >= model.Faces.size())
+      continue;
+    const Face& F = model.Faces[static_cast<size_t>(f)];
+    std::array<double, 6> b{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
+    for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+      for (int i = 0; i < 16; ++i)
+        for (int k = 0; k < 3; ++k)
+        {
+          const double c = model.Patches[static_cast<size_t>(p)].ControlPoints[3 * i + k];
+          b[2 * k] = std::min(b[2 * k], c);
+          b[2 * k + 1] = std::max(b[2 * k + 1], c);
+        }
+    if (b[0] <= b[1])
+      looseBoxes.push_back(b);
+  }
+  auto reachesLooseFace = [&](const SampleResult& r) {
+    for (const auto& b : looseBoxes)
+    {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double c = r.Center[k];
+        const double d = c < b[2 * k] ? b[2 * k] - c : (c > b[2 * k + 1] ? c - b[2 * k + 1] : 0.0);
+        d2 += d * d;
+      }
+      if (d2 <= r.Radius * r.Radius)
+        return true;
+    }
+    return false;
+  };
 
   const size_t n = std::min(samples.size(), results.size());
   for (size_t i = 0; i < n; ++i)
@@ -102,7 +138,7 @@ ResultCheckSummary CheckResults(
     // Where the file's faces and edges miss each other (a vertex or a face moved off its edges,
     // covered by a tolerance of millimetres): the faces there are not the part's, and neither is
     // a sphere at them or touching them.
-    if (onLooseFace(face) || onLooseFace(r.OppositeFace) ||
+    if (onLooseFace(face) || onLooseFace(r.OppositeFace) || reachesLooseFace(r) ||
       (!loose.empty() && (nearLoose(samples[i].Point) || nearLoose(r.Foot))))
     {
       flag(FailReason::FileGap);

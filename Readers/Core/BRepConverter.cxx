@@ -2512,6 +2512,78 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
       if (loop.SegmentCount == 0)
         continue;
+      // Pcurves written in different periods of a periodic surface (an edge's curve on the face
+      // a whole period away from the one before it, where both meet in 3D): each is moved by
+      // whole periods to start where the one before it ends, as ShapeFix_Wire::FixShifted does
+      // for seams. Welded as they stood, the two ends met half a period from both, and the trim
+      // was a different face.
+      const double periodU = surface->IsUPeriodic() ? surface->UPeriod() : 0.0;
+      const double periodV = surface->IsVPeriodic() ? surface->VPeriod() : 0.0;
+      bool shifted = false, winds = false;
+      if (periodU > 0.0 || periodV > 0.0)
+      {
+        auto wholePeriods = [](double d, double period) {
+          return period > 0.0 ? std::round(d / period) * period : 0.0;
+        };
+        auto meetInSpace = [&](const std::array<double, 8>& ca, const std::array<double, 8>& cb,
+                             const TopoDS_Edge& before) {
+          const TopoDS_Vertex vtx = TopExp::LastVertex(before, Standard_True);
+          const double vtxTol = vtx.IsNull() ? 0.0 : BRep_Tool::Tolerance(vtx);
+          return surface->Value(ca[6], ca[7]).Distance(surface->Value(cb[0], cb[1])) <=
+            std::max(tol, 2.0 * vtxTol);
+        };
+        for (size_t k = 0; k < edgeStarts.size(); ++k)
+        {
+          const int b = edgeStarts[k];
+          const size_t prev = k == 0 ? edgeStarts.size() - 1 : k - 1;
+          const int a = (k == 0 ? loop.FirstSegment + loop.SegmentCount : b) - 1;
+          const auto& ca = model.TrimSegments[a].ControlPoints;
+          const auto& cb = model.TrimSegments[b].ControlPoints;
+          const double su = wholePeriods(ca[6] - cb[0], periodU);
+          const double sv = wholePeriods(ca[7] - cb[1], periodV);
+          if ((su == 0.0 && sv == 0.0) || !meetInSpace(ca, cb, edgeOf[prev]))
+            continue;
+          if (k == 0)
+          {
+            // Checked after the others (below): the loop's end a period from its start.
+            continue;
+          }
+          for (int s = b; s < loop.FirstSegment + loop.SegmentCount; ++s)
+            for (int i = 0; i < 4; ++i)
+            {
+              model.TrimSegments[s].ControlPoints[2 * i] += su;
+              model.TrimSegments[s].ControlPoints[2 * i + 1] += sv;
+            }
+          shifted = true;
+        }
+        if (!edgeStarts.empty())
+        {
+          const auto& ca = model.TrimSegments[loop.FirstSegment + loop.SegmentCount - 1].ControlPoints;
+          const auto& cb = model.TrimSegments[edgeStarts[0]].ControlPoints;
+          winds = (wholePeriods(ca[6] - cb[0], periodU) != 0.0 ||
+                    wholePeriods(ca[7] - cb[1], periodV) != 0.0) &&
+            meetInSpace(ca, cb, edgeOf.back());
+        }
+        if (shifted && !winds)
+        {
+          // The whole loop by whole periods to where the face's patches are.
+          double lo[2] = { 1e300, 1e300 }, hi[2] = { -1e300, -1e300 };
+          for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+            for (int i = 0; i < 8; ++i)
+            {
+              lo[i % 2] = std::min(lo[i % 2], model.TrimSegments[s].ControlPoints[i]);
+              hi[i % 2] = std::max(hi[i % 2], model.TrimSegments[s].ControlPoints[i]);
+            }
+          const double su = wholePeriods(0.5 * (u0 + u1) - 0.5 * (lo[0] + hi[0]), periodU);
+          const double sv = wholePeriods(0.5 * (v0 + v1) - 0.5 * (lo[1] + hi[1]), periodV);
+          for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
+            for (int i = 0; i < 4; ++i)
+            {
+              model.TrimSegments[s].ControlPoints[2 * i] += su;
+              model.TrimSegments[s].ControlPoints[2 * i + 1] += sv;
+            }
+        }
+      }
       // Gaps between consecutive pcurves, where the model itself says the two ends are one
       // point (the 3D gap within the shared vertex's tolerance or the conversion tolerance).
       // Within the conversion tolerance they are welded (both ends moved to their middle): that
@@ -2530,7 +2602,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         auto& ca = model.TrimSegments[a].ControlPoints;
         auto& cb = model.TrimSegments[b].ControlPoints;
         const double gap = std::hypot(ca[6] - cb[0], ca[7] - cb[1]);
-        if (gap == 0.0)
+        if (gap == 0.0 || (k == 0 && winds))
           continue;
         const double gap3d = surface->Value(ca[6], ca[7]).Distance(surface->Value(cb[0], cb[1]));
         const TopoDS_Vertex vtx = TopExp::LastVertex(edgeOf[prev], Standard_True);
@@ -2601,6 +2673,35 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           model.TrimSegments.insert(model.TrimSegments.end(), old.begin() + b, old.begin() + end);
         }
         loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
+      }
+      if (winds)
+      {
+        // The loop ends a whole period from where it starts: it winds round the surface (a
+        // cylinder's axis) instead of enclosing a region, and no shift of its pcurves closes it
+        // (AngelLM/Thor's FreeCAD exports: a half-cylinder whose arc at the foot is the other
+        // half of the circle). OpenCASCADE's check calls such a face invalid, and which region
+        // it bounds is a guess. A straight segment across the period closes the loop where it
+        // was written (OpenCASCADE's classifier reads it so too), and the face is loose.
+        const TrimSegment& last = model.TrimSegments.back();
+        TrimSegment br = last;
+        const auto& first = model.TrimSegments[loop.FirstSegment].ControlPoints;
+        for (int i = 0; i < 4; ++i)
+          for (int c = 0; c < 2; ++c)
+            br.ControlPoints[2 * i + c] =
+              last.ControlPoints[6 + c] + (first[c] - last.ControlPoints[6 + c]) * i / 3.0;
+        br.Edge = -1;
+        br.T0 = br.T1 = 0.0;
+        model.TrimSegments.push_back(br);
+        loop.SegmentCount = static_cast<int>(model.TrimSegments.size()) - loop.FirstSegment;
+        if (std::find(model.LooseFaces.begin(), model.LooseFaces.end(), fi) ==
+          model.LooseFaces.end())
+        {
+          model.LooseFaces.push_back(fi);
+          warn(where + ": its boundary's curves on the surface end a whole period from where "
+            "they start: the loop winds round the surface instead of enclosing a region "
+            "(OpenCASCADE's check calls such a face invalid), so where the face lies is not "
+            "known: its samples, and the spheres reaching it, are flagged failed");
+        }
       }
       loop.Area = SignedArea(model.TrimSegments, loop.FirstSegment, loop.SegmentCount);
       stats.MaxLoopGap = std::max(stats.MaxLoopGap, loop.RawGap);

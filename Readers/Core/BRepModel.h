@@ -198,9 +198,11 @@ struct BRepModel
   /// and a radius (the tolerance or the gap) within which CheckResults flags the samples
   /// (FailReason::FileGap). Follows the rest of a model file.
   std::vector<std::array<double, 4>> LooseVertices;
-  /// Faces whose surface lies off most of their own vertices by as much (a face whose surface
-  /// was moved off its edges): CheckResults flags the samples on them and the spheres touching
-  /// them (FailReason::FileGap). Follows LooseVertices in a model file.
+  /// Faces whose extent the file does not settle: a surface lying off most of its own vertices
+  /// by as much (a face whose surface was moved off its edges), or a trimming loop that winds
+  /// round its periodic surface instead of enclosing a region. CheckResults flags the samples on
+  /// them, the spheres touching them and the spheres reaching the box of their patches' control
+  /// points (FailReason::FileGap). Follows LooseVertices in a model file.
   std::vector<int> LooseFaces;
 };
 

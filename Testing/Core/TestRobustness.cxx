@@ -32,6 +32,12 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <Geom2d_Line.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <gp_Vec2d.hxx>
+#include <BRepLib.hxx>
+#include <BRep_Tool.hxx>
 #include <Geom_Plane.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Pnt2d.hxx>
@@ -446,6 +452,180 @@ TEST(Robustness, UnsewnSeamIsSewn)
 // (every face's normal into the slab). Its outermost points vote inwards, its volume is negative:
 // reversed with a warning, every outward normal then points away from the slab (on its x = 100
 // face, +x; on its z = 0 face, -z), and 2t = 10 across it.
+namespace
+{
+// Whether every trimming loop of `f` is closed in (u, v): each segment starting where the one
+// before it ends, within `tol`.
+bool LoopsClose(const BRepModel& m, int f, double tol)
+{
+  const Face& F = m.Faces[static_cast<size_t>(f)];
+  for (int l = F.FirstLoop; l < F.FirstLoop + F.LoopCount; ++l)
+  {
+    const TrimLoop& L = m.Loops[static_cast<size_t>(l)];
+    for (int k = 0; k < L.SegmentCount; ++k)
+    {
+      const auto& a = m.TrimSegments[static_cast<size_t>(L.FirstSegment + k)].ControlPoints;
+      const auto& b =
+        m.TrimSegments[static_cast<size_t>(L.FirstSegment + (k + 1) % L.SegmentCount)].ControlPoints;
+      if (std::hypot(a[6] - b[0], a[7] - b[1]) > tol)
+        return false;
+    }
+  }
+  return true;
+}
+}
+
+TEST(Robustness, PcurvesInAnotherPeriod)
+{
+  // A cylinder's side face whose top circle's curve on the face is written a period (2 pi) on
+  // from the seam's ends, as exporters do: the same face. Welded as written, the loop's ends met
+  // half a period from both and the trim was another face; each pcurve is now moved by whole
+  // periods to start where the one before it ends.
+  ConversionOptions raw;
+  raw.Heal = false;
+  {
+    const TopoDS_Shape cyl = BRepPrimAPI_MakeCylinder(5.0, 10.0).Shape();
+    const BRepModel plain = ConvertShape(cyl, raw);
+    TopoDS_Face side;
+    for (TopExp_Explorer ex(cyl, TopAbs_FACE); ex.More(); ex.Next())
+      if (BRepAdaptor_Surface(TopoDS::Face(ex.Current())).GetType() == GeomAbs_Cylinder)
+        side = TopoDS::Face(ex.Current());
+    ASSERT_FALSE(side.IsNull());
+    int moved = 0;
+    for (TopExp_Explorer ex(side, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge e = TopoDS::Edge(ex.Current());
+      if (BRep_Tool::IsClosed(e, side))
+        continue;
+      double f, l;
+      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, side, f, l);
+      if (pc->Value(f).Y() < 5.0)
+        continue; // the bottom circle stays
+      Handle(Geom2d_Curve) shifted = Handle(Geom2d_Curve)::DownCast(pc->Copy());
+      shifted->Translate(gp_Vec2d(2.0 * M_PI, 0.0));
+      BRep_Builder().UpdateEdge(e, shifted, side, BRep_Tool::Tolerance(e));
+      ++moved;
+    }
+    ASSERT_EQ(moved, 1);
+    // Not healed: ShapeFix_Wire::FixShifted moves this one back itself; the converter must not
+    // count on the healing (Thor's files hold such pcurves after it).
+    const BRepModel m = ConvertShape(cyl, raw);
+    ASSERT_EQ(m.Faces.size(), plain.Faces.size());
+    for (const std::string& w : m.Stats.Warnings)
+      ADD_FAILURE() << w;
+    EXPECT_TRUE(m.LooseFaces.empty());
+    for (size_t f = 0; f < m.Faces.size(); ++f)
+    {
+      EXPECT_TRUE(LoopsClose(m, static_cast<int>(f), 1e-9)) << f;
+      double area = 0.0, plainArea = 0.0;
+      for (int l = m.Faces[f].FirstLoop; l < m.Faces[f].FirstLoop + m.Faces[f].LoopCount; ++l)
+        area += m.Loops[static_cast<size_t>(l)].Area;
+      for (int l = plain.Faces[f].FirstLoop; l < plain.Faces[f].FirstLoop + plain.Faces[f].LoopCount; ++l)
+        plainArea += plain.Loops[static_cast<size_t>(l)].Area;
+      EXPECT_NEAR(area, plainArea, 1e-6 * std::fabs(plainArea)) << f;
+    }
+    // The side's edges are lines of constant u or v on it; welded as written, the seam and the
+    // top circle met at (3 pi, 10): a parallelogram of the same area, the seam slanting across.
+    for (size_t f = 0; f < m.Faces.size(); ++f)
+    {
+      if (m.Faces[f].Kind != SurfaceKind::Cylinder)
+        continue;
+      for (int l = m.Faces[f].FirstLoop; l < m.Faces[f].FirstLoop + m.Faces[f].LoopCount; ++l)
+        for (int k = 0; k < m.Loops[static_cast<size_t>(l)].SegmentCount; ++k)
+        {
+          const auto& c =
+            m.TrimSegments[static_cast<size_t>(m.Loops[static_cast<size_t>(l)].FirstSegment + k)]
+              .ControlPoints;
+          EXPECT_LT(std::min(std::fabs(c[6] - c[0]), std::fabs(c[7] - c[1])), 1e-9) << k;
+        }
+    }
+    // (The display mesh is the one BRepMesh left on the shape for `plain`.)
+    Solved solved = SolveAll(m);
+    EXPECT_GT(solved.Samples.size(), 100u);
+    CheckResults(m, solved.Samples, solved.Results);
+    size_t failed = 0;
+    for (const SampleResult& r : solved.Results)
+      failed += r.Type == ContactType::Failed;
+    EXPECT_EQ(failed, 0u);
+  }
+  // A loop that winds round the cylinder, which no shift closes (AngelLM/Thor's FreeCAD exports:
+  // a half-cylinder whose arc at its foot is the other half of the circle): it bounds no region,
+  // so the face is loose (its samples and the spheres reaching it flagged) and named.
+  {
+    Handle(Geom_CylindricalSurface) cylinder = new Geom_CylindricalSurface(gp_Ax3(), 1.0);
+    auto edge = [&](gp_Pnt2d from, gp_Pnt2d to) {
+      const gp_Vec2d d(from, to);
+      Handle(Geom2d_Line) line = new Geom2d_Line(from, gp_Dir2d(d));
+      return BRepBuilderAPI_MakeEdge(line, cylinder, 0.0, d.Magnitude()).Edge();
+    };
+    BRepBuilderAPI_MakeWire wire;
+    wire.Add(edge({ M_PI, 1.0 }, { M_PI, 0.0 }));
+    wire.Add(edge({ M_PI, 0.0 }, { 2.0 * M_PI, 0.0 }));
+    wire.Add(edge({ 0.0, 0.0 }, { 0.0, 0.5 }));
+    wire.Add(edge({ 0.0, 0.5 }, { M_PI, 1.0 }));
+    ASSERT_TRUE(wire.IsDone());
+    TopoDS_Face face = BRepBuilderAPI_MakeFace(cylinder, wire.Wire()).Face();
+    BRepLib::BuildCurves3d(face);
+    // Not healed: alone, ShapeFix_Face closes the face with a circle of its own (in a solid,
+    // as in Thor's files, it does not); the loop is the converter's to read as written.
+    const BRepModel m = ConvertShape(face, raw);
+    int named = 0;
+    for (const std::string& w : m.Stats.Warnings)
+      named += w.find("face 0 (cylinder): its boundary's curves on the surface end a whole "
+                      "period from where they start") != std::string::npos;
+    EXPECT_EQ(named, 1);
+    ASSERT_EQ(m.LooseFaces.size(), 1u);
+    EXPECT_EQ(m.LooseFaces[0], 0);
+    EXPECT_TRUE(LoopsClose(m, 0, 1e-9)); // closed across the period where it was written
+  }
+}
+
+TEST(Robustness, SpheresReachingALooseFaceAreFlagged)
+{
+  // A loose face (one whose extent the file does not settle): a sphere that reaches the box of
+  // its patches may hold some of it, though neither its sample nor its contact is on it.
+  BRepModel m = ConvertShape(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape(), ConversionOptions());
+  int top = -1, side = -1, other = -1;
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const BezierPatch& p = m.Patches[static_cast<size_t>(m.Faces[f].FirstPatch)];
+    bool allZ10 = true, allX0 = true, allX10 = true;
+    for (int i = 0; i < 16; ++i)
+    {
+      allZ10 = allZ10 && std::fabs(p.ControlPoints[3 * i + 2] - 10.0) < 1e-9;
+      allX0 = allX0 && std::fabs(p.ControlPoints[3 * i]) < 1e-9;
+      allX10 = allX10 && std::fabs(p.ControlPoints[3 * i] - 10.0) < 1e-9;
+    }
+    top = allZ10 ? static_cast<int>(f) : top;
+    side = allX0 ? static_cast<int>(f) : side;
+    other = allX10 ? static_cast<int>(f) : other;
+  }
+  ASSERT_GE(top, 0);
+  ASSERT_GE(side, 0);
+  ASSERT_GE(other, 0);
+  m.LooseFaces.push_back(top);
+  std::vector<Sample> samples(2);
+  std::vector<SampleResult> results(2);
+  for (int i = 0; i < 2; ++i)
+  {
+    const double z = i == 0 ? 8.5 : 5.0; // the first sphere reaches z = 10, the second does not
+    samples[i].Face = side;
+    samples[i].Point = { 0.0, 5.0, z };
+    samples[i].Direction = { 1.0, 0.0, 0.0 };
+    results[i].Type = ContactType::SurfaceSurface;
+    results[i].Radius = 2.0; // (a wall 4 thick: the contact is not on face x = 10; no matter)
+    results[i].Thickness = 4.0;
+    results[i].Center = { 2.0, 5.0, z }; // 1.5 from z = 10, then 5
+    results[i].Foot = { 4.0, 5.0, z };
+    results[i].OppositeFace = other;
+  }
+  const ResultCheckSummary c = CheckResults(m, samples, results);
+  EXPECT_EQ(results[0].Type, ContactType::Failed);
+  EXPECT_EQ(results[0].Reason, FailReason::FileGap);
+  EXPECT_EQ(results[1].Type, ContactType::SurfaceSurface);
+  EXPECT_EQ(c.FileGap, 1u);
+}
+
 TEST(Robustness, InsideOutSolidIsTurnedRound)
 {
   BRep_Builder B;
@@ -1129,8 +1309,28 @@ TEST(Robustness, MovedVertexOrFaceIsWarnedOf)
     Solved solved = SolveAll(m);
     const ResultCheckSummary c = CheckResults(m, solved.Samples, solved.Results);
     size_t flagged = 0, near = 0;
+    // The moved plane's patches' box: a sphere reaching it may hold some of the plane.
+    std::array<double, 6> box{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
+    const Face& loose = m.Faces[static_cast<size_t>(m.LooseFaces[0])];
+    for (int p = loose.FirstPatch; p < loose.FirstPatch + loose.PatchCount; ++p)
+      for (int c = 0; c < 48; ++c)
+      {
+        box[2 * (c % 3)] = std::min(box[2 * (c % 3)], m.Patches[static_cast<size_t>(p)].ControlPoints[c]);
+        box[2 * (c % 3) + 1] = std::max(box[2 * (c % 3) + 1], m.Patches[static_cast<size_t>(p)].ControlPoints[c]);
+      }
     for (size_t i = 0; i < solved.Samples.size(); ++i)
     {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double c = solved.Results[i].Center[k];
+        const double d = std::max({ box[2 * k] - c, c - box[2 * k + 1], 0.0 });
+        d2 += d * d;
+      }
+      if (std::isfinite(d2) && d2 < 0.99 * solved.Results[i].Radius * solved.Results[i].Radius)
+      {
+        EXPECT_EQ(solved.Results[i].Type, ContactType::Failed) << i;
+      }
       bool inside = false;
       for (const auto& v : m.LooseVertices)
       {
