@@ -3202,15 +3202,26 @@ void CheckConvertedModel(const std::string& path, BRepModel& model)
   if (closed == 0)
     fail("holds no closed solid: " + firstBad +
       ". A thickness needs a closed, manifold solid; repair the model in CAD");
+  // Faces without display triangles: the volume is the display mesh's, and leaves them out.
+  std::vector<char> meshed(model.Faces.size(), 0);
+  for (const int f : model.Mesh.TriangleFace)
+    if (f >= 0 && static_cast<size_t>(f) < meshed.size())
+      meshed[static_cast<size_t>(f)] = 1;
   for (size_t s = 0; s < checks.size(); ++s)
     if (checks[s].Closed() && checks[s].Outward != 0 &&
       (checks[s].Outward < 0) != (checks[s].Volume < 0.0))
     {
+      int meshless = 0;
+      for (size_t f = 0; f < model.Faces.size(); ++f)
+        meshless += model.Faces[f].Solid == static_cast<int>(s) && !meshed[f];
       std::ostringstream w;
       w << "solid " << s << ": its outermost faces face " << (checks[s].Outward > 0 ? "out" : "in")
         << "wards, but its faces enclose a " << (checks[s].Volume < 0.0 ? "negative" : "positive")
-        << " volume (" << checks[s].Volume
-        << " mm^3): a face's loops or geometry are damaged; its orientation is taken from the "
+        << " volume (" << checks[s].Volume << " mm^3";
+      if (meshless > 0)
+        w << ", without its " << meshless
+          << (meshless > 1 ? " faces that have" : " face that has") << " no display mesh";
+      w << "): a face's loops or geometry are damaged; its orientation is taken from the "
            "outermost faces";
       model.Stats.Warnings.push_back(w.str());
     }

@@ -341,9 +341,16 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
   }
   // The outermost points' vote: along each of the six axis directions d, the vertices of the
   // solid within a millionth of its size of its farthest point (a flat end holds many, all on
-  // faces that face d or lie along it) add their outward normals' parts along d. Each direction
-  // whose sum is clear votes its sign; the solid's vote is the majority's (Thor's Art4BodyBot:
-  // five directions outwards, and +z inwards, where two of its top faces face down).
+  // faces that face d or lie along it) add their outward normals' parts along d, where the
+  // normal lies within 25 degrees of d or of -d. Each direction whose sum is clear votes its
+  // sign; the solid's vote is the majority's (Thor's Art4BodyBot: five directions outwards, and
+  // +z inwards, where two of its top faces face down). Where the farthest points are a sharp
+  // edge, the faces there face other ways: at a knife edge of 39 degrees (a Rhino export's
+  // roof and floor, RWTH-E3D's enclosure_top.stp) the floor's normal, correctly outwards, made
+  // 98 degrees with the edge's direction, and two directions voted inwards so; with the mesh's
+  // volume wrong as well (a meshless end cap 140 mm from the origin took 14,653 mm^3 from its
+  // 11,998), the solid was turned inside out. A normal within 25 degrees of -d on an outward
+  // face needs an edge sharper than 25 degrees at the farthest point.
   const size_t vertices = mesh.FaceIds.size();
   if (volumes && mesh.Normals.size() == 3 * vertices && mesh.Points.size() == 3 * vertices)
   {
@@ -381,7 +388,8 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
         if (along(v, d) >= f[static_cast<size_t>(d)] - 1e-6 * size)
         {
           const double n = mesh.Normals[3 * v + static_cast<size_t>(d / 2)];
-          vote[static_cast<size_t>(s)][static_cast<size_t>(d)] += d % 2 == 0 ? n : -n;
+          if (std::fabs(n) >= 0.9)
+            vote[static_cast<size_t>(s)][static_cast<size_t>(d)] += d % 2 == 0 ? n : -n;
         }
     }
     for (size_t s = 0; s < checks.size(); ++s)

@@ -626,6 +626,36 @@ TEST(Robustness, SpheresReachingALooseFaceAreFlagged)
   EXPECT_EQ(c.FileGap, 1u);
 }
 
+TEST(Robustness, OutermostNormalsFarFromTheirDirectionDoNotVote)
+{
+  // At a solid's farthest points along a direction d, only normals within 25 degrees of d or -d
+  // vote: where the farthest points are a sharp edge, an outward face there may face away from d
+  // (RWTH-E3D's enclosure_top.stp, a Rhino export: a knife edge voted two directions inwards,
+  // and the solid was turned inside out). Stand-in: a box whose display normals at its +x, +y
+  // and -z ends are tilted 120 degrees from those directions.
+  BRepModel m = ConvertShape(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape(), ConversionOptions());
+  ASSERT_EQ(CheckSolids(m)[0].Outward, 1);
+  DisplayMesh& mesh = m.Mesh;
+  int tilted = 0;
+  for (size_t v = 0; v < mesh.FaceIds.size(); ++v)
+  {
+    const double* p = &mesh.Points[3 * v];
+    double* n = &mesh.Normals[3 * v];
+    const std::array<double, 3> tilt = p[0] > 10.0 - 1e-9 ? std::array<double, 3>{ -0.5, 0.866, 0.0 }
+      : p[1] > 10.0 - 1e-9 ? std::array<double, 3>{ 0.0, -0.5, 0.866 }
+      : p[2] < 1e-9        ? std::array<double, 3>{ 0.866, 0.0, 0.5 }
+                           : std::array<double, 3>{ n[0], n[1], n[2] };
+    tilted += tilt[0] != n[0] || tilt[1] != n[1] || tilt[2] != n[2];
+    n[0] = tilt[0];
+    n[1] = tilt[1];
+    n[2] = tilt[2];
+  }
+  ASSERT_GT(tilted, 12);
+  const SolidCheck c = CheckSolids(m)[0];
+  EXPECT_EQ(c.Outward, 1); // the -x, -y and +z ends; before, three against three: 0
+  EXPECT_FALSE(c.InsideOut());
+}
+
 TEST(Robustness, InsideOutSolidIsTurnedRound)
 {
   BRep_Builder B;
