@@ -327,14 +327,40 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
     count(s0, e, e.FaceCount == 1 && !e.Seam, e.FaceCount > 2);
   }
   const DisplayMesh& mesh = m.Mesh;
+  // The divergence sum about the middle of each solid's display-mesh box: the same volume for a
+  // closed mesh, and a face left without triangles takes out only the cone from there to it, not
+  // the one from the origin (a Rhino part's meshless end cap 140 mm from the origin took 14,653
+  // mm^3 from its 11,998; from the middle of its box, about half of that).
+  std::vector<std::array<double, 6>> box(
+    checks.size(), std::array<double, 6>{ HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL });
   for (size_t t = 0; volumes && t < mesh.TriangleFace.size(); ++t)
   {
     const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
     if (s < 0)
       continue;
-    const double* a = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t])];
-    const double* b = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 1])];
-    const double* c = &mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 2])];
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i)
+      {
+        const double x = mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + k]) + i];
+        auto& b = box[static_cast<size_t>(s)];
+        b[2 * i] = std::min(b[2 * i], x);
+        b[2 * i + 1] = std::max(b[2 * i + 1], x);
+      }
+  }
+  for (size_t t = 0; volumes && t < mesh.TriangleFace.size(); ++t)
+  {
+    const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
+    if (s < 0)
+      continue;
+    const auto& bx = box[static_cast<size_t>(s)];
+    const double o[3] = { 0.5 * (bx[0] + bx[1]), 0.5 * (bx[2] + bx[3]), 0.5 * (bx[4] + bx[5]) };
+    double a[3], b[3], c[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      a[i] = mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t]) + i] - o[i];
+      b[i] = mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 1]) + i] - o[i];
+      c[i] = mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + 2]) + i] - o[i];
+    }
     checks[static_cast<size_t>(s)].Volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) +
                                                a[1] * (b[2] * c[0] - b[0] * c[2]) +
                                                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
