@@ -4919,6 +4919,23 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
         c.type = CONTACT_SURFACE_SURFACE;
         c.patch = find_patch(m, last.face, last.u, last.v);
         c.param = make_real2(last.u, last.v);
+        // Touched from outside: the ball's centre beyond the face's tangent plane at the last
+        // point by more than half the radius, for a sphere above 100 slack (the last point is a
+        // search's, not an exact extremum: from_inside's allowance, the clearance, and then half
+        // the radius alone failed 0.15-0.18% of the tile's and the hinge's samples, spheres of a
+        // few slack at their corners). Where a file's face folds under its neighbour
+        // (RWTH-E3D's enclosure_top.stp: a roof's B-spline below the floor next to their knife
+        // edge), the ball shrank onto the floor from below, its centre in the air.
+        // (A point on the face's trim is the edge's: its face's normal does not tell the side.)
+        if (c.patch >= 0 && !last.onTrim && c.face != ownFace)
+        {
+          const PatchEval e = eval_patch(m, c.patch, last.u, last.v);
+          const real3 n = cross(e.Du, e.Dv) *
+            (m->faceInfo[FACE_INTS * c.face + 6] ? (real)-1 : (real)1);
+          const real ln = length(n);
+          if (ln > (real)0 && t > (real)100 * m->slack && dot(t * d - c.foot, n) / ln > (real)0.5 * t)
+            return 0;
+        }
       }
       // A contact on O's own face next to O is the trivial or an osculating solution, not a
       // wall (as for Newton's contacts). On an edge only O itself is (as for eq. 7's contacts):
