@@ -106,6 +106,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace brt
 {
@@ -1431,6 +1432,12 @@ public:
       push(static_cast<int>(i));
     while (!queue.empty() && UV.size() < maxVertices)
     {
+      // The side test's budget for the face, its refinements together (SideTestBudget).
+      if (*Side && OverBudget((*Side)->Asked(), UV.size()))
+      {
+        Stopped = true;
+        break;
+      }
       const int t = queue.top().second;
       queue.pop();
       if (!Alive[t] || Frozen[t])
@@ -1452,6 +1459,23 @@ public:
   std::vector<std::array<int, 3>> Tris;
   std::vector<char> Alive;
   std::vector<char> Frozen; ///< not split again: an edge's midpoint would leave the face
+  /// The refinement stopped at the side test's budget (SideTestBudget).
+  bool Stopped = false;
+  /// How many times a face's refinements may ask OpenCASCADE's classifier (FaceSide) for the
+  /// side of a midpoint whose cell has no kept answer: SideTestBudget times, or SideTestFloor
+  /// times where that is more than SideTestsPerVertex a vertex of the mesh so far. Over 227 real
+  /// files the most a face asked is 9,985 (150 vertices: a cone of LeRobot's leader gripper
+  /// trigger, once its endless split was mended, Midpoint), and otherwise 6,303 for 875 vertices
+  /// (7.2 a vertex). A B-spline face that a mutation distorted (a weight of NIST_MBE_PMI_11
+  /// doubled and a point moved 40 mm, found by libFuzzer) asked 408,315 times at 0.3 ms each for
+  /// a few hundred vertices, and held the reader two minutes; Thor's gear cylinder, whose loop
+  /// winds round it 19 times, 401,721 (36 a vertex).
+  static constexpr long SideTestBudget = 50000, SideTestFloor = 20000, SideTestsPerVertex = 20;
+  static bool OverBudget(long asked, size_t vertices)
+  {
+    return asked >= SideTestBudget ||
+      (asked >= SideTestFloor && asked > SideTestsPerVertex * static_cast<long>(vertices));
+  }
 
 private:
   double Length(const ChordKey& k) const { return XYZ[k.first].Distance(XYZ[k.second]); }
@@ -1638,6 +1662,13 @@ private:
   int Midpoint(int a, int b)
   {
     const ChordKey k = Key(a, b);
+    // A chord split before and back again (Lawson's flips brought the diagonal back) is not
+    // split again: its triangle is frozen. On LeRobot's leader gripper trigger a cone's chord
+    // was split and flipped back without end, each split adding a vertex at its midpoint, until
+    // the face had its 200,000 vertices (99,955 at one point): 91% of the part's samples and
+    // 2.7 s of display mesh.
+    if (!Split.insert(k).second)
+      return -1;
     const gp_Pnt2d& pa = UV[a];
     const gp_Pnt2d& pb = UV[b];
     gp_Pnt2d m((pa.X() + pb.X()) / 2, (pa.Y() + pb.Y()) / 2);
@@ -1728,6 +1759,7 @@ private:
   double Deflection = 0.0, Angular = 0.0; ///< the display mesh's limits, which a flip keeps
   std::unordered_map<ChordKey, EdgeTriangles, ChordKeyHash> EdgeTris;
   std::unordered_map<ChordKey, BoundaryChord, ChordKeyHash> Chords;
+  std::unordered_set<ChordKey, ChordKeyHash> Split; ///< chords split once (Midpoint)
   std::shared_ptr<FaceSide>* Side; ///< the face's, shared by its refinements
 };
 
@@ -2826,7 +2858,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
   // the others and is rethrown here.
   struct FaceMesh
   {
-    bool Made = false, Flipped = false;
+    bool Made = false, Flipped = false, Stopped = false;
     std::vector<gp_Pnt2d> UV;
     std::vector<std::array<int, 3>> Tris; ///< the refined mesh's live triangles
     /// Per vertex, the principal curvatures (PrincipalConvexity), zeros at a singular point; on
@@ -2913,6 +2945,7 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
         out.Flipped = true;
       }
     }
+    out.Stopped = fm.Stopped;
     out.UV = std::move(fm.UV);
     for (size_t ti = 0; ti < fm.Tris.size(); ++ti)
       if (fm.Alive[ti])
@@ -3007,6 +3040,11 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       continue;
     }
     stats.FlippedFaces += fm.Flipped ? 1 : 0;
+    if (fm.Stopped)
+      warn("face " + std::to_string(fi) + ": its display mesh was refined only in part (" +
+        std::to_string(fm.UV.size()) + " vertices): its refinement asked which side of the trim "
+        "a point lies on more often than a sound face does; the face may be damaged, and its "
+        "samples are coarse");
     Handle(Geom_Surface) surface = BRep_Tool::Surface(forwardFaces[static_cast<size_t>(fi)]);
     const int base = static_cast<int>(M.FaceIds.size());
     for (size_t vi = 0; vi < fm.UV.size(); ++vi)

@@ -96,12 +96,14 @@ bool FaceSide::Outside(const gp_Pnt2d& p)
       signed char& s = State[cell];
       if (s == In || s == Out)
         return s == Out;
+      ++Calls;
       const bool out = Classifier.Perform(p) == TopAbs_OUT;
       if (s == Unknown)
         s = out ? Out : In;
       return out;
     }
   }
+  ++Calls;
   return Classifier.Perform(p) == TopAbs_OUT;
 }
 } // namespace brt

@@ -31,6 +31,8 @@ public:
   bool Outside(const gp_Pnt2d& p);
   /// Whether the answers are kept (false: every point asks the classifier).
   bool Cached() const { return !State.empty(); }
+  /// How many times the classifier has been asked (the answers not kept).
+  long Asked() const { return Calls; }
 
   static constexpr int Cells = 64;
 
@@ -39,5 +41,6 @@ private:
   BRepTopAdaptor_FClass2d Classifier;
   double U0 = 0.0, V0 = 0.0, DU = 0.0, DV = 0.0;
   std::vector<signed char> State; ///< per cell (i * Cells + j); empty: no cache
+  long Calls = 0;
 };
 } // namespace brt

@@ -11,6 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <tuple>
+
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
@@ -828,4 +831,28 @@ TEST(DisplayMesh, CoarseMeshNodeInsideAHoleIsMovedOntoTheFace)
     EXPECT_LE(nearest, 0.6 * lune); // (the node was kept, and moved by half the lune at most)
     EXPECT_EQ(far, 0u);
   }
+}
+
+TEST(DisplayMesh, SplitChordIsNotSplitAgain)
+{
+  // LeRobot's leader gripper trigger (low_cost_robot, MIT): on its cone (face 3, 36 mm^2) the
+  // refinement split a chord, Lawson's flips brought the chord back, and it was split again,
+  // each time adding a vertex at the same midpoint, until the face had its 200,000 vertices
+  // (99,955 at one point; the part 219,979, now about 20,000). A chord is split once.
+  const BRepModel m = brt::ConvertStepFile(
+    std::string(BRT_TESTING_DATA_DIR) + "/lcr_leader_gripper_trigger.step", brt::ConversionOptions());
+  const brt::DisplayMesh& mesh = m.Mesh;
+  EXPECT_LT(mesh.FaceIds.size(), 40000u);
+  std::map<int, size_t> perFace;
+  for (const int f : mesh.FaceIds)
+    ++perFace[f];
+  ASSERT_GT(perFace[3], 20u);
+  // No two vertices of one face at one (u, v) (a seam's two sides are apart in (u, v)).
+  std::map<std::tuple<int, double, double>, int> seen;
+  size_t repeated = 0;
+  for (size_t v = 0; v < mesh.FaceIds.size(); ++v)
+    repeated += seen[std::make_tuple(mesh.FaceIds[v], mesh.UV[2 * v], mesh.UV[2 * v + 1])]++ > 0;
+  EXPECT_EQ(repeated, 0u);
+  for (const std::string& w : m.Stats.Warnings)
+    EXPECT_EQ(w.find("refined only in part"), std::string::npos) << w;
 }
