@@ -125,7 +125,17 @@ ResultCheckSummary CheckResults(
       continue;
     }
     if (r.Type == ContactType::Failed)
+    {
+      // A sample the solve failed where the file's faces and edges do not agree (on a loose
+      // face, or within a loose vertex's radius) is flagged for that, its cause: the solve's
+      // reason there (not maximal, say) would send the user to the wrong place.
+      if (onLooseFace(face) || (!loose.empty() && nearLoose(samples[i].Point)))
+      {
+        r.Reason = FailReason::FileGap;
+        ++summary.FileGap;
+      }
       continue;
+    }
     const double limit = (s >= 0 ? diagonal[static_cast<size_t>(s)] : 0.0) + model.Tolerance;
     const bool finite = std::isfinite(r.Thickness) && std::isfinite(r.Radius) &&
       std::isfinite(r.Center[0]) && std::isfinite(r.Center[1]) && std::isfinite(r.Center[2]);

@@ -1343,18 +1343,21 @@ TEST(Robustness, MovedVertexOrFaceIsWarnedOf)
     std::array<double, 6> box{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
     const Face& loose = m.Faces[static_cast<size_t>(m.LooseFaces[0])];
     for (int p = loose.FirstPatch; p < loose.FirstPatch + loose.PatchCount; ++p)
-      for (int c = 0; c < 48; ++c)
+      for (int q = 0; q < 48; ++q)
       {
-        box[2 * (c % 3)] = std::min(box[2 * (c % 3)], m.Patches[static_cast<size_t>(p)].ControlPoints[c]);
-        box[2 * (c % 3) + 1] = std::max(box[2 * (c % 3) + 1], m.Patches[static_cast<size_t>(p)].ControlPoints[c]);
+        const double x = m.Patches[static_cast<size_t>(p)].ControlPoints[static_cast<size_t>(q)];
+        box[static_cast<size_t>(2 * (q % 3))] = std::min(box[static_cast<size_t>(2 * (q % 3))], x);
+        box[static_cast<size_t>(2 * (q % 3) + 1)] =
+          std::max(box[static_cast<size_t>(2 * (q % 3) + 1)], x);
       }
     for (size_t i = 0; i < solved.Samples.size(); ++i)
     {
       double d2 = 0.0;
       for (int k = 0; k < 3; ++k)
       {
-        const double c = solved.Results[i].Center[k];
-        const double d = std::max({ box[2 * k] - c, c - box[2 * k + 1], 0.0 });
+        const double x = solved.Results[i].Center[static_cast<size_t>(k)];
+        const double d = std::max({ box[static_cast<size_t>(2 * k)] - x,
+          x - box[static_cast<size_t>(2 * k + 1)], 0.0 });
         d2 += d * d;
       }
       if (std::isfinite(d2) && d2 < 0.99 * solved.Results[i].Radius * solved.Results[i].Radius)
