@@ -16,18 +16,19 @@ ResultCheckSummary CheckResults(
   // Bounding box of each solid's control points (a Bezier patch lies in their hull).
   std::vector<std::array<double, 6>> boxes(
     solids.size(), std::array<double, 6>{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 });
-  for (const BezierPatch& p : model.Patches)
-  {
-    const int s = p.Face >= 0 ? model.Faces[static_cast<size_t>(p.Face)].Solid : -1;
-    if (s < 0)
-      continue;
-    auto& b = boxes[static_cast<size_t>(s)];
+  auto grow = [](std::array<double, 6>& b, const BezierPatch& p) {
     for (int i = 0; i < 16; ++i)
       for (int k = 0; k < 3; ++k)
       {
         b[2 * k] = std::min(b[2 * k], p.ControlPoints[3 * i + k]);
         b[2 * k + 1] = std::max(b[2 * k + 1], p.ControlPoints[3 * i + k]);
       }
+  };
+  for (const BezierPatch& p : model.Patches)
+  {
+    const int s = p.Face >= 0 ? model.Faces[static_cast<size_t>(p.Face)].Solid : -1;
+    if (s >= 0)
+      grow(boxes[static_cast<size_t>(s)], p);
   }
   std::vector<double> diagonal(boxes.size(), 0.0);
   for (size_t s = 0; s < boxes.size(); ++s)
@@ -74,13 +75,7 @@ ResultCheckSummary CheckResults(
     const Face& F = model.Faces[static_cast<size_t>(f)];
     std::array<double, 6> b{ 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
     for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
-      for (int i = 0; i < 16; ++i)
-        for (int k = 0; k < 3; ++k)
-        {
-          const double c = model.Patches[static_cast<size_t>(p)].ControlPoints[3 * i + k];
-          b[2 * k] = std::min(b[2 * k], c);
-          b[2 * k + 1] = std::max(b[2 * k + 1], c);
-        }
+      grow(b, model.Patches[static_cast<size_t>(p)]);
     if (b[0] <= b[1])
       looseBoxes.push_back(b);
   }

@@ -2564,30 +2564,29 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
           return surface->Value(ca[6], ca[7]).Distance(surface->Value(cb[0], cb[1])) <=
             std::max(tol, 2.0 * vtxTol);
         };
-        for (size_t k = 0; k < edgeStarts.size(); ++k)
-        {
-          const int b = edgeStarts[k];
-          const size_t prev = k == 0 ? edgeStarts.size() - 1 : k - 1;
-          const int a = (k == 0 ? loop.FirstSegment + loop.SegmentCount : b) - 1;
-          const auto& ca = model.TrimSegments[a].ControlPoints;
-          const auto& cb = model.TrimSegments[b].ControlPoints;
-          const double su = wholePeriods(ca[6] - cb[0], periodU);
-          const double sv = wholePeriods(ca[7] - cb[1], periodV);
-          if ((su == 0.0 && sv == 0.0) || !meetInSpace(ca, cb, edgeOf[prev]))
-            continue;
-          if (k == 0)
-          {
-            // Checked after the others (below): the loop's end a period from its start.
-            continue;
-          }
-          for (int s = b; s < loop.FirstSegment + loop.SegmentCount; ++s)
+        // Moves the loop's segments from `first` on by (su, sv).
+        auto shiftFrom = [&](int first, double su, double sv) {
+          for (int s = first; s < loop.FirstSegment + loop.SegmentCount; ++s)
             for (int i = 0; i < 4; ++i)
             {
               model.TrimSegments[s].ControlPoints[2 * i] += su;
               model.TrimSegments[s].ControlPoints[2 * i + 1] += sv;
             }
-          shifted = true;
+        };
+        for (size_t k = 1; k < edgeStarts.size(); ++k)
+        {
+          const int b = edgeStarts[k];
+          const auto& ca = model.TrimSegments[b - 1].ControlPoints;
+          const auto& cb = model.TrimSegments[b].ControlPoints;
+          const double su = wholePeriods(ca[6] - cb[0], periodU);
+          const double sv = wholePeriods(ca[7] - cb[1], periodV);
+          if ((su != 0.0 || sv != 0.0) && meetInSpace(ca, cb, edgeOf[k - 1]))
+          {
+            shiftFrom(b, su, sv);
+            shifted = true;
+          }
         }
+        // The loop's end a whole period from its start: it winds.
         if (!edgeStarts.empty())
         {
           const auto& ca = model.TrimSegments[loop.FirstSegment + loop.SegmentCount - 1].ControlPoints;
@@ -2606,14 +2605,8 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
               lo[i % 2] = std::min(lo[i % 2], model.TrimSegments[s].ControlPoints[i]);
               hi[i % 2] = std::max(hi[i % 2], model.TrimSegments[s].ControlPoints[i]);
             }
-          const double su = wholePeriods(0.5 * (u0 + u1) - 0.5 * (lo[0] + hi[0]), periodU);
-          const double sv = wholePeriods(0.5 * (v0 + v1) - 0.5 * (lo[1] + hi[1]), periodV);
-          for (int s = loop.FirstSegment; s < loop.FirstSegment + loop.SegmentCount; ++s)
-            for (int i = 0; i < 4; ++i)
-            {
-              model.TrimSegments[s].ControlPoints[2 * i] += su;
-              model.TrimSegments[s].ControlPoints[2 * i + 1] += sv;
-            }
+          shiftFrom(loop.FirstSegment, wholePeriods(0.5 * (u0 + u1 - lo[0] - hi[0]), periodU),
+            wholePeriods(0.5 * (v0 + v1 - lo[1] - hi[1]), periodV));
         }
       }
       // Gaps between consecutive pcurves, where the model itself says the two ends are one

@@ -181,8 +181,9 @@ CurvesOnFacesResult RepairCurvesOnFaces(
       // A projection lies no nearer the 3D curve than the curve lies to the surface: where the
       // curve itself stands off the surface by half the pcurve's distance or more (a face whose
       // edges are 165 mm off it, a libFuzzer mutation), no projection is nearer by half, and
-      // OpenCASCADE's projection onto such a face took 21 s. Measured at five points.
-      bool curveOnSurface = true;
+      // OpenCASCADE's projection onto such a face took 21 s. Measured at five points, where a
+      // projection would be tried.
+      bool curveOnSurface = !seam && BRep_Tool::SameParameter(edge) && sameRange;
       try
       {
         for (int i = 0; i < 5 && curveOnSurface; ++i)
@@ -194,7 +195,7 @@ CurvesOnFacesResult RepairCurvesOnFaces(
       catch (const Standard_Failure&)
       {
       }
-      if (curveOnSurface && !seam && BRep_Tool::SameParameter(edge) && sameRange)
+      if (curveOnSurface)
       {
         auto consider = [&](const Handle(Geom2d_Curve)& c2) {
           if (c2.IsNull())

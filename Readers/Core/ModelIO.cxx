@@ -327,33 +327,43 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
     count(s0, e, e.FaceCount == 1 && !e.Seam, e.FaceCount > 2);
   }
   const DisplayMesh& mesh = m.Mesh;
-  // The divergence sum about the middle of each solid's display-mesh box: the same volume for a
-  // closed mesh, and a face left without triangles takes out only the cone from there to it, not
-  // the one from the origin (a Rhino part's meshless end cap 140 mm from the origin took 14,653
-  // mm^3 from its 11,998; from the middle of its box, about half of that).
-  std::vector<std::array<double, 6>> box(
-    checks.size(), std::array<double, 6>{ HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL });
-  for (size_t t = 0; volumes && t < mesh.TriangleFace.size(); ++t)
+  // Each solid's farthest display-mesh vertex along +x, -x, +y, -y, +z, -z (far[s][d], the
+  // coordinate along d): the middle of its box for the volume, the ends for the vote (below).
+  const size_t vertices = mesh.FaceIds.size();
+  const bool points = mesh.Points.size() == 3 * vertices;
+  auto solidOfVertex = [&](size_t v) {
+    const int face = mesh.FaceIds[v];
+    return face >= 0 && static_cast<size_t>(face) < m.Faces.size()
+      ? m.Faces[static_cast<size_t>(face)].Solid
+      : -1;
+  };
+  auto along = [&](size_t v, int d) {
+    const double x = mesh.Points[3 * v + static_cast<size_t>(d / 2)];
+    return d % 2 == 0 ? x : -x;
+  };
+  std::vector<std::array<double, 6>> far(checks.size());
+  for (auto& f : far)
+    f.fill(-HUGE_VAL);
+  for (size_t v = 0; volumes && points && v < vertices; ++v)
   {
-    const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
+    const int s = solidOfVertex(v);
     if (s < 0)
       continue;
-    for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 3; ++i)
-      {
-        const double x = mesh.Points[3 * static_cast<size_t>(mesh.Triangles[3 * t + k]) + i];
-        auto& b = box[static_cast<size_t>(s)];
-        b[2 * i] = std::min(b[2 * i], x);
-        b[2 * i + 1] = std::max(b[2 * i + 1], x);
-      }
+    for (int d = 0; d < 6; ++d)
+      far[static_cast<size_t>(s)][static_cast<size_t>(d)] =
+        std::max(far[static_cast<size_t>(s)][static_cast<size_t>(d)], along(v, d));
   }
-  for (size_t t = 0; volumes && t < mesh.TriangleFace.size(); ++t)
+  // The divergence sum about the middle of each solid's box: the same volume for a closed mesh,
+  // and a face left without triangles takes out only the cone from there to it, not the one from
+  // the origin (a Rhino part's meshless end cap 140 mm from the origin took 14,653 mm^3 from its
+  // 11,998; from the middle of its box, about half of that).
+  for (size_t t = 0; volumes && points && t < mesh.TriangleFace.size(); ++t)
   {
     const int s = m.Faces[static_cast<size_t>(mesh.TriangleFace[t])].Solid;
     if (s < 0)
       continue;
-    const auto& bx = box[static_cast<size_t>(s)];
-    const double o[3] = { 0.5 * (bx[0] + bx[1]), 0.5 * (bx[2] + bx[3]), 0.5 * (bx[4] + bx[5]) };
+    const auto& f = far[static_cast<size_t>(s)];
+    const double o[3] = { 0.5 * (f[0] - f[1]), 0.5 * (f[2] - f[3]), 0.5 * (f[4] - f[5]) };
     double a[3], b[3], c[3];
     for (int i = 0; i < 3; ++i)
     {
@@ -371,37 +381,14 @@ std::vector<SolidCheck> CheckSolids(const BRepModel& m, bool volumes)
   // normal lies within 25 degrees of d or of -d. Each direction whose sum is clear votes its
   // sign; the solid's vote is the majority's (Thor's Art4BodyBot: five directions outwards, and
   // +z inwards, where two of its top faces face down). Where the farthest points are a sharp
-  // edge, the faces there face other ways: at a knife edge of 39 degrees (a Rhino export's
-  // roof and floor, RWTH-E3D's enclosure_top.stp) the floor's normal, correctly outwards, made
-  // 98 degrees with the edge's direction, and two directions voted inwards so; with the mesh's
+  // edge, the faces there face other ways: at a knife edge (a Rhino export's roof and floor,
+  // RWTH-E3D's enclosure_top.stp, their normals 172 degrees apart at the edge) the floor's
+  // normal, correctly outwards, made 98 degrees with the edge's direction, and two directions voted inwards so; with the mesh's
   // volume wrong as well (a meshless end cap 140 mm from the origin took 14,653 mm^3 from its
   // 11,998), the solid was turned inside out. A normal within 25 degrees of -d on an outward
   // face needs an edge sharper than 25 degrees at the farthest point.
-  const size_t vertices = mesh.FaceIds.size();
-  if (volumes && mesh.Normals.size() == 3 * vertices && mesh.Points.size() == 3 * vertices)
+  if (volumes && points && mesh.Normals.size() == 3 * vertices)
   {
-    std::vector<std::array<double, 6>> far(checks.size());
-    for (auto& f : far)
-      f.fill(-HUGE_VAL);
-    auto solidOfVertex = [&](size_t v) {
-      const int face = mesh.FaceIds[v];
-      return face >= 0 && static_cast<size_t>(face) < m.Faces.size()
-        ? m.Faces[static_cast<size_t>(face)].Solid
-        : -1;
-    };
-    auto along = [&](size_t v, int d) {
-      const double x = mesh.Points[3 * v + static_cast<size_t>(d / 2)];
-      return d % 2 == 0 ? x : -x;
-    };
-    for (size_t v = 0; v < vertices; ++v)
-    {
-      const int s = solidOfVertex(v);
-      if (s < 0)
-        continue;
-      for (int d = 0; d < 6; ++d)
-        far[static_cast<size_t>(s)][static_cast<size_t>(d)] =
-          std::max(far[static_cast<size_t>(s)][static_cast<size_t>(d)], along(v, d));
-    }
     std::vector<std::array<double, 6>> vote(checks.size(), std::array<double, 6>{});
     for (size_t v = 0; v < vertices; ++v)
     {
