@@ -501,7 +501,16 @@ int main(int argc, char** argv)
       int evenVotes = 0;
       for (const auto& u : directions)
       {
-        rays->Perform(gp_Lin(C, gp_Dir(u[0], u[1], u[2])), 0.0, RealLast());
+        // (OpenCASCADE's intersector throws on some damaged faces, Standard_NullObject on a
+        // SolidWorks export with its vertices 0.4 mm off its edges: that ray casts no vote.)
+        try
+        {
+          rays->Perform(gp_Lin(C, gp_Dir(u[0], u[1], u[2])), 0.0, RealLast());
+        }
+        catch (const Standard_Failure&)
+        {
+          continue;
+        }
         std::vector<double> at;
         for (int i = 1; rays->IsDone() && i <= rays->NbPnt(); ++i)
           at.push_back(rays->WParameter(i));
