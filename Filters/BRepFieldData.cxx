@@ -181,6 +181,9 @@ BRepModel ModelFromPolyData(vtkPolyData* input)
   const auto looseFaces = Get(fd, "LooseFaces", 1, -1, false);
   for (size_t i = 0; i < looseFaces.size(); ++i)
     m.LooseFaces.push_back(Index(looseFaces[i], 0, NF, "LooseFaces", i));
+  const auto overlapping = Get(fd, "OverlappingFaces", 1, -1, false);
+  for (size_t i = 0; i < overlapping.size(); ++i)
+    m.OverlappingFaces.push_back(Index(overlapping[i], 0, NF, "OverlappingFaces", i));
 
   // Patches.
   const auto cps = Get(fd, "BezierPatches", 48, np);

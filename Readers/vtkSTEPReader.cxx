@@ -194,6 +194,8 @@ void FillPolyData(const brt::BRepModel& m, vtkPolyData* out, int piece, int piec
   AddArray<vtkDoubleArray>(fd, "LooseVertices", 4, m.LooseVertices,
     [](const std::array<double, 4>& v, double* o) { std::copy(v.begin(), v.end(), o); });
   AddArray<vtkIntArray>(fd, "LooseFaces", 1, m.LooseFaces, [](int f, int* o) { o[0] = f; });
+  AddArray<vtkIntArray>(
+    fd, "OverlappingFaces", 1, m.OverlappingFaces, [](int f, int* o) { o[0] = f; });
 
   AddArray<vtkDoubleArray>(fd, "TrimSegments", 8, m.TrimSegments,
     [](const brt::TrimSegment& s, double* o) { std::copy(s.ControlPoints.begin(), s.ControlPoints.end(), o); });

@@ -64,6 +64,17 @@ ResultCheckSummary CheckResults(
   auto onLooseFace = [&](int f) {
     return f >= 0 && static_cast<size_t>(f) < looseFace.size() && looseFace[static_cast<size_t>(f)];
   };
+  // Faces lying on another face of their solid, their outer sides the same way: which of them
+  // bounds the part is not known, so the samples on them are flagged; the spheres touching them
+  // are not, since where they overlap the faces agree on where the surface is.
+  std::vector<char> overlapping(model.Faces.size(), 0);
+  for (int f : model.OverlappingFaces)
+    if (f >= 0 && static_cast<size_t>(f) < overlapping.size())
+      overlapping[static_cast<size_t>(f)] = 1;
+  auto onOverlappingFace = [&](int f) {
+    return f >= 0 && static_cast<size_t>(f) < overlapping.size() &&
+      overlapping[static_cast<size_t>(f)];
+  };
   // A loose face's extent is not known (a surface off its edges, or a boundary that winds round
   // its surface instead of enclosing a region): a sphere reaching the box of its patches'
   // control points, which holds every region the face could be, may hold some of it.
@@ -124,7 +135,8 @@ ResultCheckSummary CheckResults(
       // A sample the solve failed where the file's faces and edges do not agree (on a loose
       // face, or within a loose vertex's radius) is flagged for that, its cause: the solve's
       // reason there (not maximal, say) would send the user to the wrong place.
-      if (onLooseFace(face) || (!loose.empty() && nearLoose(samples[i].Point)))
+      if (onLooseFace(face) || onOverlappingFace(face) ||
+        (!loose.empty() && nearLoose(samples[i].Point)))
       {
         r.Reason = FailReason::FileGap;
         ++summary.FileGap;
@@ -143,7 +155,8 @@ ResultCheckSummary CheckResults(
     // Where the file's faces and edges miss each other (a vertex or a face moved off its edges,
     // covered by a tolerance of millimetres): the faces there are not the part's, and neither is
     // a sphere at them or touching them.
-    if (onLooseFace(face) || onLooseFace(r.OppositeFace) || reachesLooseFace(r) ||
+    if (onLooseFace(face) || onOverlappingFace(face) || onLooseFace(r.OppositeFace) ||
+      reachesLooseFace(r) ||
       (!loose.empty() && (nearLoose(samples[i].Point) || nearLoose(r.Foot))))
     {
       flag(FailReason::FileGap);

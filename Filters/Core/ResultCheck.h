@@ -23,7 +23,8 @@ struct ResultCheckSummary
 /// impossible is ever reported as solved. Then every sample not failed already that lies on one of
 /// the model's loose faces or within the radius of one of its loose vertices, or whose sphere
 /// touches there (where the file's faces and edges miss each other, BRepModel::LooseVertices and
-/// LooseFaces): FailReason::FileGap.
+/// LooseFaces), or that lies on a face lying on another of its solid (BRepModel::
+/// OverlappingFaces): FailReason::FileGap.
 ResultCheckSummary CheckResults(const BRepModel& model, const std::vector<Sample>& samples,
   std::vector<SampleResult>& results);
 

@@ -47,7 +47,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::NonManifold: return "the sample's solid is non-manifold";
     case FailReason::Unbounded: return "thickness not finite or beyond the solid's bounding-box diagonal";
     case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance; at a knife edge no tolerance resolves it)";
-    case FailReason::FileGap: return "the file's faces and edges do not agree here (a vertex or face moved off its edges, or a face its edges do not enclose)";
+    case FailReason::FileGap: return "the file's faces and edges do not agree here (a vertex or face moved off its edges, a face its edges do not enclose, or faces lying on one another)";
   }
   return "unknown";
 }

@@ -1,4 +1,5 @@
 #include "BRepConverter.h"
+#include "CoincidentFaces.h"
 #include "CurvesOnFaces.h"
 #include "FaceSide.h"
 #include "StepScan.h"
@@ -1958,6 +1959,9 @@ void AddSharedFaceCopies(BRepModel& m, const std::vector<SharedFaceUse>& uses)
     }
     if (std::find(m.LooseFaces.begin(), m.LooseFaces.end(), u.Face) != m.LooseFaces.end())
       m.LooseFaces.push_back(copy);
+    const auto& o = m.OverlappingFaces;
+    if (std::find(o.begin(), o.end(), u.Face) != o.end())
+      m.OverlappingFaces.push_back(copy);
   }
 }
 
@@ -3076,6 +3080,37 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       M.TriangleFace.push_back(fi);
     }
     progress(0.95 + 0.05 * (fi + 1) / faceCount);
+  }
+  // Faces of one solid lying on one another, their outer sides the same way: named, and their
+  // samples flagged (BRepModel::OverlappingFaces).
+  {
+    std::map<int, std::set<int>> bySolid;
+    for (const auto& ab : FindCoincidentFaces(model, forwardFaces, tol, deflection))
+      for (int f : { ab.first, ab.second })
+        bySolid[model.Faces[static_cast<size_t>(f)].Solid].insert(f);
+    for (const auto& sf : bySolid)
+      model.OverlappingFaces.insert(model.OverlappingFaces.end(), sf.second.begin(), sf.second.end());
+    for (const auto& sf : bySolid)
+    {
+      std::ostringstream w;
+      w << "solid " << sf.first << ": faces ";
+      int named = 0;
+      for (int f : sf.second)
+      {
+        if (named == 6)
+        {
+          w << " and " << sf.second.size() - 6 << " more";
+          break;
+        }
+        w << (named == 0 ? "" : (named + 1 == static_cast<int>(sf.second.size()) ? " and " : ", "))
+          << f << " (" << SurfaceKindName(model.Faces[static_cast<size_t>(f)].Kind) << ")";
+        ++named;
+      }
+      w << " lie on one another with their outer sides the same way (a face written twice, or "
+           "faces overlapping): which of them bounds the part there is not known, so their "
+           "samples are flagged failed";
+      warn(w.str());
+    }
   }
   stats.MeshSeconds = Since(t0);
 

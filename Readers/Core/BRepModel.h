@@ -204,6 +204,13 @@ struct BRepModel
   /// them, the spheres touching them and the spheres reaching the box of their patches' control
   /// points (FailReason::FileGap). Follows LooseVertices in a model file.
   std::vector<int> LooseFaces;
+  /// Faces of a solid that lie on another of its faces, their outer sides the same way (a face
+  /// written twice, or two faces covering one region: FindCoincidentFaces, CoincidentFaces.h; the
+  /// converter warns of them). Which of them bounds the part there is not known: CheckResults
+  /// flags the samples on them (FailReason::FileGap). The spheres touching them are kept: where
+  /// they overlap, the faces agree on where the surface is. Follows the mesh's curvatures in a
+  /// model file.
+  std::vector<int> OverlappingFaces;
 };
 
 } // namespace brt

@@ -96,6 +96,7 @@ void WriteModel(const std::string& path, const BRepModel& m)
   Put(out, m.LooseVertices);
   Put(out, m.LooseFaces);
   Put(out, m.Mesh.Curvatures);
+  Put(out, m.OverlappingFaces);
   if (!out.flush())
     throw std::runtime_error("cannot write '" + path + "' (disk full?)");
 }
@@ -160,6 +161,7 @@ BRepModel ReadModel(const std::string& path)
     Get(in, m.LooseVertices);
     Get(in, m.LooseFaces);
     Get(in, m.Mesh.Curvatures);
+    Get(in, m.OverlappingFaces);
     ValidateModel(m);
   }
   catch (const std::runtime_error& e)
@@ -207,6 +209,9 @@ void ValidateModel(const BRepModel& m)
   for (int f : m.LooseFaces)
     if (!Index(f, nf))
       Bad("a loose face: index out of range");
+  for (int f : m.OverlappingFaces)
+    if (!Index(f, nf))
+      Bad("an overlapping face: index out of range");
   for (size_t p = 0; p < np; ++p)
     if (!Index(m.Patches[p].Face, nf) || !Finite(m.Patches[p].ControlPoints.data(), 48) ||
       !Finite(m.Patches[p].Domain.data(), 4))

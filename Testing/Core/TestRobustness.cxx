@@ -4,6 +4,7 @@
 #include "TestHelpers.h"
 
 #include "AnalyticShapes.h"
+#include "CoincidentFaces.h"
 #include "ModelIO.h"
 #include "NativeSolver.h"
 #include "OpenCLSolver.h"
@@ -17,6 +18,7 @@
 
 #include <BRepAlgoAPI_BuilderAlgo.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopExp.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
@@ -624,6 +626,129 @@ TEST(Robustness, SpheresReachingALooseFaceAreFlagged)
   EXPECT_EQ(results[0].Reason, FailReason::FileGap);
   EXPECT_EQ(results[1].Type, ContactType::SurfaceSurface);
   EXPECT_EQ(c.FileGap, 1u);
+}
+
+TEST(Robustness, FacesLyingOnOneAnotherAreFound)
+{
+  // A face written twice in one shell, its outer side the same way (AngelLM/Thor's FreeCAD
+  // exports: two planes of one solid at z = 29, a gear's foot planes each covering its disk):
+  // both found, nothing else; a plane and a cylinder.
+  auto doubled = [](const TopoDS_Shape& solid, GeomAbs_SurfaceType kind) {
+    BRep_Builder b;
+    TopoDS_Shell shell;
+    b.MakeShell(shell);
+    TopoDS_Face twice;
+    for (TopExp_Explorer e(solid, TopAbs_FACE); e.More(); e.Next())
+    {
+      b.Add(shell, e.Current());
+      if (twice.IsNull() && BRepAdaptor_Surface(TopoDS::Face(e.Current())).GetType() == kind)
+        twice = TopoDS::Face(e.Current());
+    }
+    b.Add(shell, BRepBuilderAPI_Copy(twice).Shape());
+    return shell;
+  };
+  auto named = [](const BRepModel& m) {
+    int n = 0;
+    for (const std::string& w : m.Stats.Warnings)
+      n += w.find("lie on one another with their outer sides the same way") != std::string::npos;
+    return n;
+  };
+  // (The converter gives the copy a shell of its own, its edges being its own: the faces are put
+  // in one solid by hand and asked directly. In Thor's files they share edges with the rest.)
+  for (const GeomAbs_SurfaceType kind : { GeomAbs_Plane, GeomAbs_Cylinder })
+  {
+    const TopoDS_Shape solid = kind == GeomAbs_Plane
+      ? BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape()
+      : BRepPrimAPI_MakeCylinder(5.0, 8.0).Shape();
+    std::vector<TopoDS_Face> faces;
+    BRepModel m = ConvertShape(doubled(solid, kind), ConversionOptions(), &faces);
+    ASSERT_EQ(m.Faces.size(), kind == GeomAbs_Plane ? 7u : 4u);
+    for (size_t f = 0; f < m.Faces.size(); ++f)
+    {
+      m.Faces[f].Solid = 0;
+      faces[f].Orientation(TopAbs_FORWARD);
+    }
+    const auto pairs = FindCoincidentFaces(m, faces, 1e-4, 0.016);
+    ASSERT_EQ(pairs.size(), 2u); // each on the other
+    EXPECT_EQ(pairs[0].first, pairs[1].second);
+    EXPECT_EQ(pairs[0].second, pairs[1].first);
+    const SurfaceKind k = kind == GeomAbs_Plane ? SurfaceKind::Plane : SurfaceKind::Cylinder;
+    EXPECT_EQ(m.Faces[static_cast<size_t>(pairs[0].first)].Kind, k);
+    EXPECT_EQ(m.Faces[static_cast<size_t>(pairs[0].second)].Kind, k);
+  }
+  // A real file (AngelLM/Thor's Art4BodyBot.step, CC BY-SA 4.0): two full bores of radius 50 and
+  // two full disks at z = 14.5, each written twice, and two small planes and two small cylinders
+  // lying on them.
+  {
+    const BRepModel m = ConvertStepFile(
+      std::string(BRT_TESTING_DATA_DIR) + "/thor_Art4BodyBot.step", ConversionOptions());
+    EXPECT_EQ(named(m), 1);
+    std::vector<int> overlapping = m.OverlappingFaces;
+    std::sort(overlapping.begin(), overlapping.end());
+    EXPECT_EQ(overlapping, (std::vector<int>{ 38, 44, 67, 69, 79, 83, 86, 90 }));
+  }
+  // Faces on one plane side by side, the same way out (two boxes fused and not unified: the top,
+  // the bottom and two sides each split in two), and a face across a slot 0.01 wide facing the
+  // other way: none.
+  {
+    const TopoDS_Shape a = BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape();
+    const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(10.0, 0.0, 0.0), 10.0, 10.0, 10.0).Shape();
+    BRepAlgoAPI_Fuse fuse(a, b);
+    ASSERT_TRUE(fuse.IsDone());
+    const BRepModel m = ConvertShape(fuse.Shape(), ConversionOptions());
+    EXPECT_GT(m.Faces.size(), 6u);
+    EXPECT_EQ(named(m), 0);
+    EXPECT_TRUE(m.OverlappingFaces.empty());
+    const TopoDS_Shape slot =
+      BRepPrimAPI_MakeBox(gp_Pnt(2.0, 4.995, 2.0), 6.0, 0.01, 20.0).Shape();
+    const BRepModel slotted = ConvertShape(BRepAlgoAPI_Cut(a, slot).Shape(), ConversionOptions());
+    EXPECT_EQ(named(slotted), 0);
+    EXPECT_TRUE(slotted.OverlappingFaces.empty());
+  }
+  // The samples on such a face are flagged, solved or not; a sphere touching it is kept.
+  {
+    BRepModel m = ConvertShape(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape(), ConversionOptions());
+    int side = -1, other = -1;
+    for (size_t f = 0; f < m.Faces.size(); ++f)
+    {
+      const BezierPatch& p = m.Patches[static_cast<size_t>(m.Faces[f].FirstPatch)];
+      bool allX0 = true, allX10 = true;
+      for (int i = 0; i < 16; ++i)
+      {
+        allX0 = allX0 && std::fabs(p.ControlPoints[3 * i]) < 1e-9;
+        allX10 = allX10 && std::fabs(p.ControlPoints[3 * i] - 10.0) < 1e-9;
+      }
+      side = allX0 ? static_cast<int>(f) : side;
+      other = allX10 ? static_cast<int>(f) : other;
+    }
+    ASSERT_GE(side, 0);
+    ASSERT_GE(other, 0);
+    m.OverlappingFaces.push_back(other);
+    std::vector<Sample> samples(3);
+    std::vector<SampleResult> results(3);
+    for (int i = 0; i < 3; ++i)
+    {
+      const bool across = i == 1; // a sample on the overlapping face itself
+      samples[i].Face = across ? other : side;
+      samples[i].Point = { across ? 10.0 : 0.0, 5.0, 5.0 };
+      samples[i].Direction = { across ? -1.0 : 1.0, 0.0, 0.0 };
+      results[i].Type = i == 2 ? ContactType::Failed : ContactType::SurfaceSurface;
+      results[i].Reason = i == 2 ? FailReason::NotMaximal : FailReason::None;
+      results[i].Radius = 5.0;
+      results[i].Thickness = 10.0;
+      results[i].Center = { 5.0, 5.0, 5.0 };
+      results[i].Foot = { across ? 0.0 : 10.0, 5.0, 5.0 };
+      results[i].OppositeFace = across ? side : other;
+    }
+    samples[2].Face = other;
+    samples[2].Point = { 10.0, 5.0, 5.0 };
+    const ResultCheckSummary c = CheckResults(m, samples, results);
+    EXPECT_EQ(results[0].Type, ContactType::SurfaceSurface); // touches it: kept
+    EXPECT_EQ(results[1].Type, ContactType::Failed);
+    EXPECT_EQ(results[1].Reason, FailReason::FileGap);
+    EXPECT_EQ(results[2].Reason, FailReason::FileGap); // failed there: the file's cause
+    EXPECT_EQ(c.FileGap, 2u);
+  }
 }
 
 TEST(Robustness, OutermostNormalsFarFromTheirDirectionDoNotVote)
