@@ -5,8 +5,11 @@ translation covers the gap by growing the vertices' tolerances; the reader warns
 and names the face, and the filter flags the face's samples, and those near its vertices or
 whose sphere touches it, failed with FailReason 12 (FileGap); the Summary counts them. The file
 as written: nothing of the kind.
+Then a FreeCAD export whose solid has faces lying on one another with their outer sides the same
+way (AngelLM/Thor's Art4BodyBot.step): the reader names them and carries them in the field data
+(OverlappingFaces), and the filter flags every sample on them FileGap.
 
-Usage: pvpython test_filter_file_gap.py PLUGIN_FILE L_BRACKET_STEP WORK_DIR
+Usage: pvpython test_filter_file_gap.py PLUGIN_FILE L_BRACKET_STEP WORK_DIR THOR_ART4BODYBOT_STEP
 """
 import os
 import sys
@@ -28,9 +31,12 @@ with open(moved, "w") as out:
     out.write(text.replace(placement, "#33 = AXIS2_PLACEMENT_3D('',#46,#35,#36);"))
 
 
-def run(path):
+def run(path, overlapping=None):
     reader = STEPReader(FileName=path)
     warnings = messages(reader)
+    if overlapping is not None:
+        fd = dsa.WrapDataObject(sm.Fetch(reader)).FieldData
+        overlapping.extend(int(x) for x in np.array(fd["OverlappingFaces"]).ravel())
     f = BRepThickness(Input=reader, Device="native")
     f.UpdatePipeline()
     pd = dsa.WrapDataObject(sm.Fetch(f, idx=0)).PointData
@@ -55,4 +61,13 @@ check(int(rows.get("FailedFileGap", -1)) == int(gap.sum()), "Summary FailedFileG
 warnings, reason, face, rows = run(source)
 check(not any("tolerance of" in w or "vertices lie more than" in w for w in warnings), "the file as written: no such warning")
 check(not np.any(reason == 12) and int(rows.get("FailedFileGap", -1)) == 0, "the file as written: nothing flagged FileGap")
+
+overlapping = []
+warnings, reason, face, rows = run(sys.argv[4], overlapping)
+named = [w for w in warnings if "lie on one another with their outer sides the same way" in w]
+check(len(named) == 1, "the faces lying on one another named once: %s" % named)
+check(sorted(overlapping) == [38, 44, 67, 69, 79, 83, 86, 90], "field data OverlappingFaces: %s" % sorted(overlapping))
+on = np.isin(face, overlapping)
+check(on.sum() > 1000 and np.all(reason[on] == 12), "every one of the %d samples on them flagged FileGap" % on.sum())
+check(int(rows.get("FailedFileGap", -1)) == int((reason == 12).sum()), "Summary FailedFileGap = %s" % rows.get("FailedFileGap"))
 finish()
