@@ -582,26 +582,29 @@ TEST(Robustness, PcurvesInAnotherPeriod)
   }
 }
 
+// The face of a model whose first patch lies on the plane where coordinate `axis` is `value`
+// (a box's face), -1 if none.
+int PlaneFaceAt(const BRepModel& m, int axis, double value)
+{
+  for (size_t f = 0; f < m.Faces.size(); ++f)
+  {
+    const BezierPatch& p = m.Patches[static_cast<size_t>(m.Faces[f].FirstPatch)];
+    bool on = true;
+    for (int i = 0; i < 16; ++i)
+      on = on && std::fabs(p.ControlPoints[static_cast<size_t>(3 * i + axis)] - value) < 1e-9;
+    if (on)
+      return static_cast<int>(f);
+  }
+  return -1;
+}
+
 TEST(Robustness, SpheresReachingALooseFaceAreFlagged)
 {
   // A loose face (one whose extent the file does not settle): a sphere that reaches the box of
   // its patches may hold some of it, though neither its sample nor its contact is on it.
   BRepModel m = ConvertShape(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape(), ConversionOptions());
-  int top = -1, side = -1, other = -1;
-  for (size_t f = 0; f < m.Faces.size(); ++f)
-  {
-    const BezierPatch& p = m.Patches[static_cast<size_t>(m.Faces[f].FirstPatch)];
-    bool allZ10 = true, allX0 = true, allX10 = true;
-    for (int i = 0; i < 16; ++i)
-    {
-      allZ10 = allZ10 && std::fabs(p.ControlPoints[3 * i + 2] - 10.0) < 1e-9;
-      allX0 = allX0 && std::fabs(p.ControlPoints[3 * i]) < 1e-9;
-      allX10 = allX10 && std::fabs(p.ControlPoints[3 * i] - 10.0) < 1e-9;
-    }
-    top = allZ10 ? static_cast<int>(f) : top;
-    side = allX0 ? static_cast<int>(f) : side;
-    other = allX10 ? static_cast<int>(f) : other;
-  }
+  const int top = PlaneFaceAt(m, 2, 10.0), side = PlaneFaceAt(m, 0, 0.0),
+            other = PlaneFaceAt(m, 0, 10.0);
   ASSERT_GE(top, 0);
   ASSERT_GE(side, 0);
   ASSERT_GE(other, 0);
@@ -708,19 +711,7 @@ TEST(Robustness, FacesLyingOnOneAnotherAreFound)
   // The samples on such a face are flagged, solved or not; a sphere touching it is kept.
   {
     BRepModel m = ConvertShape(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape(), ConversionOptions());
-    int side = -1, other = -1;
-    for (size_t f = 0; f < m.Faces.size(); ++f)
-    {
-      const BezierPatch& p = m.Patches[static_cast<size_t>(m.Faces[f].FirstPatch)];
-      bool allX0 = true, allX10 = true;
-      for (int i = 0; i < 16; ++i)
-      {
-        allX0 = allX0 && std::fabs(p.ControlPoints[3 * i]) < 1e-9;
-        allX10 = allX10 && std::fabs(p.ControlPoints[3 * i] - 10.0) < 1e-9;
-      }
-      side = allX0 ? static_cast<int>(f) : side;
-      other = allX10 ? static_cast<int>(f) : other;
-    }
+    const int side = PlaneFaceAt(m, 0, 0.0), other = PlaneFaceAt(m, 0, 10.0);
     ASSERT_GE(side, 0);
     ASSERT_GE(other, 0);
     m.OverlappingFaces.push_back(other);
