@@ -1387,6 +1387,9 @@ typedef struct
   real2 trimUV;
   int trimInside; // that test's answer
   real trimDist;  // and the distance from trimUV to the nearest trimming segment (UV)
+  // Set where the shrinking ball refused a contact it touched from outside (shrink_ball): a
+  // sample that fails after it fails as leaving the model, not as not maximal.
+  int touchedOutside;
 } Result;
 
 // T within 1e-9 of the edge's parameter range of one of its ends: that vertex
@@ -1469,6 +1472,7 @@ inline Result no_result(void)
   r.face = -1;
   r.patch = -1;
   r.edge = -1;
+  r.touchedOutside = 0;
   r.trimSeg = -2;
   r.trimParam = 0;
   r.trimUV = splat_real2(0);
@@ -1721,6 +1725,7 @@ out:;
   r.trimUV = footParam;
   r.trimInside = trimInside;
   r.trimDist = trimDist;
+  r.touchedOutside = 0;
   type_tangent_edge_contact(m, edgeT, d, &r);
   return r;
 }
@@ -4934,7 +4939,10 @@ BRT_SPLIT int shrink_ball(const Model* m, int ownFace, real3 Ohi, real3 Olo, rea
             (m->faceInfo[FACE_INTS * c.face + 6] ? (real)-1 : (real)1);
           const real ln = length(n);
           if (ln > (real)0 && t > (real)100 * m->slack && dot(t * d - c.foot, n) / ln > (real)0.5 * t)
+          {
+            r->touchedOutside = 1;
             return 0;
+          }
         }
       }
       // A contact on O's own face next to O is the trivial or an osculating solution, not a
@@ -5440,6 +5448,8 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
       s.t = fromCertification ? scale : firstT;
       if (shrink_ball(m, ownFace, Ohi, Olo, d, check_depth(m, scale), 0, 0, &s))
         r = s;
+      else if (s.touchedOutside)
+        r.reason = FAIL_LEFT_MODEL; // (the ball's contact touched from outside)
     }
   }
   // Points inside by less than the patches' accuracy (slack) prove nothing, whatever the
@@ -5518,7 +5528,7 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
         break;
       }
       r.type = CONTACT_FAILED;
-      r.reason = FAIL_NOT_MAXIMAL;
+      r.reason = r.touchedOutside ? FAIL_LEFT_MODEL : FAIL_NOT_MAXIMAL;
       r.patch = -1;
       r.edge = -1;
       break;
