@@ -175,9 +175,12 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
     return found;
   const std::vector<std::vector<int>> picks = InnerVertices(M, nf);
 
-  // The picked vertices in a hash grid of cells (the mesh's box over 64 along its longest side);
-  // each triangle then asks the cells its box, grown by the reach, meets. A triangle is at most a
-  // fiftieth of the part long (ConversionOptions::MaxEdgeLength), so few cells each.
+  // The picked vertices in a hash grid of cells, each triangle then asking the cells its box,
+  // grown by the reach, meets. The cells start at the mesh's box over 64 along its longest side
+  // and are halved (down to over 4096) while one of them holds more than 64 vertices: a screw's
+  // thread of thousands of faces in one cell of an assembly would otherwise have each of its
+  // triangles test every vertex of the thread. A triangle meeting more than 512 cells asks the
+  // vertices in its box's x range instead (the vertices sorted along x).
   Vec lo{ 1e300, 1e300, 1e300 }, hi{ -1e300, -1e300, -1e300 };
   for (size_t i = 0; i + 2 < M.Points.size(); i += 3)
     for (size_t k = 0; k < 3; ++k)
@@ -186,8 +189,12 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
       hi[k] = std::max(hi[k], M.Points[i + k]);
     }
   const double reach = 2.0 * deflection + 10.0 * tolerance;
-  const double cell =
-    std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-9 }) / 64.0 + reach;
+  const double size = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-9 });
+  std::vector<int> picked;
+  for (size_t a = 0; a < nf; ++a)
+    if (picks[a].size() >= 3)
+      picked.insert(picked.end(), picks[a].begin(), picks[a].end());
+  double cell = 0.0;
   auto index = [&](double x, size_t k) {
     return static_cast<int64_t>(std::floor((x - lo[k]) / cell));
   };
@@ -196,13 +203,26 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
       static_cast<uint64_t>(k & 0x1fffff);
   };
   std::unordered_map<uint64_t, std::vector<int>> grid; // cell -> picked vertices
-  for (size_t a = 0; a < nf; ++a)
-    if (picks[a].size() >= 3)
-      for (int v : picks[a])
-      {
-        const Vec p = At(M.Points, v);
-        grid[key(index(p[0], 0), index(p[1], 1), index(p[2], 2))].push_back(v);
-      }
+  for (double parts = 64.0; parts <= 4096.0; parts *= 2.0)
+  {
+    cell = size / parts + reach;
+    grid.clear();
+    size_t most = 0;
+    for (int v : picked)
+    {
+      const Vec p = At(M.Points, v);
+      std::vector<int>& in = grid[key(index(p[0], 0), index(p[1], 1), index(p[2], 2))];
+      in.push_back(v);
+      most = std::max(most, in.size());
+    }
+    if (most <= 64 || cell < 2.0 * reach)
+      break;
+  }
+  std::vector<std::pair<double, int>> alongX;
+  alongX.reserve(picked.size());
+  for (int v : picked)
+    alongX.emplace_back(M.Points[3 * static_cast<size_t>(v)], v);
+  std::sort(alongX.begin(), alongX.end());
 
   // On the mesh: for each picked vertex of a face, the other faces of its solid with a triangle
   // under it (the vertex within the reach of the triangle's plane, its foot inside the triangle
@@ -219,40 +239,55 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
     const double area2 = std::sqrt(Dot(n, n));
     if (!(area2 > 0.0))
       continue;
+    Vec bmin{}, bmax{};
+    for (size_t k = 0; k < 3; ++k)
+    {
+      bmin[k] = std::min({ q0[k], q1[k], q2[k] }) - reach;
+      bmax[k] = std::max({ q0[k], q1[k], q2[k] }) + reach;
+    }
+    auto test = [&](int v) {
+      const int a = M.FaceIds[static_cast<size_t>(v)];
+      if (a == b ||
+        model.Faces[static_cast<size_t>(a)].Solid != model.Faces[static_cast<size_t>(b)].Solid)
+        return;
+      const Vec p = At(M.Points, v), na = At(M.Normals, v);
+      if (Dot(n, na) < MeshCos * area2)
+        return;
+      const Vec d = Sub(p, q0);
+      if (std::fabs(Dot(d, n)) > reach * area2)
+        return;
+      // Barycentric coordinates of p's foot, with a margin of a twentieth.
+      const double s = Dot(Cross(d, e2), n) / (area2 * area2);
+      const double r = Dot(Cross(e1, d), n) / (area2 * area2);
+      if (s < -0.05 || r < -0.05 || s + r > 1.05)
+        return;
+      over.emplace_back(static_cast<uint64_t>(v) << 32 | static_cast<uint32_t>(b), 0);
+    };
     std::array<int64_t, 3> from{}, to{};
     for (size_t k = 0; k < 3; ++k)
     {
-      from[k] = index(std::min({ q0[k], q1[k], q2[k] }) - reach, k);
-      to[k] = index(std::max({ q0[k], q1[k], q2[k] }) + reach, k);
+      from[k] = index(bmin[k], k);
+      to[k] = index(bmax[k], k);
     }
     if ((to[0] - from[0] + 1) * (to[1] - from[1] + 1) * (to[2] - from[2] + 1) > 512)
-      continue; // (a triangle across much of the part: not a display mesh's)
+    {
+      auto it = std::lower_bound(alongX.begin(), alongX.end(), std::make_pair(bmin[0], -1));
+      for (; it != alongX.end() && it->first <= bmax[0]; ++it)
+      {
+        const double* p = &M.Points[3 * static_cast<size_t>(it->second)];
+        if (p[1] >= bmin[1] && p[1] <= bmax[1] && p[2] >= bmin[2] && p[2] <= bmax[2])
+          test(it->second);
+      }
+      continue;
+    }
     for (int64_t i = from[0]; i <= to[0]; ++i)
       for (int64_t j = from[1]; j <= to[1]; ++j)
         for (int64_t k = from[2]; k <= to[2]; ++k)
         {
           const auto it = grid.find(key(i, j, k));
-          if (it == grid.end())
-            continue;
-          for (int v : it->second)
-          {
-            const int a = M.FaceIds[static_cast<size_t>(v)];
-            if (a == b || model.Faces[static_cast<size_t>(a)].Solid !=
-                model.Faces[static_cast<size_t>(b)].Solid)
-              continue;
-            const Vec p = At(M.Points, v), na = At(M.Normals, v);
-            if (Dot(n, na) < MeshCos * area2)
-              continue;
-            const Vec d = Sub(p, q0);
-            if (std::fabs(Dot(d, n)) > reach * area2)
-              continue;
-            // Barycentric coordinates of p's foot, with a margin of a twentieth.
-            const double s = Dot(Cross(d, e2), n) / (area2 * area2);
-            const double r = Dot(Cross(e1, d), n) / (area2 * area2);
-            if (s < -0.05 || r < -0.05 || s + r > 1.05)
-              continue;
-            over.emplace_back(static_cast<uint64_t>(v) << 32 | static_cast<uint32_t>(b), 0);
-          }
+          if (it != grid.end())
+            for (int v : it->second)
+              test(v);
         }
   }
   // Each (vertex, face) once, then counted per (face a, face b).
