@@ -78,7 +78,8 @@ std::vector<std::vector<int>> InnerVertices(const DisplayMesh& M, size_t faceCou
   for (size_t t = 0; 3 * t + 2 < M.Triangles.size(); ++t)
     for (size_t c = 0; c < 3; ++c)
     {
-      const int s = slot[static_cast<size_t>(M.Triangles[3 * t + c])];
+      const auto v = static_cast<size_t>(M.Triangles[3 * t + c]);
+      const int s = v < slot.size() ? slot[v] : -1;
       if (s < 0)
         continue;
       ends[static_cast<size_t>(s)].push_back(M.Triangles[3 * t + (c + 1) % 3]);
@@ -227,7 +228,7 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
   // On the mesh: for each picked vertex of a face, the other faces of its solid with a triangle
   // under it (the vertex within the reach of the triangle's plane, its foot inside the triangle
   // but for a twentieth, the triangle's normal within 30 degrees of the vertex's).
-  std::vector<std::pair<uint64_t, int>> over; // (vertex << 32 | face b), once per triangle
+  std::vector<uint64_t> over; // vertex << 32 | face b, once per triangle
   for (size_t t = 0; t < nt; ++t)
   {
     const int b = M.TriangleFace[t];
@@ -261,7 +262,7 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
       const double r = Dot(Cross(e1, d), n) / (area2 * area2);
       if (s < -0.05 || r < -0.05 || s + r > 1.05)
         return;
-      over.emplace_back(static_cast<uint64_t>(v) << 32 | static_cast<uint32_t>(b), 0);
+      over.push_back(static_cast<uint64_t>(v) << 32 | static_cast<uint32_t>(b));
     };
     std::array<int64_t, 3> from{}, to{};
     for (size_t k = 0; k < 3; ++k)
@@ -292,18 +293,15 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
   }
   // Each (vertex, face) once, then counted per (face a, face b).
   std::sort(over.begin(), over.end());
-  over.erase(std::unique(over.begin(), over.end(),
-               [](const auto& x, const auto& y) { return x.first == y.first; }),
-    over.end());
-  std::vector<std::pair<uint64_t, int>> candidates; // (a << 32 | b, vertices)
+  over.erase(std::unique(over.begin(), over.end()), over.end());
+  std::vector<uint64_t> candidates; // a << 32 | b, in order
   {
     std::vector<uint64_t> pairs;
     pairs.reserve(over.size());
-    for (const auto& o : over)
+    for (const uint64_t o : over)
     {
-      const int v = static_cast<int>(o.first >> 32);
-      const auto a = static_cast<uint64_t>(M.FaceIds[static_cast<size_t>(v)]);
-      pairs.push_back(a << 32 | (o.first & 0xffffffffu));
+      const auto a = static_cast<uint64_t>(M.FaceIds[static_cast<size_t>(o >> 32)]);
+      pairs.push_back(a << 32 | (o & 0xffffffffu));
     }
     std::sort(pairs.begin(), pairs.end());
     for (size_t i = 0; i < pairs.size();)
@@ -314,17 +312,17 @@ std::vector<std::pair<int, int>> FindCoincidentFaces(const BRepModel& model,
       const int hits = static_cast<int>(j - i);
       const size_t a = static_cast<size_t>(pairs[i] >> 32);
       if (hits >= 3 && 2 * hits >= static_cast<int>(picks[a].size()))
-        candidates.emplace_back(pairs[i], hits);
+        candidates.push_back(pairs[i]);
       i = j;
     }
   }
-  std::sort(candidates.begin(), candidates.end());
 
   // On the exact faces.
-  for (const auto& c : candidates)
+  for (const uint64_t c : candidates)
   {
-    const int a = static_cast<int>(c.first >> 32), b = static_cast<int>(c.first & 0xffffffffu);
-    const double gap = std::max({ 10.0 * tolerance, BRep_Tool::Tolerance(faces[a]),
+    const int a = static_cast<int>(c >> 32), b = static_cast<int>(c & 0xffffffffu);
+    const double gap = std::max({ 10.0 * tolerance,
+      BRep_Tool::Tolerance(faces[static_cast<size_t>(a)]),
       BRep_Tool::Tolerance(faces[static_cast<size_t>(b)]) });
     try
     {
