@@ -133,8 +133,9 @@ ResultCheckSummary CheckResults(
     if (r.Type == ContactType::Failed)
     {
       // A sample the solve failed where the file's faces and edges do not agree (on a loose
-      // face, or within a loose vertex's radius) is flagged for that, its cause: the solve's
-      // reason there (not maximal, say) would send the user to the wrong place.
+      // face or a face lying on another, or within a loose vertex's radius) is flagged for that,
+      // its cause: the solve's reason there (not maximal, say) would send the user to the wrong
+      // place.
       if (onLooseFace(face) || onOverlappingFace(face) ||
         (!loose.empty() && nearLoose(samples[i].Point)))
       {

@@ -3089,9 +3089,9 @@ BRepModel ConvertShapeImpl(const TopoDS_Shape& input, const ConversionOptions& o
       for (int f : { ab.first, ab.second })
         bySolid[model.Faces[static_cast<size_t>(f)].Solid].insert(f);
     for (const auto& sf : bySolid)
-      model.OverlappingFaces.insert(model.OverlappingFaces.end(), sf.second.begin(), sf.second.end());
-    for (const auto& sf : bySolid)
     {
+      model.OverlappingFaces.insert(
+        model.OverlappingFaces.end(), sf.second.begin(), sf.second.end());
       std::ostringstream w;
       w << "solid " << sf.first << ": faces ";
       int named = 0;

@@ -44,9 +44,9 @@ Vec Cross(const Vec& a, const Vec& b)
 }
 
 // Up to Picks vertices of each face that lie on none of its mesh's boundary edges (an edge of one
-// of the face's triangles that no other of its triangles has), spread over the face's vertices:
-// three times as many asked, every third kept where none of them lies on the boundary, else the
-// first inner ones. In time linear in the mesh's size.
+// of the face's triangles that no other of its triangles has), spread over the face: three times
+// as many are asked, spread over the face's vertices, and up to Picks kept, spread over those of
+// them off the boundary. In time linear in the mesh's size.
 std::vector<std::vector<int>> InnerVertices(const DisplayMesh& M, size_t faceCount)
 {
   std::vector<std::vector<int>> asked(faceCount);
@@ -132,17 +132,11 @@ bool LiesOn(const BRepModel& model, const std::vector<TopoDS_Face>& faces,
   project.Init(surface, u0, u1, v0, v1);
   BRepTopAdaptor_FClass2d classifier(fb, 1e-9);
   const DisplayMesh& M = model.Mesh;
-  const int n = static_cast<int>(picks.size());
-  int hits = 0, misses = 0;
-  for (int v : picks)
-  {
-    if (2 * misses > n)
-      break;
-    ++misses;
+  auto onB = [&](int v) {
     const Vec p = At(M.Points, v), na = At(M.Normals, v);
     project.Perform(gp_Pnt(p[0], p[1], p[2]));
     if (!project.IsDone() || project.NbPoints() == 0 || project.LowerDistance() > gap)
-      continue;
+      return false;
     double u = 0.0, w = 0.0;
     project.LowerDistanceParameters(u, w);
     gp_Pnt q;
@@ -150,17 +144,20 @@ bool LiesOn(const BRepModel& model, const std::vector<TopoDS_Face>& faces,
     surface->D1(u, w, q, du, dv);
     gp_Vec nb = du.Crossed(dv);
     if (nb.Magnitude() < 1e-14)
-      continue;
+      return false;
     nb.Normalize();
     if (model.Faces[static_cast<size_t>(b)].Reversed)
       nb.Reverse();
-    if (nb.X() * na[0] + nb.Y() * na[1] + nb.Z() * na[2] < ExactCos)
-      continue;
-    if (classifier.Perform(gp_Pnt2d(u, w)) != TopAbs_IN)
-      continue;
-    --misses;
-    ++hits;
-  }
+    return nb.X() * na[0] + nb.Y() * na[1] + nb.Z() * na[2] >= ExactCos &&
+      classifier.Perform(gp_Pnt2d(u, w)) == TopAbs_IN;
+  };
+  const int n = static_cast<int>(picks.size());
+  int hits = 0, misses = 0;
+  for (int v : picks)
+    if (onB(v))
+      ++hits;
+    else if (2 * ++misses > n)
+      break; // (half cannot be reached any more)
   return hits >= 3 && 2 * hits >= n;
 }
 } // namespace
