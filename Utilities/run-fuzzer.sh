@@ -32,6 +32,7 @@ env "${env[@]}" ASAN_OPTIONS=detect_leaks=0:dedup_token_length=3 \
   -timeout=20 -rss_limit_mb=4096 -max_len=200000 -max_total_time="$seconds" \
   -artifact_prefix="$work/crashes/" "$work/corpus" >"$work/fuzz.log" 2>&1
 set -e
+rm -f "$work"/brt-fuzz-*.step # the inputs of children killed on a crash or a time-out
 last=$(grep -E "^#[0-9]+: cov:" "$work/fuzz.log" | tail -1)
 echo "mode $mode, $seconds s: $last"
 crashes=$(ls "$work/crashes" | grep -c "^crash-" || true)

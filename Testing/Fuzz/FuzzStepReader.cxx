@@ -19,7 +19,9 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   static const bool raw = std::getenv("BRT_FUZZ_RAW") != nullptr;
-  static const std::string path = "/tmp/brt-fuzz-" + std::to_string(::getpid()) + ".step";
+  // In the working directory (run-fuzzer.sh's work folder), removed after each input: with
+  // -fork each child process would otherwise leave its own file behind.
+  static const std::string path = "brt-fuzz-" + std::to_string(::getpid()) + ".step";
   if (std::FILE* f = std::fopen(path.c_str(), "wb"))
   {
     std::fwrite(data, 1, size, f);
@@ -48,5 +50,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   catch (const std::exception&)
   {
   }
+  std::remove(path.c_str());
   return 0;
 }
