@@ -3394,6 +3394,13 @@ inline real torus_patch_gap(const Model* m, int p, int face, real3 Ohi, real3 Ol
 // so no point of it is nearer to M than |M's distance from the spine - s[7]| - s[8]. Tight on a
 // free-form round where the sphere is the round's own ball (its centre on the spine), whose
 // control net's hull lets every patch of the round through. Less the rounding of M's position.
+// Kind 4 (a cone's patch, or a free-form one that turns round a neighbour's axis; docs/Solver.md,
+// item 23; brt::PackPatchAxisBox): the patch's part inside its trim lies within s[8] of the
+// distance s[7] from the axis (through the centre s[0..2], along s[3..5]) and between the
+// heights s[10] and s[11] along it; since |P - M| is at least the distance between their
+// (distance from the axis, height) pairs, no point of it is nearer to M than M's pair is to that
+// rectangle. Tight where the sphere's centre lies on a shaft's axis and the patch's control net,
+// whose chords cut inside the circle the patch turns round, reaches into the sphere.
 // Negative where the patch has no tube.
 inline real tube_patch_gap(const Model* m, int p, real3 Ohi, real3 Olo, real3 mr, real t)
 {
@@ -3404,10 +3411,17 @@ inline real tube_patch_gap(const Model* m, int p, real3 Ohi, real3 Olo, real3 mr
   const real3 ax = make_real3(s[3], s[4], s[5]);
   const real z = dot(X, ax);
   const real rho = sqrt(fmax(dot(X, X) - z * z, (real)0));
+  const real rounding = (real)64 * REAL_EPS * (length(X) + s[6] + s[7] + t);
+  if (s[9] > (real)3.5)
+  {
+    const real dr = fmax(fabs(rho - s[7]) - s[8], (real)0);
+    const real dz = z - clamp(z, s[10], s[11]);
+    return sqrt(dr * dr + dz * dz) - rounding;
+  }
   const real dist = s[9] < (real)1.5 ? length(X)
     : s[9] < (real)2.5              ? rho
                                     : sqrt((rho - s[6]) * (rho - s[6]) + z * z);
-  return fabs(dist - s[7]) - s[8] - (real)64 * REAL_EPS * (length(X) + s[6] + s[7] + t);
+  return fabs(dist - s[7]) - s[8] - rounding;
 }
 
 // A lower bound of the distance from M to patch p of a spherical face, tighter than exact_gap
@@ -3840,7 +3854,8 @@ BRT_SPLIT int find_point_inside(const Model* m, int ownFace, real3 Ohi, real3 Ol
             (kind != EXACT_CYLINDER || cylinder_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
             (kind != EXACT_TORUS || torus_patch_gap(m, item, face, Ohi, Olo, mr, t, need) < need) &&
             (kind != EXACT_SPHERE || sphere_patch_gap(m, item, face, Ohi, Olo, mr, t) < need) &&
-            (kind != EXACT_NONE || tube_patch_gap(m, item, Ohi, Olo, mr, t) < need) &&
+            ((kind != EXACT_NONE && kind != EXACT_CONE) ||
+              tube_patch_gap(m, item, Ohi, Olo, mr, t) < need) &&
             patch_gap(m, item, anchor_minus(m->patchAnchor + 6 * item, Ohi, Olo) - mr, mr, d,
               &ahead) < need &&
             ahead > depth)

@@ -488,6 +488,128 @@ void PackPatchTube(const double* cp, double slack, T* out)
   out[9] = static_cast<T>(cand[best].kind);
 }
 
+/// The angle that the control points cp (which hold the patch) span around the line through the
+/// absolute point o along the unit axis a, in radians (from the first one's direction; pi or more
+/// where they go round it, 0 where the first lies on the line).
+double AngleAroundAxis(const double* cp, const double* o, const double* a)
+{
+  double ref[3] = { 0, 0, 0 }, side[3];
+  double lo = 0.0, hi = 0.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    double x[3] = { cp[3 * i] - o[0], cp[3 * i + 1] - o[1], cp[3 * i + 2] - o[2] };
+    const double z = x[0] * a[0] + x[1] * a[1] + x[2] * a[2];
+    for (int k = 0; k < 3; ++k)
+      x[k] -= z * a[k];
+    if (i == 0)
+    {
+      const double l = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+      if (!(l > 0.0))
+        return 0.0;
+      for (int k = 0; k < 3; ++k)
+        ref[k] = x[k] / l;
+      side[0] = a[1] * ref[2] - a[2] * ref[1];
+      side[1] = a[2] * ref[0] - a[0] * ref[2];
+      side[2] = a[0] * ref[1] - a[1] * ref[0];
+      continue;
+    }
+    const double ang = std::atan2(x[0] * side[0] + x[1] * side[1] + x[2] * side[2],
+      x[0] * ref[0] + x[1] * ref[1] + x[2] * ref[2]);
+    lo = std::min(lo, ang);
+    hi = std::max(hi, ang);
+  }
+  return hi - lo;
+}
+
+/// The piece of space around a line that holds a patch (tube_patch_gap's kind 4), for the
+/// certification's bound where the patch turns round the line: a cone's patch, a thread's flank
+/// or a helical face beside a shaft, whose control net's hull comes nearer to the axis than the
+/// patch by the sag of its chords. cp: the control points of the patch's part inside its face's
+/// trim (SolverData::PatchTrimBox; the certification counts no point outside it); anchor: the
+/// whole patch's (the kernels' patch anchor); the line through the absolute point o along the
+/// unit axis a. The heights along the line come from the control points (which hold the part),
+/// the greatest distance from the line too (that distance is convex: its greatest over their
+/// hull lies at one of them), the least from a 17 x 17 grid of the part's points, less three
+/// times what the 9 x 9 grid within it missed of it (the grid's shortfall, extrapolated) and the
+/// rounding. As KernelPatchSectorReals: the line's point nearest the anchor, relative to it,
+/// stored as T; the axis as T; 0; the middle of the distances; their half-spread; kind 4; the
+/// heights from the stored point, rounded outwards.
+template <class T>
+void PackPatchAxisBox(const double* anchor, const double* cp, const double* o, const double* a, T* out)
+{
+  double c[3], sa[3];
+  const double s0 =
+    (anchor[0] - o[0]) * a[0] + (anchor[1] - o[1]) * a[1] + (anchor[2] - o[2]) * a[2];
+  T stored[KernelPatchSectorReals] = {};
+  for (int j = 0; j < 3; ++j)
+  {
+    const volatile T sc = static_cast<T>(o[j] + s0 * a[j] - anchor[j]); // as in PackCylinderSector
+    stored[j] = sc;
+    c[j] = anchor[j] + static_cast<double>(sc);
+    const volatile T ax = static_cast<T>(a[j]);
+    stored[3 + j] = ax;
+    sa[j] = static_cast<double>(ax);
+  }
+  // As the kernel reads them: M's height is its offset along the stored axis, its distance
+  // from the line the rest.
+  auto cyl = [&](const double* q, double& z, double& rho, double& size) {
+    const double x[3] = { q[0] - c[0], q[1] - c[1], q[2] - c[2] };
+    z = x[0] * sa[0] + x[1] * sa[1] + x[2] * sa[2];
+    const double xx = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    rho = std::sqrt(std::max(0.0, xx - z * z));
+    size = std::sqrt(xx);
+  };
+  double z0 = std::numeric_limits<double>::infinity(), z1 = -z0, rhoMax = -z0, size = 0.0;
+  for (int i = 0; i < 16; ++i)
+  {
+    double z, rho, sz;
+    cyl(cp + 3 * i, z, rho, sz);
+    z0 = std::min(z0, z);
+    z1 = std::max(z1, z);
+    rhoMax = std::max(rhoMax, rho);
+    size = std::max(size, sz);
+  }
+  constexpr int G = 17;
+  auto basis = [](double x, double* b) {
+    b[0] = (1 - x) * (1 - x) * (1 - x);
+    b[1] = 3 * x * (1 - x) * (1 - x);
+    b[2] = 3 * x * x * (1 - x);
+    b[3] = x * x * x;
+  };
+  double minFine = std::numeric_limits<double>::infinity(), minCoarse = minFine;
+  for (int i = 0; i < G; ++i)
+  {
+    double bs[4], row[4][3];
+    basis(i / (G - 1.0), bs);
+    for (int b = 0; b < 4; ++b)
+      for (int k = 0; k < 3; ++k)
+        row[b][k] = bs[0] * cp[3 * b + k] + bs[1] * cp[3 * (4 + b) + k] +
+          bs[2] * cp[3 * (8 + b) + k] + bs[3] * cp[3 * (12 + b) + k];
+    for (int j = 0; j < G; ++j)
+    {
+      double br[4], q[3];
+      basis(j / (G - 1.0), br);
+      for (int k = 0; k < 3; ++k)
+        q[k] = br[0] * row[0][k] + br[1] * row[1][k] + br[2] * row[2][k] + br[3] * row[3][k];
+      double z, rho, sz;
+      cyl(q, z, rho, sz);
+      minFine = std::min(minFine, rho);
+      if (i % 2 == 0 && j % 2 == 0)
+        minCoarse = std::min(minCoarse, rho);
+    }
+  }
+  const double eps = (64.0 * std::numeric_limits<T>::epsilon() + 1e-12) * (size + rhoMax);
+  const double lo = std::max(0.0, minFine - 3.0 * (minCoarse - minFine) - eps);
+  const double hi = rhoMax + eps;
+  const T r = static_cast<T>(0.5 * (lo + hi));
+  stored[7] = r;
+  stored[8] = Rounded<T>(std::max(static_cast<double>(r) - lo, hi - static_cast<double>(r)), true);
+  stored[9] = T(4);
+  stored[10] = Rounded<T>(z0 - eps, false);
+  stored[11] = Rounded<T>(z1 + eps, true);
+  std::copy(stored, stored + KernelPatchSectorReals, out);
+}
+
 /// A torus patch's arc of the tube (torus_patch_gap), as KernelPatchSectorReals: the unit
 /// vectors of its ends in the meridian half-plane (cos, sin of v0 and of v1: radial, axial), its
 /// middle direction as T, the cosine of the half-span around that stored direction (rounded
@@ -1009,6 +1131,89 @@ KernelModel<T> PackKernelModel(
     PackPatchTube<T>(m.Patches[static_cast<size_t>(p)].ControlPoints.data(), 2.0 * m.Tolerance,
       &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
   });
+  if (options.Tubes && m.FaceExact.size() == m.Faces.size())
+  {
+    // Each face's neighbours' distinct axes (cylinders, cones, tori; one line within the
+    // conversion tolerance), as the index of the first neighbour on each line.
+    std::vector<std::vector<int>> axisFaces(nf);
+    auto hasAxis = [&](int f) {
+      const SurfaceKind kd = m.Faces[static_cast<size_t>(f)].Kind;
+      const auto& e = m.FaceExact[static_cast<size_t>(f)];
+      return (kd == SurfaceKind::Cylinder || kd == SurfaceKind::Cone ||
+               kd == SurfaceKind::Torus) &&
+        std::fabs(e[3] * e[3] + e[4] * e[4] + e[5] * e[5] - 1.0) < 1e-9; // a unit axis
+    };
+    auto sameLine = [&](int f, int g) {
+      const auto& a = m.FaceExact[static_cast<size_t>(f)];
+      const auto& b = m.FaceExact[static_cast<size_t>(g)];
+      const double x[3] = { a[4] * b[5] - a[5] * b[4], a[5] * b[3] - a[3] * b[5],
+        a[3] * b[4] - a[4] * b[3] };
+      if (!(x[0] * x[0] + x[1] * x[1] + x[2] * x[2] < 1e-18))
+        return false;
+      double w[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+      const double along = w[0] * a[3] + w[1] * a[4] + w[2] * a[5];
+      for (int j = 0; j < 3; ++j)
+        w[j] -= along * a[3 + j];
+      return w[0] * w[0] + w[1] * w[1] + w[2] * w[2] <= m.Tolerance * m.Tolerance;
+    };
+    for (const auto& e : m.Edges)
+      for (int side = 0; side < 2; ++side)
+      {
+        const int f = e.Faces[side], g = e.Faces[1 - side];
+        if (f < 0 || g < 0 || f == g || !hasAxis(g) ||
+          k.FaceInfo[KernelFaceInts * static_cast<size_t>(f) + 8] != 0)
+          continue;
+        auto& list = axisFaces[static_cast<size_t>(f)];
+        if (std::none_of(list.begin(), list.end(), [&](int h) { return sameLine(h, g); }))
+          list.push_back(g);
+      }
+    // The patches of cones (about their own axis) and of faces with no exact surface and no
+    // tube beside a face with an axis (about the one of those axes the patch's control points
+    // turn round the most, from a tenth of a radian: below that the control net's hull holds
+    // the patch closely enough).
+    std::vector<std::pair<int, int>> boxPatches; // (patch, the face whose axis)
+    for (size_t f = 0; f < nf; ++f)
+    {
+      const Face& F = m.Faces[f];
+      const int kind = k.FaceInfo[KernelFaceInts * f + 8];
+      if (kind == 3)
+        for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+          boxPatches.emplace_back(p, static_cast<int>(f));
+      else if (kind == 0 && !axisFaces[f].empty())
+        for (int p = F.FirstPatch; p < F.FirstPatch + F.PatchCount; ++p)
+          if (!(k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p) + 9] > T(0)))
+            boxPatches.emplace_back(p, -1);
+    }
+    ParallelFor(boxPatches.size(), 0, [&](size_t i) {
+      const int p = boxPatches[i].first;
+      const BezierPatch& P = m.Patches[static_cast<size_t>(p)];
+      int g = boxPatches[i].second;
+      if (g < 0)
+      {
+        double most = 0.1;
+        for (int h : axisFaces[static_cast<size_t>(P.Face)])
+        {
+          const auto& e = m.FaceExact[static_cast<size_t>(h)];
+          const double angle = AngleAroundAxis(P.ControlPoints.data(), &e[0], &e[3]);
+          if (angle > most)
+          {
+            most = angle;
+            g = h;
+          }
+        }
+        if (g < 0)
+          return;
+      }
+      // The part of the patch inside its face's trim: a thread's flank runs on inside the core
+      // it stands on.
+      const std::array<double, 48> part = data.PatchTrimBox.size() == 4 * np
+        ? RestrictedControlPoints(P, &data.PatchTrimBox[4 * static_cast<size_t>(p)])
+        : P.ControlPoints;
+      const auto& e = m.FaceExact[static_cast<size_t>(g)];
+      PackPatchAxisBox<T>(P.ControlPoints.data(), part.data(), &e[0], &e[3],
+        &k.PatchSector[KernelPatchSectorReals * static_cast<size_t>(p)]);
+    });
+  }
   for (const auto& l : m.Loops)
     k.Loops.insert(k.Loops.end(), { l.FirstSegment, l.SegmentCount });
   for (const auto& s : m.TrimSegments)

@@ -48,7 +48,12 @@ constexpr size_t KernelTrimReals = 12;
 /// 0 where none). On a sphere: zeros but for the last four, the cone from the centre that holds
 /// its control points, the same way. On a face with no exact surface: the tube that holds the
 /// patch (PackPatchTube: its spine's centre relative to the patch's anchor (3), axis (3), circle
-/// radius, the tube's radius, the allowance, the spine's kind 1-3; zeros where none). Rounded
+/// radius, the tube's radius, the allowance, the spine's kind 1-3; zeros where none). On a cone,
+/// and on a face with no exact surface and no tube whose patch turns round the axis of a
+/// neighbouring cylinder, cone or torus: the piece of space around that axis that holds the
+/// patch's part inside its face's trim (PackPatchAxisBox: the axis's point next to the patch's
+/// anchor, relative to it (3), the axis (3), 0, the middle of the part's distances from the axis
+/// and their half-spread, kind 4, its heights along the axis from that point (2)). Rounded
 /// outwards to T; zeros on faces of other kinds.
 constexpr size_t KernelPatchSectorReals = 12;
 /// Reals per patch of its control net's constants (PATCH_HULL_REALS; the certification's
@@ -119,7 +124,8 @@ int PackExactSurface(const BRepModel& m, int f, const std::array<double, 3>& c,
   std::array<double, 12>& out);
 
 /// What PackKernelModel leaves out. Tubes: the tubes that hold the patches of faces with no exact
-/// surface (PackPatchTube), a bound that only spares the certification searches, so that a query
+/// surface (PackPatchTube) and the pieces of space around an axis that hold cones' and free-form
+/// patches (PackPatchAxisBox), bounds that only spare the certification searches, so that a query
 /// answers the same without them: the wall partners' probes (BuildWallPartners) pack without,
 /// where fitting them was most of their packing (the small headband: 23.5 of 33.5 ms).
 struct PackOptions

@@ -689,11 +689,9 @@ void BuildS1Tree(const BRepModel& model, SolverData& data)
   data.Nodes[0] = root;
 }
 
-namespace
-{
 /// The cubic Bezier curve of control points c[0], c[stride], c[2 stride], c[3 stride] (3
 /// coordinates each) restricted to [a, b] of its parameter (0 <= a < b <= 1), by de Casteljau.
-void RestrictCubic(double* c, int stride, double a, double b)
+static void RestrictCubic(double* c, int stride, double a, double b)
 {
   auto split = [&](double t, bool keepLeft) {
     for (int k = 0; k < 3; ++k)
@@ -716,6 +714,20 @@ void RestrictCubic(double* c, int stride, double a, double b)
     split(a / b, false);
 }
 
+std::array<double, 48> RestrictedControlPoints(const BezierPatch& patch, const double* box)
+{
+  std::array<double, 48> cp = patch.ControlPoints;
+  if (box[0] <= 0.0 && box[1] >= 1.0 && box[2] <= 0.0 && box[3] >= 1.0)
+    return cp;
+  for (int j = 0; j < 4; ++j)
+    RestrictCubic(cp.data() + 3 * j, 12, box[0], box[1]);
+  for (int i = 0; i < 4; ++i)
+    RestrictCubic(cp.data() + 12 * i, 3, box[2], box[3]);
+  return cp;
+}
+
+namespace
+{
 /// The UV band TrimmedPatchBox widens by: the face's UV tolerance twice and 1e-8 of its domain.
 double PatchBoxBand(const Face& F)
 {
@@ -801,7 +813,7 @@ PatchTrimScan ScanPatchTrim(const BRepModel& model, const BezierPatch& patch,
 /// searches it). The UV box is widened by the face's UV tolerance, the trim test's own band
 /// (1e-9 of the face's domain) and rounding (PatchBoxBand).
 bool TrimmedPatchBox(const BezierPatch& patch, const PatchTrimScan& scan, const signed char corner[4],
-  double* b)
+  double* b, double* local)
 {
   if (scan.Whole)
     return true;
@@ -827,12 +839,11 @@ bool TrimmedPatchBox(const BezierPatch& patch, const PatchTrimScan& scan, const 
     return true;
   if (!(a1 > a0) || !(c1 > c0))
     return true; // a sliver: keep the whole patch's box
-  // Control point (i, j) at (4 i + j) * 3, i along u.
-  std::array<double, 48> cp = patch.ControlPoints;
-  for (int j = 0; j < 4; ++j)
-    RestrictCubic(cp.data() + 3 * j, 12, a0, a1);
-  for (int i = 0; i < 4; ++i)
-    RestrictCubic(cp.data() + 12 * i, 3, c0, c1);
+  local[0] = a0;
+  local[1] = a1;
+  local[2] = c0;
+  local[3] = c1;
+  const std::array<double, 48> cp = RestrictedControlPoints(patch, local);
   double reach = 0.0;
   for (int k = 0; k < 6; ++k)
     reach = std::max(reach, std::fabs(b[k]));
@@ -896,6 +907,12 @@ static void BuildPatchBoxesWith(const BRepModel& model, const CrossingIndex& cro
       return p;
     return q;
   };
+  data.PatchTrimBox.assign(4 * model.Patches.size(), 0.0);
+  for (size_t p = 0; p < model.Patches.size(); ++p)
+  {
+    data.PatchTrimBox[4 * p + 1] = 1.0;
+    data.PatchTrimBox[4 * p + 3] = 1.0;
+  }
   std::vector<PatchTrimScan> scans(model.Patches.size());
   ParallelFor(model.Patches.size(), 0, [&](size_t p) {
     box(model.Patches[p].ControlPoints.data(), 16, &data.PatchBoxes[6 * p]);
@@ -911,8 +928,8 @@ static void BuildPatchBoxesWith(const BRepModel& model, const CrossingIndex& cro
       const size_t q = provider(p, k);
       corner[k] = q == p ? scans[p].Corner[k] : scans[q].Corner[0];
     }
-    trimmedAway[p] =
-      !TrimmedPatchBox(model.Patches[p], scans[p], corner, &data.PatchBoxes[6 * p]);
+    trimmedAway[p] = !TrimmedPatchBox(
+      model.Patches[p], scans[p], corner, &data.PatchBoxes[6 * p], &data.PatchTrimBox[4 * p]);
   });
   data.EdgeBoxes.assign(6 * model.EdgeSegments.size(), 0.0);
   for (size_t e = 0; e < model.EdgeSegments.size(); ++e)

@@ -193,6 +193,10 @@ struct SolverData
   /// Per patch: the box of its control points (min x, y, z, max x, y, z), which holds the patch.
   /// Derived like VertexInfo (BuildPatchBoxes), not stored in solve files.
   std::vector<double> PatchBoxes;
+  /// Per patch: the part of its (local, [0, 1]^2) parameters that holds its part inside its
+  /// face's trim, as s0, s1, r0, r1 (TrimmedPatchBox's UV box; 0, 1, 0, 1 where that is the whole
+  /// patch). Derived like PatchBoxes.
+  std::vector<double> PatchTrimBox;
   /// The same per edge segment (its 4 control points).
   std::vector<double> EdgeBoxes;
   /// Per edge, for each of its two faces: how far its segments lie from that face's exact surface
@@ -236,6 +240,10 @@ void BuildWallPartners(const BRepModel& model, SolverData& data, const NativeSol
 /// Fills data.PatchBoxes, data.EdgeBoxes, their BVH and data.EdgeFaceDeviation (PrepareSolver
 /// and ReadSolve call it).
 void BuildPatchBoxes(const BRepModel& model, SolverData& data);
+
+/// The control points of the patch restricted to the local parameter box (s0, s1, r0, r1 in
+/// [0, 1], as SolverData::PatchTrimBox), by de Casteljau.
+std::array<double, 48> RestrictedControlPoints(const BezierPatch& patch, const double* box);
 
 /// Fills data.VertexInfo from the model's edges (PrepareSolver and ReadSolve call it).
 void BuildVertices(const BRepModel& model, SolverData& data);

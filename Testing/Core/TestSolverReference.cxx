@@ -1182,25 +1182,55 @@ TEST(KernelData, CylinderSectorsHoldTheirControlPoints)
 /// the kernel reads it (the stored values in T): on a 41 x 41 grid of the patch's own points
 /// (corners and middle among them), five times as fine as the 9 x 9 the fit was measured on.
 /// Data/'s real parts, whose free-form rounds (rational B-spline fillets) get them; a point, a
-/// line and a circle spine each among them.
+/// line and a circle spine each among them. Likewise the pieces of space around an axis (kind 4,
+/// PackPatchAxisBox) of cones' patches and of free-form patches beside a face with an axis: the
+/// part of the patch inside its face's trim (SolverData::PatchTrimBox), on a 41 x 41 grid, lies
+/// within their distances from the axis and their heights along it.
 template <class T>
-void CheckTubes(const BRepModel& m, const KernelModel<T>& k, const char* name, const char* precision,
-  int kinds[4])
+void CheckTubes(const BRepModel& m, const SolverData& data, const KernelModel<T>& k,
+  const char* name, const char* precision, int kinds[5])
 {
   SCOPED_TRACE(std::string(name) + ", " + precision);
   double worst = 0.0;
-  size_t tubes = 0;
+  size_t tubes = 0, boxes = 0;
   for (size_t p = 0; p < m.Patches.size(); ++p)
   {
     const int face = m.Patches[p].Face;
-    if (k.FaceInfo[KernelFaceInts * static_cast<size_t>(face) + 8] != 0)
+    const int exact = k.FaceInfo[KernelFaceInts * static_cast<size_t>(face) + 8];
+    if (exact != 0 && exact != 3)
       continue;
     const T* s = &k.PatchSector[KernelPatchSectorReals * p];
     const int kind = static_cast<int>(s[9]);
     if (kind == 0)
       continue;
-    ASSERT_TRUE(kind >= 1 && kind <= 3) << "patch " << p;
+    ASSERT_TRUE(kind >= 1 && kind <= 4) << "patch " << p;
+    ASSERT_TRUE(exact == 0 || kind == 4) << "patch " << p;
     ++kinds[kind];
+    if (kind == 4)
+    {
+      const auto& anchor = m.Patches[p].ControlPoints;
+      const std::array<double, 48> cp =
+        RestrictedControlPoints(m.Patches[p], &data.PatchTrimBox[4 * p]);
+      const double c[3] = { anchor[0] + static_cast<double>(s[0]),
+        anchor[1] + static_cast<double>(s[1]), anchor[2] + static_cast<double>(s[2]) };
+      const double a[3] = { static_cast<double>(s[3]), static_cast<double>(s[4]),
+        static_cast<double>(s[5]) };
+      const double r = static_cast<double>(s[7]), half = static_cast<double>(s[8]);
+      const double z0 = static_cast<double>(s[10]), z1 = static_cast<double>(s[11]);
+      for (int i = 0; i <= 40; ++i)
+        for (int j = 0; j <= 40; ++j)
+        {
+          const PatchEval e = EvaluatePatchLocal(cp, i / 40.0, j / 40.0);
+          const double x[3] = { e.P[0] - c[0], e.P[1] - c[1], e.P[2] - c[2] };
+          const double z = x[0] * a[0] + x[1] * a[1] + x[2] * a[2];
+          const double rho =
+            std::sqrt(std::max(0.0, x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - z * z));
+          ASSERT_LE(std::fabs(rho - r), half) << "patch " << p << " at " << i << ", " << j;
+          ASSERT_TRUE(z >= z0 && z <= z1) << "patch " << p << " at " << i << ", " << j;
+        }
+      ++boxes;
+      continue;
+    }
     ++tubes;
     const auto& cp = m.Patches[p].ControlPoints;
     const double c[3] = { cp[0] + static_cast<double>(s[0]), cp[1] + static_cast<double>(s[1]),
@@ -1226,25 +1256,26 @@ void CheckTubes(const BRepModel& m, const KernelModel<T>& k, const char* name, c
       }
   }
   std::printf("[tubes] %-34s %-6s %5zu patches with a tube; a 41 x 41 grid of each within %.2f "
-              "of its allowance at most\n",
-    name, precision, tubes, worst);
+              "of its allowance at most; %zu around an axis\n",
+    name, precision, tubes, worst, boxes);
   EXPECT_GT(tubes, 100u);
 }
 
 TEST(KernelData, PatchTubesHoldTheirPatches)
 {
-  int kinds[4] = { 0, 0, 0, 0 };
+  int kinds[5] = { 0, 0, 0, 0, 0 };
   for (const char* name :
     { "FRAMEWORK_DESKTOP_BLANK_TILE.stp", "ExpansionCard_SelfTapping.stp", "fw13_hinge_l_assy.stp" })
   {
     const BRepModel m = ConvertStepFile(test::DataFile(name), ConversionOptions());
     const SolverData data = PrepareSolver(m, SolverOptions());
-    CheckTubes(m, PackKernelModel<double>(m, data), name, "double", kinds);
-    CheckTubes(m, PackKernelModel<float>(m, data), name, "float", kinds);
+    CheckTubes(m, data, PackKernelModel<double>(m, data), name, "double", kinds);
+    CheckTubes(m, data, PackKernelModel<float>(m, data), name, "float", kinds);
   }
   EXPECT_GT(kinds[1], 0);
   EXPECT_GT(kinds[2], 0);
   EXPECT_GT(kinds[3], 0);
+  EXPECT_GT(kinds[4], 0);
 }
 
 /// The certification's tree names, in each inner node, the face whose patches are all of its
