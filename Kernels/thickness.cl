@@ -3956,15 +3956,16 @@ inline int same_exact_surface(const Model* m, int f0, int f1)
     fabs(a[9] + along * a[11] / a[10] - b[9]) <= tol;
 }
 
-// O on a cylinder, sphere or torus (X0 = O - its origin), d its inward normal: the sphere that
-// touches that surface across, through its axis, centre or core circle (a rod, a ball, a ring).
+// O on a cylinder, cone, sphere or torus (X0 = O - its origin), d its inward normal: the sphere
+// that touches that surface across, through its axis, centre or core circle (a rod, a tapered
+// rod, a ball, a ring; on a cone the centre is where the normal line meets the axis).
 // |dist(O + t d)| = t holds for every t up to that sphere's radius (O is the nearest point), so
 // Newton on the exact surface cannot find it; this is its closed form: t where O + t d comes
 // nearest to the axis or centre (the torus: the distance to the core circle). 0 where O is not on
 // the surface (within slack) or d not its inward normal.
 int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, real slack, real* t)
 {
-  if (kind != EXACT_CYLINDER && kind != EXACT_SPHERE && kind != EXACT_TORUS)
+  if (kind != EXACT_CYLINDER && kind != EXACT_CONE && kind != EXACT_SPHERE && kind != EXACT_TORUS)
     return 0;
   real3 g;
   int ok;
@@ -3986,7 +3987,7 @@ int self_contact_radius(int kind, __global const real* e, real3 X0, real3 d, rea
   return *t > (real)0;
 }
 
-// The sphere of radius t tangent at O to its own cylinder, sphere or torus and touching it
+// The sphere of radius t tangent at O to its own cylinder, cone, sphere or torus and touching it
 // across (self_contact_radius; X0 = O - the surface's origin): it touches the surface along a
 // circle (a ball: everywhere). Its foot (relative to O) nearest `near` (relative to O, a point
 // next to that circle), in *foot; 0 where `near` lies too close to the sphere's centre or axis
@@ -3995,6 +3996,36 @@ int self_contact_foot(int kind, __global const real* e, real3 X0, real3 d, real 
   real3* foot)
 {
   const real3 a = make_real3(e[6], e[7], e[8]);
+  if (kind == EXACT_CONE)
+  {
+    // The circle through O around the axis, at O's height: the foot is its point in the
+    // direction of `near` around the axis.
+    const real3 rel = -t * d; // O - the centre
+    const real za = dot(rel, a);
+    const real3 r0 = rel - za * a;
+    const real rho = length(r0);
+    real3 w = near - t * d;
+    w = w - dot(w, a) * a;
+    const real lw = length(w);
+    if (!(t > (real)0) || !(rho > (real)0) || !(lw > (real)0.5 * rho))
+      return 0;
+    w = w / lw;
+#ifndef BRT_DOUBLE
+    // In float, not within 60 degrees of O around the axis (as below).
+    const real3 w0 = r0 / rho;
+    const real c = dot(w, w0);
+    if (c > (real)0.5)
+    {
+      const real3 side = w - c * w0;
+      const real ls = length(side);
+      if (!(ls > (real)1e-3))
+        return 0;
+      w = (real)0.8660254037844386 * (side / ls) + (real)0.5 * w0;
+    }
+#endif
+    *foot = t * d + za * a + rho * w;
+    return 1;
+  }
   real3 across = near - t * d; // from the centre towards `near`
   if (kind == EXACT_CYLINDER)
     across = across - dot(across, a) * a;
@@ -4148,7 +4179,7 @@ int project_on_face(const Model* m, int face, real3 Ohi, real3 Olo, real3 foot, 
 // slack), the foot moves by at most twice the patches' accuracy (5% of t along a seam) and stays
 // inside the face's trim (in its tolerance band only at a tangent edge, tangent_across); else r
 // is left as it is. A
-// sphere touching O's own cylinder, sphere or torus across takes self_contact_radius's closed
+// sphere touching O's own cylinder, cone, sphere or torus across takes self_contact_radius's closed
 // form instead of the Newton.
 BRT_SPLIT void exact_finish(const Model* m, int ownFace, real3 Ohi, real3 Olo, real3 d, real stepTol,
   Result* r)
@@ -5313,7 +5344,7 @@ BRT_SPLIT Result solve_with_clearance(const Model* m, __global const real* s1Poi
   __global const int* faceInfo = m->faceInfo;
   const real3 O = Ohi + Olo; // for the initialisation, where rounding does not matter
   const int solid = scope_solid(m, ownFace);
-  // O on a cylinder, sphere or torus, on its convex side: its own face's points give no start.
+  // O on a cylinder, cone, sphere or torus, on its convex side: its own face's points give no start.
   // Such a face touches a sphere tangent at O nowhere else below the sphere across its axis,
   // centre or core circle, which the closed form gives after the solve (self_contact_radius);
   // eq. 4 from them wanders and stops unconverged (a third of the ExpansionCard's samples did,
@@ -5577,7 +5608,7 @@ void write_result(const Result* r, real3 d, int iterations, int exactPass, __glo
   oI[6] = exactPass;
 }
 
-// The last resort of a sample on a cylinder, sphere or torus whose solve failed or fell short:
+// The last resort of a sample on a cylinder, cone, sphere or torus whose solve failed or fell short:
 // the sphere of radius t that touches its own surface across (self_contact_radius). A ball is
 // the case: its maximal sphere is the ball and touches every s1 point, which no restart settles
 // (NotMaximal). Kept when no s1 point and no point of the faces lies inside it deeper than the
@@ -5613,6 +5644,14 @@ BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point,
   u = clamp(u, fd[0], fd[1]);
   v = clamp(v, fd[2], fd[3]);
   real3 foot = (real)2 * t * d;
+  if (kind == EXACT_CONE)
+  {
+    // Across the axis on the circle through O (O - the centre = za a + r0): the centre + za a -
+    // r0.
+    const real3 a = make_real3(fd[FACE_EXACT + 6], fd[FACE_EXACT + 7], fd[FACE_EXACT + 8]);
+    const real za = dot(-t * d, a);
+    foot = t * d + za * a - (-t * d - za * a);
+  }
   int patch;
   // The band counts: across from a sample on the far side of a seam, the foot lies on the seam.
   if (!project_on_face(m, ownFace, Ohi, Olo, foot, 1, &u, &v, &patch))
@@ -5861,7 +5900,7 @@ BRT_SPLIT void solve_sample(Model mm, __global const real* s1Point, __global con
   }
   if (!(mm.mode & MODE_EXTERIOR))
   {
-    // A sphere touching O's own cylinder, sphere or torus across: the closed form where the solve
+    // A sphere touching O's own cylinder, cone, sphere or torus across: the closed form where the solve
     // failed, or fell short of it (a ball's spheres touch every point: in float the solve may stop
     // on a foot next to O).
     const int kind = mm.faceInfo[FACE_INTS * ownFace + 8];

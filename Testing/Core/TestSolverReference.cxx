@@ -16,6 +16,7 @@
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <Bnd_Box.hxx>
@@ -140,6 +141,50 @@ TEST(SolverReference, ClosedForms)
     }
   }
 }
+/// A tapered rod (a cone's frustum, radius 6 to 4 over 60, and the same with its side split in
+/// two halves, as CAD systems write it, and as a screw's tapered core between the turns of its
+/// flight is written): a sample O on the cone at radius R, away from the ends, has the sphere
+/// whose centre lies on the axis, tangent to the cone along the circle through O: 2t = 2 R /
+/// cos(angle), the half-angle's tangent 2 / 60. The closed form (self_contact_radius) gives it
+/// directly; the solve from eq. 1 alone had the certification search the cone's patches round
+/// that circle (docs/Solver.md, item 23).
+TEST(SolverReference, TaperedRodAcrossItsAxis)
+{
+  const double R1 = 6, R2 = 4, H = 60;
+  const double slope = (R1 - R2) / H, cosA = 1.0 / std::sqrt(1.0 + slope * slope);
+  ShapeUpgrade_ShapeDivideClosed halves(BRepPrimAPI_MakeCone(R1, R2, H).Shape());
+  halves.SetNbSplitPoints(1);
+  halves.Perform();
+  for (const auto& shape : { BRepPrimAPI_MakeCone(R1, R2, H).Shape(), halves.Result() })
+  {
+    const test::Solved s = test::SolveShape(shape, ConversionOptions().Tolerance);
+    double worst = 0.0, offAxis = 0.0;
+    size_t interior = 0, cones = 0;
+    for (size_t i = 0; i < s.Results.size(); ++i)
+    {
+      const Sample& q = s.Samples[i];
+      if (s.Model.Faces[static_cast<size_t>(q.Face)].Kind != SurfaceKind::Cone)
+        continue;
+      ++cones;
+      const double z = q.Point[2], R = R1 - slope * z;
+      if (z < 15 || z > H - 15)
+        continue;
+      ++interior;
+      const SampleResult& r = s.Results[i];
+      ASSERT_NE(r.Type, ContactType::Failed) << "sample " << i << ": " << FailReasonName(r.Reason);
+      const double expected = 2.0 * R / cosA;
+      worst = std::max(worst, std::fabs(r.Thickness - expected) / expected);
+      offAxis = std::max(offAxis, std::hypot(r.Center[0], r.Center[1]));
+    }
+    std::printf("[closed form] tapered rod (%zu faces): %zu samples on the cone, %zu away from "
+                "the ends, max |2t - 2R/cos|/(2R/cos) = %.2e, centre off the axis by %.2e\n",
+      s.Model.Faces.size(), cones, interior, worst, offAxis);
+    EXPECT_GT(interior, 100u);
+    EXPECT_LE(worst, 1e-6);
+    EXPECT_LE(offAxis, 1e-5);
+  }
+}
+
 /// A sphere next to a convex edge, touching the face across from a small distance: samples on a
 /// countersunk hole's wall s below the edge where the 45 degree cone begins, 2t = 2 s (1 + sqrt 2)
 /// (nist_ctc_04's holes: 2t = 0.217 at s = 0.045). Along the cone's generator the distance from
