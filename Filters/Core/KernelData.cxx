@@ -284,6 +284,37 @@ void PackCylinderSector(const double* cp, const double* o, const double* a, T* o
   out[7] = T(1);
 }
 
+/// Calls visit(i, j, q) with the point q of the bicubic patch (control points cp, (4 i + j) * 3)
+/// at (i / (G - 1), j / (G - 1)) of its local parameters, for every step-th i and j, by the tensor
+/// product: the control net's rows first.
+template <class F>
+void ForEachGridPoint(const double* cp, int G, int step, F&& visit)
+{
+  auto basis = [](double x, double* b) {
+    b[0] = (1 - x) * (1 - x) * (1 - x);
+    b[1] = 3 * x * (1 - x) * (1 - x);
+    b[2] = 3 * x * x * (1 - x);
+    b[3] = x * x * x;
+  };
+  for (int i = 0; i < G; i += step)
+  {
+    double bs[4], row[4][3];
+    basis(i / (G - 1.0), bs);
+    for (int b = 0; b < 4; ++b)
+      for (int k = 0; k < 3; ++k)
+        row[b][k] = bs[0] * cp[3 * b + k] + bs[1] * cp[3 * (4 + b) + k] +
+          bs[2] * cp[3 * (8 + b) + k] + bs[3] * cp[3 * (12 + b) + k];
+    for (int j = 0; j < G; j += step)
+    {
+      double br[4], q[3];
+      basis(j / (G - 1.0), br);
+      for (int k = 0; k < 3; ++k)
+        q[k] = br[0] * row[0][k] + br[1] * row[1][k] + br[2] * row[2][k] + br[3] * row[3][k];
+      visit(i, j, q);
+    }
+  }
+}
+
 /// The tube that holds a patch of a face with no exact surface (tube_patch_gap, docs/Solver.md
 /// item 22): a free-form round (a rolling ball's blend, a pipe) is swept by circular arcs of one
 /// radius about a spine, and over one patch the spine is nearly a point (a ball's corner), a line
@@ -310,30 +341,11 @@ void PackPatchTube(const double* cp, double slack, T* out)
   // control net's rows first. Only the 3 x 3 at 0, 1/2 and 1 until the screen below passes.
   constexpr int G = 9;
   double pts[G * G][3];
-  auto basis = [](double x, double* b) {
-    b[0] = (1 - x) * (1 - x) * (1 - x);
-    b[1] = 3 * x * (1 - x) * (1 - x);
-    b[2] = 3 * x * x * (1 - x);
-    b[3] = x * x * x;
-  };
   auto fill = [&](int step) {
-    for (int i = 0; i < G; i += step)
-    {
-      double bs[4], row[4][3];
-      basis(i / (G - 1.0), bs);
-      for (int b = 0; b < 4; ++b)
-        for (int k = 0; k < 3; ++k)
-          row[b][k] = bs[0] * cp[3 * b + k] + bs[1] * cp[3 * (4 + b) + k] +
-            bs[2] * cp[3 * (8 + b) + k] + bs[3] * cp[3 * (12 + b) + k];
-      for (int j = 0; j < G; j += step)
-      {
-        double br[4];
-        basis(j / (G - 1.0), br);
-        for (int k = 0; k < 3; ++k)
-          pts[G * i + j][k] = br[0] * row[0][k] + br[1] * row[1][k] + br[2] * row[2][k] +
-            br[3] * row[3][k];
-      }
-    }
+    ForEachGridPoint(cp, G, step, [&](int i, int j, const double* q) {
+      for (int k = 0; k < 3; ++k)
+        pts[G * i + j][k] = q[k];
+    });
   };
   fill(4);
   auto sub = [](const double* a, const double* b, double* o) {
@@ -570,34 +582,14 @@ void PackPatchAxisBox(const double* anchor, const double* cp, const double* o, c
     size = std::max(size, sz);
   }
   constexpr int G = 17;
-  auto basis = [](double x, double* b) {
-    b[0] = (1 - x) * (1 - x) * (1 - x);
-    b[1] = 3 * x * (1 - x) * (1 - x);
-    b[2] = 3 * x * x * (1 - x);
-    b[3] = x * x * x;
-  };
   double minFine = std::numeric_limits<double>::infinity(), minCoarse = minFine;
-  for (int i = 0; i < G; ++i)
-  {
-    double bs[4], row[4][3];
-    basis(i / (G - 1.0), bs);
-    for (int b = 0; b < 4; ++b)
-      for (int k = 0; k < 3; ++k)
-        row[b][k] = bs[0] * cp[3 * b + k] + bs[1] * cp[3 * (4 + b) + k] +
-          bs[2] * cp[3 * (8 + b) + k] + bs[3] * cp[3 * (12 + b) + k];
-    for (int j = 0; j < G; ++j)
-    {
-      double br[4], q[3];
-      basis(j / (G - 1.0), br);
-      for (int k = 0; k < 3; ++k)
-        q[k] = br[0] * row[0][k] + br[1] * row[1][k] + br[2] * row[2][k] + br[3] * row[3][k];
-      double z, rho, sz;
-      cyl(q, z, rho, sz);
-      minFine = std::min(minFine, rho);
-      if (i % 2 == 0 && j % 2 == 0)
-        minCoarse = std::min(minCoarse, rho);
-    }
-  }
+  ForEachGridPoint(cp, G, 1, [&](int i, int j, const double* q) {
+    double z, rho, sz;
+    cyl(q, z, rho, sz);
+    minFine = std::min(minFine, rho);
+    if (i % 2 == 0 && j % 2 == 0)
+      minCoarse = std::min(minCoarse, rho);
+  });
   const double eps = (64.0 * std::numeric_limits<T>::epsilon() + 1e-12) * (size + rhoMax);
   const double lo = std::max(0.0, minFine - 3.0 * (minCoarse - minFine) - eps);
   const double hi = rhoMax + eps;
