@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <ShapeUpgrade_ShapeDivideClosed.hxx>
 
 #include <algorithm>
@@ -567,6 +568,55 @@ TEST(OpenCLKernels, ClosedFormsInFloat)
     EXPECT_LE(run.Worst, 1e-5) << s.Name;
     EXPECT_EQ(run.Failed, 0u) << s.Name;
   }
+}
+
+/// The tapered rod of SolverReference.TaperedRodAcrossItsAxis in float, whole and with its side in
+/// halves: 2t = 2 R / cos of the half-angle within 1e-5 on the cone's samples away from its ends,
+/// with the finish in double and with the float kernels' own results (where self_contact_foot
+/// moves a foot next to O 60 degrees round the circle).
+TEST(OpenCLKernels, TaperedRodInFloat)
+{
+  std::string why;
+  auto cl = Device(false, &why);
+  if (!cl)
+    GTEST_SKIP() << why;
+  const double R1 = 6, R2 = 4, H = 60;
+  const double slope = (R1 - R2) / H, cosA = 1.0 / std::sqrt(1.0 + slope * slope);
+  ShapeUpgrade_ShapeDivideClosed halves(BRepPrimAPI_MakeCone(R1, R2, H).Shape());
+  halves.SetNbSplitPoints(1);
+  halves.Perform();
+  for (const bool finish : { true, false })
+    for (const auto& shape : { BRepPrimAPI_MakeCone(R1, R2, H).Shape(), halves.Result() })
+    {
+      cl->SetFinish(finish);
+      const BRepModel m = ConvertShape(shape, ConversionOptions());
+      SolverOptions options;
+      const SolverData data = PrepareSolver(m, options);
+      const std::vector<Sample> samples = SamplesFromMesh(m, data);
+      std::vector<SampleResult> got;
+      cl->Upload(m, data);
+      cl->Solve(m, data, options, samples, got);
+      double worst = 0.0;
+      size_t interior = 0;
+      for (size_t i = 0; i < got.size(); ++i)
+      {
+        const Sample& q = samples[i];
+        if (m.Faces[static_cast<size_t>(q.Face)].Kind != SurfaceKind::Cone || q.Point[2] < 15 ||
+          q.Point[2] > H - 15)
+          continue;
+        ++interior;
+        ASSERT_NE(got[i].Type, ContactType::Failed)
+          << "sample " << i << ": " << FailReasonName(got[i].Reason);
+        const double expected = 2.0 * (R1 - slope * q.Point[2]) / cosA;
+        worst = std::max(worst, std::fabs(got[i].Thickness - expected) / expected);
+      }
+      std::printf("[closed form, float kernel%s] tapered rod (%zu faces): %zu samples, max "
+                  "|2t - 2R/cos|/(2R/cos) = %.2e\n",
+        finish ? "" : " alone", m.Faces.size(), interior, worst);
+      EXPECT_GT(interior, 100u);
+      EXPECT_LE(worst, 1e-5);
+    }
+  cl->SetFinish(true);
 }
 
 // A model metres across in float, the kernels' own results (no finish in double): a 508 mm
