@@ -5646,11 +5646,11 @@ BRT_SPLIT void self_contact_sphere(const Model* m, __global const real* s1Point,
   real3 foot = (real)2 * t * d;
   if (kind == EXACT_CONE)
   {
-    // Across the axis on the circle through O (O - the centre = za a + r0): the centre + za a -
-    // r0.
+    // Across the axis on the circle through O: with O - the centre = za a + r0, the centre + za a
+    // - r0, which is O + 2 (t d + za a).
     const real3 a = make_real3(fd[FACE_EXACT + 6], fd[FACE_EXACT + 7], fd[FACE_EXACT + 8]);
     const real za = dot(-t * d, a);
-    foot = t * d + za * a - (-t * d - za * a);
+    foot = (real)2 * (t * d + za * a);
   }
   int patch;
   // The band counts: across from a sample on the far side of a seam, the foot lies on the seam.

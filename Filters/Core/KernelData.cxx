@@ -547,8 +547,12 @@ double AngleAroundAxis(const double* cp, const double* o, const double* a)
 /// stored as T; the axis as T; 0; the middle of the distances; their half-spread; kind 4; the
 /// heights from the stored point, rounded outwards.
 template <class T>
-void PackPatchAxisBox(const double* anchor, const double* cp, const double* o, const double* a, T* out)
+void PackPatchAxisBox(const double* anchor, const double* cp, const double* o, const double* axis,
+  T* out)
 {
+  // The bound holds for a unit axis: the file's, made one to rounding.
+  const double la = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  const double a[3] = { axis[0] / la, axis[1] / la, axis[2] / la };
   double c[3], sa[3];
   const double s0 =
     (anchor[0] - o[0]) * a[0] + (anchor[1] - o[1]) * a[1] + (anchor[2] - o[2]) * a[2];
