@@ -988,7 +988,9 @@ bool vtkThicknessFilter::Solve(vtkPolyData* input)
                     << " model units), below what the conversion resolves: flagged failed "
                        "(FailReason 11). Read the model with a smaller Tolerance to measure them; "
                        "where two faces meet tangentially with material between them (a knife "
-                       "edge), the wall there is thinner than any tolerance resolves.");
+                       "edge), the wall there is thinner than any tolerance resolves, and where "
+                       "a face of the file folds over at its border, its normal pointing out of "
+                       "the part, no tolerance mends it.");
   return true;
 }
 

@@ -46,7 +46,7 @@ const char* FailReasonName(FailReason reason)
     case FailReason::OpenShell: return "the sample's solid is an open shell";
     case FailReason::NonManifold: return "the sample's solid is non-manifold";
     case FailReason::Unbounded: return "thickness not finite or beyond the solid's bounding-box diagonal";
-    case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance; at a knife edge no tolerance resolves it)";
+    case FailReason::ThinWall: return "wall across thinner than 4 conversion tolerances (read the model at a finer tolerance; at a knife edge, or where the face folds over so that its normal points out of the part, no tolerance resolves it)";
     case FailReason::FileGap: return "the file's faces and edges do not agree here (a vertex or face moved off its edges, a face its edges do not enclose, or faces lying on one another)";
   }
   return "unknown";
