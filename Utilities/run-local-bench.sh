@@ -5,12 +5,12 @@
 #
 #   Utilities/run-local-bench.sh [BUILD] > table.txt
 #
-# BUILD (default build/) holds brt_thickness_bench. Prints a header (machine, PoCL, date, commit)
-# and these blocks: native and PoCL float on every vertex, twice; the same at 10000, 31623 and
+# BUILD (default build/) holds brt_thickness_bench. Prints a header (machine, date, commit; each
+# block names its OpenCL device) and these blocks: native and PoCL float on every vertex, twice; the same at 10000, 31623 and
 # 100000 samples; PoCL's double kernels on every vertex and at those counts; the native device on
 # one core (taskset -c 0) on every vertex. About a minute on a 2-core machine; run it on a
 # quiet machine, since every figure is one timed run. A program that prints figures, not a test.
-set -eu
+set -eu -o pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 bench=$build/Utilities/brt_thickness_bench
@@ -28,7 +28,7 @@ block()
 {
   echo "# $1"
   shift
-  "$bench" "$@" "${parts[@]}" 2>&1 | grep -v '^$'
+  "$bench" "$@" "${parts[@]}" 2>&1 | grep -v -e '^$' -e '^OpenCL: building'
 }
 block "every vertex, run 1" --device cpu --counts 0
 block "every vertex, run 2" --device cpu --counts 0
